@@ -1,0 +1,1 @@
+"""GoPiGo driver: hardware backends, motor map, simulated motors."""

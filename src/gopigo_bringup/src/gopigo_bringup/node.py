@@ -1,0 +1,160 @@
+"""gopigo_driver: the thin ROS node around DriverCore.
+
+Subscribes lwheel_angular_vel_motor / rwheel_angular_vel_motor (std_msgs/Float32,
+rad/s), publishes joint_states (sensor_msgs/JointState) and battery_voltage
+(std_msgs/Float32). Safety stops: stale commands (ROS time), shutdown, any
+exception in the loop, an unreachable master, and a wall-clock net for a stalled clock.
+"""
+import sys
+import threading
+import time
+import xmlrpc.client
+
+import rosgraph
+import rospy
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float32
+
+from .config import ConfigError, HardwareError, create_backend, read_config
+from .driver import LEFT, RIGHT, DriverCore
+
+
+def _rospy_log(level, msg):
+    {"debug": rospy.logdebug, "info": rospy.loginfo, "warn": rospy.logwarn,
+     "error": rospy.logerr}.get(level, rospy.loginfo)(msg)
+
+
+class _TimeoutTransport(xmlrpc.client.Transport):
+    """XML-RPC without the default infinite timeout: a cut link must not hang the check."""
+
+    def __init__(self, timeout):
+        super().__init__()
+        self._timeout = timeout
+
+    def make_connection(self, host):
+        conn = super().make_connection(host)
+        conn.timeout = self._timeout
+        return conn
+
+
+class DriverNode:
+    def __init__(self, cfg, core):
+        self.cfg = cfg
+        self.core = core
+        self._last_cmd_wall = None
+        self._last_ros_time = 0.0
+        self._exit = threading.Event()
+        self.js_pub = rospy.Publisher("joint_states", JointState, queue_size=10)
+        self.batt_pub = rospy.Publisher("battery_voltage", Float32, queue_size=1)
+        self.enc_pubs = None
+        if cfg.publish_enc:
+            self.enc_pubs = (rospy.Publisher("lwheel_angular_vel_enc", Float32, queue_size=10),
+                             rospy.Publisher("rwheel_angular_vel_enc", Float32, queue_size=10))
+        self.joint_state = JointState()
+        self.joint_state.name = [cfg.left_joint, cfg.right_joint]
+        rospy.Subscriber("lwheel_angular_vel_motor", Float32, self._on_cmd, LEFT, queue_size=1)
+        rospy.Subscriber("rwheel_angular_vel_motor", Float32, self._on_cmd, RIGHT, queue_size=1)
+        self._next_battery = 0.0
+
+    def _on_cmd(self, msg, wheel):
+        self._last_cmd_wall = time.monotonic()
+        self.core.command(wheel, msg.data, rospy.get_rostime().to_sec())
+
+    # ---- watchdog thread (wall clock: it watches the network and the clock itself)
+    def _watchdog(self):
+        period = 0.1
+        master = None
+        if self.cfg.master_check_period > 0:
+            master = xmlrpc.client.ServerProxy(rosgraph.get_master_uri(),
+                                               transport=_TimeoutTransport(min(1.0, self.cfg.master_check_period)))
+        next_master_check = time.monotonic()
+        while not self._exit.wait(period):
+            now = time.monotonic()
+            try:
+                if (self._last_cmd_wall is not None and not self.core.stopped
+                        and now - self._last_cmd_wall > self.cfg.wall_timeout):
+                    self.core.emergency_stop("no command for %.1f s of wall-clock time" % self.cfg.wall_timeout,
+                                             self._last_ros_time)
+                if master is not None and now >= next_master_check:
+                    next_master_check = now + self.cfg.master_check_period
+                    try:
+                        master.getPid(rospy.get_name())
+                        self.core.release()
+                    except Exception as e:  # socket.timeout, ConnectionRefusedError, OSError
+                        self.core.inhibit("ROS master %s unreachable (%s)" % (rosgraph.get_master_uri(), e),
+                                          self._last_ros_time)
+            except Exception as e:  # never let the watchdog die silently
+                rospy.logerr("watchdog: %s" % e)
+
+    # ---- main loop --------------------------------------------------------
+    def _publish(self, state):
+        js = self.joint_state
+        js.header.stamp = rospy.Time.from_sec(state.stamp)
+        js.position = list(state.positions)
+        js.velocity = list(state.velocities)
+        self.js_pub.publish(js)
+        if self.enc_pubs is not None:
+            self.enc_pubs[0].publish(Float32(state.velocities[0]))
+            self.enc_pubs[1].publish(Float32(state.velocities[1]))
+
+    def _battery(self, t):
+        if self.cfg.battery_rate <= 0 or t < self._next_battery:
+            return
+        self._next_battery = t + 1.0 / self.cfg.battery_rate
+        v = self.core.battery_voltage()
+        if v is not None:
+            self.batt_pub.publish(Float32(v))
+
+    def spin(self):
+        watchdog = threading.Thread(target=self._watchdog, name="gopigo_watchdog", daemon=True)
+        watchdog.start()
+        rate = rospy.Rate(self.cfg.rate)
+        try:
+            while not rospy.is_shutdown():
+                t = rospy.get_rostime().to_sec()
+                self._last_ros_time = t
+                try:
+                    state = self.core.step(t)
+                    if state is not None:
+                        self._publish(state)
+                    self._battery(t)
+                except Exception as e:  # a hardware glitch must stop the wheels, not the node
+                    rospy.logerr_throttle(1.0, "gopigo_driver loop error, motors stopped: %r" % e)
+                    try:
+                        self.core.emergency_stop("exception: %r" % e, t)
+                    except Exception as e2:
+                        rospy.logerr_throttle(1.0, "gopigo_driver: stopping the motors failed too: %r" % e2)
+                try:
+                    rate.sleep()
+                except rospy.ROSTimeMovedBackwardsException:
+                    self.core.emergency_stop("ROS time moved backwards", None)
+                    self._next_battery = 0.0
+        except rospy.ROSInterruptException:
+            pass
+        finally:
+            self._exit.set()
+
+
+def main(argv=None):
+    rospy.init_node("gopigo_driver")
+    try:
+        cfg = read_config(lambda name, default: rospy.get_param("~" + name, default))
+        backend = create_backend(cfg, _rospy_log)
+    except (ConfigError, HardwareError) as e:
+        rospy.logfatal("gopigo_driver: %s" % e)
+        return 2
+    core = DriverCore(backend, cfg.cmd_timeout, cfg.velocity_window, _rospy_log)
+    # Belt and braces: whichever way the process ends, the motors get a stop.
+    rospy.on_shutdown(core.shutdown)
+    try:
+        DriverNode(cfg, core).spin()
+    except Exception as e:
+        rospy.logfatal("gopigo_driver: unexpected error, motors stopped: %s" % e)
+        core.shutdown()
+        raise
+    core.shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
