@@ -75,6 +75,13 @@ class DriverCore:
                 return False
         return True
 
+    def deadline(self):
+        """ROS time at which the motors must be stopped if no new command comes, or None."""
+        with self._lock:
+            if self.stopped or None in self._stamps:
+                return None
+            return min(self._stamps) + self.cmd_timeout
+
     def check_timeout(self, t):
         """Stop the motors if the commands went stale. Returns True when stopped."""
         with self._lock:

@@ -105,29 +105,44 @@ class DriverNode:
         if v is not None:
             self.batt_pub.publish(Float32(v))
 
+    def _cycle(self, t):
+        self._last_ros_time = t
+        try:
+            state = self.core.step(t)
+            if state is not None:
+                self._publish(state)
+            self._battery(t)
+        except Exception as e:  # a hardware glitch must stop the wheels, not the node
+            rospy.logerr_throttle(1.0, "gopigo_driver loop error, motors stopped: %r" % e)
+            try:
+                self.core.emergency_stop("exception: %r" % e, t)
+            except Exception as e2:
+                rospy.logerr_throttle(1.0, "gopigo_driver: stopping the motors failed too: %r" % e2)
+
     def spin(self):
         watchdog = threading.Thread(target=self._watchdog, name="gopigo_watchdog", daemon=True)
         watchdog.start()
-        rate = rospy.Rate(self.cfg.rate)
+        period = 1.0 / self.cfg.rate
+        next_tick = None
         try:
             while not rospy.is_shutdown():
                 t = rospy.get_rostime().to_sec()
-                self._last_ros_time = t
+                if next_tick is None or t >= next_tick:
+                    self._cycle(t)
+                    next_tick = t + period if next_tick is None or t - next_tick > period else next_tick + period
+                else:
+                    self.core.check_timeout(t)
+                # Wake for the next cycle, or exactly when the commands go stale,
+                # so a stop is never late by up to a loop period.
+                wake = next_tick
+                deadline = self.core.deadline()
+                if deadline is not None and deadline < wake:
+                    wake = deadline + 1e-3
                 try:
-                    state = self.core.step(t)
-                    if state is not None:
-                        self._publish(state)
-                    self._battery(t)
-                except Exception as e:  # a hardware glitch must stop the wheels, not the node
-                    rospy.logerr_throttle(1.0, "gopigo_driver loop error, motors stopped: %r" % e)
-                    try:
-                        self.core.emergency_stop("exception: %r" % e, t)
-                    except Exception as e2:
-                        rospy.logerr_throttle(1.0, "gopigo_driver: stopping the motors failed too: %r" % e2)
-                try:
-                    rate.sleep()
+                    rospy.sleep(max(0.0, wake - rospy.get_rostime().to_sec()))
                 except rospy.ROSTimeMovedBackwardsException:
                     self.core.emergency_stop("ROS time moved backwards", None)
+                    next_tick = None
                     self._next_battery = 0.0
         except rospy.ROSInterruptException:
             pass

@@ -152,3 +152,14 @@ def test_joint_velocity_from_sim_backend():
 def test_invalid_timeout():
     with pytest.raises(ValueError, match="cmd_timeout"):
         DriverCore(RecordingBackend(), cmd_timeout=0.0)
+
+
+def test_deadline_is_oldest_command_plus_timeout():
+    core = DriverCore(RecordingBackend(), cmd_timeout=0.5)
+    assert core.deadline() is None
+    core.command(LEFT, 1.0, 1.0)
+    core.command(RIGHT, 1.0, 1.2)
+    core.step(1.2)
+    assert core.deadline() == pytest.approx(1.5)
+    core.step(1.5001)
+    assert core.stopped and core.deadline() is None
