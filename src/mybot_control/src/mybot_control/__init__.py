@@ -1,0 +1,1 @@
+"""Python tooling of mybot_control: teleop, timed moves, PID tuning, measurement."""

@@ -1,0 +1,1 @@
+"""Thin rospy wrappers: read and validate parameters, convert messages, call the pure modules."""

@@ -1,0 +1,97 @@
+"""nav_timed / twist_publisher: publish a timed twist profile on cmd_vel, then one zero twist.
+
+All timing is ROS time, so it runs unchanged against a simulator at any real-time factor.
+"""
+import math
+import signal
+
+import rospy
+from geometry_msgs.msg import Twist
+
+from mybot_control import params, timed_moves
+from mybot_control.nodes import common
+
+
+class Node:
+    def __init__(self, default_mode):
+        g = common.get
+        mode = g("mode", default_mode, params.string)
+        self.profile = timed_moves.build(
+            mode,
+            linear_speed=g("linear_speed", 0.1, params.number),
+            angular_speed=g("angular_speed", 0.5, params.number),
+            distance=g("distance", 0.5, params.number),
+            angle=g("angle", math.pi / 2, params.number),
+            side=g("side", 0.5, params.number),
+            pause=g("pause", 0.5, params.number),
+            clockwise=g("clockwise", False, params.boolean),
+            linear_x=g("linear_x", 0.2, params.number),
+            linear_y=g("linear_y", 0.0, params.number),
+            angular_z=g("angular_z", 0.0, params.number),
+            duration=g("duration", 0.0, params.number, low=0))
+        self.rate = g("rate", 10.0, params.number, low=0, low_open=True)
+        self.wait = g("wait_for_subscribers", 5.0, params.number, low=0)
+        self.pub = rospy.Publisher("cmd_vel", Twist, queue_size=1)
+        self.stop = False
+
+    def publish(self, twist):
+        msg = Twist()
+        msg.linear.x, msg.linear.y, msg.angular.z = twist
+        self.pub.publish(msg)
+
+    def _sleep_until(self, t):
+        dt = t - rospy.get_time()
+        if dt > 0:
+            rospy.sleep(dt)
+
+    def run(self):
+        # With use_sim_time, time is 0 until the first /clock message.
+        while not self.stop and not rospy.is_shutdown() and rospy.get_time() == 0.0:
+            rospy.sleep(0.001)  # returns once the clock moves
+        start_wait = rospy.get_time()
+        while (not self.stop and self.pub.get_num_connections() == 0
+               and rospy.get_time() - start_wait < self.wait):
+            rospy.sleep(0.05)
+        t0 = rospy.get_time()
+        period = 1.0 / self.rate
+        current = -1
+        try:
+            while not self.stop and not rospy.is_shutdown():
+                t = rospy.get_time() - t0
+                k, twist = timed_moves.command_at(self.profile, t)
+                if k is None:
+                    break
+                if k != current:
+                    seg = self.profile[k]
+                    rospy.loginfo("nav_timed: %s %s for %.2f s (t=%.2f)", seg.name, seg.twist, seg.duration, t)
+                    current = k
+                self.publish(twist)
+                self._sleep_until(t0 + min(t + period, timed_moves.next_boundary(self.profile, t)))
+        finally:
+            if not rospy.is_shutdown():
+                self.publish(timed_moves.ZERO)
+                rospy.loginfo("nav_timed: stopped after %.2f s", rospy.get_time() - t0)
+                common.linger()
+        return 0
+
+
+def _main(name, default_mode):
+    def body():
+        node = Node(default_mode)
+
+        def on_signal(*_):
+            node.stop = True
+        signal.signal(signal.SIGINT, on_signal)
+        signal.signal(signal.SIGTERM, on_signal)
+        code = node.run()
+        rospy.signal_shutdown("done")
+        return code
+    common.run(name, body, disable_signals=True)
+
+
+def main():
+    _main("nav_timed", "forward")
+
+
+def main_twist_publisher():
+    _main("twist_publisher", "custom")
