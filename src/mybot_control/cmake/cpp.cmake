@@ -1,0 +1,54 @@
+# C++ part of mybot_control (included from CMakeLists.txt).
+include_directories(include ${catkin_INCLUDE_DIRS} ${EIGEN3_INCLUDE_DIRS})
+
+# Pure library: no ROS types in its interface (kinematics, odometry, limiter, PID, mux).
+add_library(mybot_control_lib
+  src/lib/kinematics.cpp
+  src/lib/odometry.cpp
+  src/lib/speed_limiter.cpp
+  src/lib/pid.cpp
+  src/lib/twist_mux.cpp
+  src/lib/step_scheduler.cpp)
+
+# ROS-side helpers of the nodes: validated parameters, PID/limit blocks, URDF geometry.
+add_library(mybot_control_ros src/lib/ros_params.cpp)
+target_link_libraries(mybot_control_ros mybot_control_lib ${catkin_LIBRARIES})
+
+foreach(node diffdrive_controller wheel_controller diffdrive_odom twist_mux)
+  add_executable(${node} src/nodes/${node}.cpp)
+  target_link_libraries(${node} mybot_control_ros mybot_control_lib ${catkin_LIBRARIES})
+  add_dependencies(${node} ${PROJECT_NAME}_generate_messages_cpp)
+  install(TARGETS ${node} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+endforeach()
+install(TARGETS mybot_control_lib mybot_control_ros
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+install(DIRECTORY include/mybot_control/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION}
+  FILES_MATCHING PATTERN "*.hpp")
+
+# Benchmark helper (bench/bench_control drives it).
+add_executable(bench_control_lib test/bench/bench_control_lib.cpp)
+target_link_libraries(bench_control_lib mybot_control_lib)
+
+if(CATKIN_ENABLE_TESTING)
+  find_package(rostest REQUIRED)
+  catkin_add_gtest(test_control_lib
+    test/gtest/test_kinematics_odometry.cpp
+    test/gtest/test_speed_limiter.cpp
+    test/gtest/test_pid.cpp
+    test/gtest/test_twist_mux.cpp
+    test/gtest/test_step_scheduler.cpp
+    test/gtest/main.cpp)
+  target_link_libraries(test_control_lib mybot_control_lib)
+
+  # Test fixture: integrates *_angular_vel_motor into stamped joint_states (and /clock).
+  add_executable(loopback_wheels test/fixtures/loopback_wheels.cpp)
+  target_link_libraries(loopback_wheels ${catkin_LIBRARIES})
+
+  # rostests (test/rostest/*.py drive the nodes against the loopback or the simulator).
+  set(MYBOT_CONTROL_ROSTESTS)
+  foreach(t ${MYBOT_CONTROL_ROSTESTS})
+    add_rostest(test/rostest/${t}.test DEPENDENCIES loopback_wheels diffdrive_controller wheel_controller
+      diffdrive_odom twist_mux)
+  endforeach()
+endif()

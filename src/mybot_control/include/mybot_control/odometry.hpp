@@ -1,0 +1,97 @@
+// Dead-reckoning odometry for a differential drive from wheel joint positions.
+#pragma once
+
+#include <deque>
+
+#include "mybot_control/kinematics.hpp"
+
+namespace mybot_control
+{
+
+// Unwraps a joint position that wraps with period `period` (0 = does not wrap): returns the
+// smallest signed step from `previous` to `current` modulo the period.
+double unwrappedDelta(double previous, double current, double period);
+
+// Rolling mean of the last N samples.
+class RollingMean
+{
+public:
+  explicit RollingMean(std::size_t window = 1);
+  void setWindow(std::size_t window);
+  void push(double v);
+  void reset();
+  double mean() const;
+
+private:
+  std::size_t window_;
+  std::deque<double> values_;
+};
+
+// Angular velocity of one wheel from stamped joint positions: the slope over the last
+// `window` position steps. First reading, NaN and non-increasing stamps as in the odometry.
+class WheelEncoder
+{
+public:
+  explicit WheelEncoder(std::size_t window = 1, double period = 0.0);
+  bool update(double position, double t);
+  void reset();
+  bool valid() const { return samples_.size() >= 2; }
+  double velocity() const { return velocity_; }  // rad/s
+  double lastStamp() const { return samples_.empty() ? 0.0 : samples_.back().t; }
+
+private:
+  struct Sample
+  {
+    double t, position;  // position unwrapped
+  };
+  std::size_t window_;
+  double period_;
+  std::deque<Sample> samples_;
+  double raw_previous_ = 0.0;
+  double velocity_ = 0.0;
+};
+
+class DiffDriveOdometry
+{
+public:
+  struct Params
+  {
+    double wheel_separation = 0.3;
+    double left_radius = 0.1;
+    double right_radius = 0.1;
+    double encoder_period = 0.0;       // rad after which joint positions wrap; 0 = never
+    std::size_t velocity_window = 10;  // samples of the twist rolling mean (diff_drive_controller)
+  };
+
+  DiffDriveOdometry() : DiffDriveOdometry(Params{}) {}
+  explicit DiffDriveOdometry(const Params& params);
+
+  // Feed wheel joint positions (rad) stamped at time t (s). The first valid reading only sets
+  // the reference (no jump); NaN/inf readings and non-increasing stamps are rejected (false).
+  bool update(double left_position, double right_position, double t);
+
+  // Forget the encoder reference (the next reading is a first reading again).
+  void resetEncoders();
+  void setPose(const Pose2D& pose);
+  void reset() { setPose(Pose2D{}); resetEncoders(); }
+
+  const Pose2D& pose() const { return pose_; }
+  // Rolling mean of the body twist over the last `velocity_window` updates.
+  Twist2D twist() const { return {vx_.mean(), 0.0, wz_.mean()}; }
+  // Most recent per-update wheel rim speeds (m/s) and the angular ones (rad/s).
+  const WheelVelocities& wheelTangent() const { return wheel_tangent_; }
+  double distance() const { return distance_; }  // total |path| length, m
+  const DiffDriveKinematics& kinematics() const { return kin_; }
+
+private:
+  Params params_;
+  DiffDriveKinematics kin_;
+  bool have_reference_ = false;
+  double left_prev_ = 0.0, right_prev_ = 0.0, t_prev_ = 0.0;
+  Pose2D pose_;
+  RollingMean vx_, wz_;
+  WheelVelocities wheel_tangent_;
+  double distance_ = 0.0;
+};
+
+}  // namespace mybot_control

@@ -1,0 +1,263 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "mybot_control/kinematics.hpp"
+#include "mybot_control/odometry.hpp"
+
+using namespace mybot_control;
+
+TEST(Kinematics, InverseThenForwardReturnsTwist)
+{
+  const DiffDriveKinematics kin(0.3, 0.1, 0.12);
+  for (double v : {-1.0, 0.0, 0.37, 2.0})
+    for (double w : {-3.0, 0.0, 0.5, 1.7})
+    {
+      const Twist2D t{v, 0.0, w};
+      const Twist2D back = kin.fromWheelTangent(kin.toWheelTangent(t));
+      EXPECT_NEAR(back.vx, v, 1e-12);
+      EXPECT_NEAR(back.wz, w, 1e-12);
+      const Twist2D back2 = kin.fromWheelAngular(kin.toWheelAngular(t));
+      EXPECT_NEAR(back2.vx, v, 1e-12);
+      EXPECT_NEAR(back2.wz, w, 1e-12);
+    }
+}
+
+TEST(Kinematics, WheelSigns)
+{
+  const DiffDriveKinematics kin(0.3, 0.1, 0.1);
+  const WheelVelocities w = kin.toWheelTangent({0.0, 0.0, 1.0});  // turn left in place
+  EXPECT_NEAR(w.left, -0.15, 1e-12);
+  EXPECT_NEAR(w.right, 0.15, 1e-12);
+  const WheelVelocities a = kin.toWheelAngular({0.5, 0.0, 0.0});
+  EXPECT_NEAR(a.left, 5.0, 1e-12);
+  EXPECT_NEAR(a.right, 5.0, 1e-12);
+}
+
+TEST(PoseExp, WrapAngle)
+{
+  EXPECT_NEAR(wrapAngle(3 * M_PI), M_PI, 1e-12);
+  EXPECT_NEAR(wrapAngle(-M_PI), M_PI, 1e-12);
+  EXPECT_NEAR(wrapAngle(-3 * M_PI / 2), M_PI / 2, 1e-12);
+  EXPECT_NEAR(wrapAngle(0.1), 0.1, 1e-15);
+}
+
+TEST(PoseExp, FullCircleReturnsToStart)
+{
+  // Constant twist, 1000 steps around a full circle (diff drive and holonomic).
+  for (const Twist2D twist : {Twist2D{0.5, 0.0, 0.8}, Twist2D{0.3, -0.4, 1.3}})
+  {
+    const int steps = 1000;
+    const double period = 2 * M_PI / twist.wz;
+    const double dt = period / steps;
+    Pose2D p{1.0, -2.0, 0.3};
+    for (int k = 0; k < steps; ++k)
+      p = poseExp(p, twist * dt);
+    EXPECT_NEAR(p.x, 1.0, 1e-9);
+    EXPECT_NEAR(p.y, -2.0, 1e-9);
+    EXPECT_NEAR(wrapAngle(p.theta - 0.3), 0.0, 1e-9);
+  }
+}
+
+TEST(PoseExp, QuarterArcIsExactInOneStep)
+{
+  // v = 1, w = 1 for pi/2 s: quarter circle of radius 1 -> (1, 1, pi/2).
+  const Pose2D p = poseExp({}, {M_PI / 2, 0.0, M_PI / 2});
+  EXPECT_NEAR(p.x, 1.0, 1e-12);
+  EXPECT_NEAR(p.y, 1.0, 1e-12);
+  EXPECT_NEAR(p.theta, M_PI / 2, 1e-12);
+}
+
+TEST(PoseExp, SmallAngleFallbackIsContinuous)
+{
+  // Just below and above the switch between the exact and second-order formulas.
+  for (double w : {0.9e-6, 1.1e-6, 1e-9, -1e-7})
+  {
+    const Pose2D p = poseExp({0, 0, 0.7}, {0.2, 0.05, w});
+    const double th = 0.7 + w / 2;
+    EXPECT_NEAR(p.x, 0.2 * std::cos(th) - 0.05 * std::sin(th), 1e-12);
+    EXPECT_NEAR(p.y, 0.2 * std::sin(th) + 0.05 * std::cos(th), 1e-12);
+  }
+  const Pose2D straight = poseExp({}, {1.0, 0.0, 0.0});
+  EXPECT_EQ(straight.x, 1.0);
+  EXPECT_EQ(straight.y, 0.0);
+}
+
+TEST(PoseExp, LogInvertsExp)
+{
+  for (const Twist2D d : {Twist2D{0.4, 0.1, 0.9}, Twist2D{-0.2, 0.3, -2.5}, Twist2D{0.3, 0.0, 1e-8}})
+  {
+    const Pose2D from{0.5, 0.2, -1.0};
+    const Twist2D back = poseLog(from, poseExp(from, d));
+    EXPECT_NEAR(back.vx, d.vx, 1e-9);
+    EXPECT_NEAR(back.vy, d.vy, 1e-9);
+    EXPECT_NEAR(back.wz, d.wz, 1e-9);
+  }
+}
+
+namespace
+{
+DiffDriveOdometry::Params params(double period = 0.0)
+{
+  DiffDriveOdometry::Params p;
+  p.wheel_separation = 0.5;
+  p.left_radius = 0.1;
+  p.right_radius = 0.1;
+  p.encoder_period = period;
+  p.velocity_window = 1;
+  return p;
+}
+}  // namespace
+
+TEST(Odometry, Initial)
+{
+  DiffDriveOdometry odom(params());
+  EXPECT_EQ(odom.pose().x, 0.0);
+  EXPECT_EQ(odom.pose().y, 0.0);
+  EXPECT_EQ(odom.pose().theta, 0.0);
+  EXPECT_EQ(odom.twist().vx, 0.0);
+  EXPECT_EQ(odom.twist().wz, 0.0);
+}
+
+TEST(Odometry, FirstReadingDoesNotJump)
+{
+  DiffDriveOdometry odom(params());
+  EXPECT_TRUE(odom.update(123.4, -56.7, 10.0));  // encoders far from zero at start
+  EXPECT_EQ(odom.pose().x, 0.0);
+  EXPECT_EQ(odom.pose().theta, 0.0);
+  EXPECT_TRUE(odom.update(124.4, -55.7, 10.1));  // both +1 rad -> 0.1 m forward
+  EXPECT_NEAR(odom.pose().x, 0.1, 1e-12);
+  EXPECT_NEAR(odom.twist().vx, 1.0, 1e-9);
+}
+
+TEST(Odometry, NoMoveFromInitial)
+{
+  DiffDriveOdometry odom(params());
+  for (int k = 0; k <= 100; ++k)
+    odom.update(0.0, 0.0, 0.02 * k);
+  EXPECT_EQ(odom.pose().x, 0.0);
+  EXPECT_EQ(odom.pose().y, 0.0);
+  EXPECT_EQ(odom.pose().theta, 0.0);
+  EXPECT_EQ(odom.twist().vx, 0.0);
+}
+
+TEST(Odometry, ForwardAndTurn)
+{
+  // 100 steps of 0.02 rad on both wheels: 0.2 m straight.
+  DiffDriveOdometry odom(params());
+  for (int k = 0; k <= 100; ++k)
+    odom.update(0.02 * k, 0.02 * k, 0.02 * k);
+  EXPECT_NEAR(odom.pose().x, 0.2, 1e-12);
+  EXPECT_NEAR(odom.pose().y, 0.0, 1e-12);
+  EXPECT_NEAR(odom.twist().vx, 0.1, 1e-9);
+  // Turn in place: right forward, left back.
+  DiffDriveOdometry turn(params());
+  for (int k = 0; k <= 100; ++k)
+    turn.update(-0.02 * k, 0.02 * k, 0.02 * k);
+  EXPECT_NEAR(turn.pose().x, 0.0, 1e-12);
+  EXPECT_NEAR(turn.pose().y, 0.0, 1e-12);
+  EXPECT_NEAR(turn.pose().theta, 2 * 0.2 / 0.5, 1e-12);
+  EXPECT_NEAR(turn.twist().wz, 0.4, 1e-9);  // 0.8 rad in 2 s
+}
+
+TEST(Odometry, CircleFromWheelsReturnsToStart)
+{
+  // Left 1 rad/s, right 2 rad/s: v = 0.15, w = 0.2 -> closed circle after 10*pi s.
+  DiffDriveOdometry odom(params());
+  const int steps = 5000;
+  const double dt = 10 * M_PI / steps;
+  for (int k = 0; k <= steps; ++k)
+    odom.update(1.0 * k * dt, 2.0 * k * dt, k * dt);
+  EXPECT_NEAR(odom.pose().x, 0.0, 1e-9);
+  EXPECT_NEAR(odom.pose().y, 0.0, 1e-9);
+  EXPECT_NEAR(odom.pose().theta, 0.0, 1e-9);
+}
+
+TEST(Odometry, EncoderWrapAround)
+{
+  // Encoders that wrap at 2*pi, as a position reported in [-pi, pi).
+  const double period = 2 * M_PI;
+  DiffDriveOdometry wrapped(params(period)), plain(params());
+  for (int k = 0; k <= 400; ++k)
+  {
+    const double raw = 0.1 * k;
+    wrapped.update(wrapAngle(raw), wrapAngle(raw), 0.02 * k);
+    plain.update(raw, raw, 0.02 * k);
+  }
+  EXPECT_NEAR(wrapped.pose().x, 4.0, 1e-9);
+  EXPECT_NEAR(wrapped.pose().x, plain.pose().x, 1e-9);
+  EXPECT_NEAR(wrapped.twist().vx, 0.5, 1e-9);
+}
+
+TEST(Odometry, NaNIsRejected)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  DiffDriveOdometry odom(params());
+  EXPECT_FALSE(odom.update(nan, 0.0, 0.0));  // not even a reference
+  EXPECT_TRUE(odom.update(0.0, 0.0, 0.0));
+  EXPECT_TRUE(odom.update(1.0, 1.0, 0.1));
+  EXPECT_FALSE(odom.update(nan, 2.0, 0.2));
+  EXPECT_FALSE(odom.update(2.0, std::numeric_limits<double>::infinity(), 0.2));
+  EXPECT_FALSE(odom.update(2.0, 2.0, nan));
+  EXPECT_TRUE(std::isfinite(odom.pose().x));
+  EXPECT_TRUE(odom.update(2.0, 2.0, 0.3));
+  EXPECT_NEAR(odom.pose().x, 0.2, 1e-12);  // resumes from the last valid reading
+  EXPECT_TRUE(std::isfinite(odom.twist().vx));
+}
+
+TEST(Odometry, NonIncreasingStampIsRejected)
+{
+  DiffDriveOdometry odom(params());
+  odom.update(0.0, 0.0, 1.0);
+  EXPECT_FALSE(odom.update(1.0, 1.0, 1.0));
+  EXPECT_FALSE(odom.update(1.0, 1.0, 0.5));
+  EXPECT_EQ(odom.pose().x, 0.0);
+}
+
+TEST(Odometry, ResetAndSetPose)
+{
+  DiffDriveOdometry odom(params());
+  odom.update(0.0, 0.0, 0.0);
+  odom.update(5.0, 5.0, 1.0);
+  odom.setPose({1.0, 2.0, 4.0});
+  EXPECT_EQ(odom.pose().x, 1.0);
+  EXPECT_NEAR(odom.pose().theta, 4.0 - 2 * M_PI, 1e-12);
+  odom.update(6.0, 6.0, 2.0);  // continues from the set pose
+  EXPECT_NEAR(odom.pose().x, 1.0 + 0.1 * std::cos(4.0), 1e-12);
+  odom.reset();
+  EXPECT_EQ(odom.pose().x, 0.0);
+  odom.update(100.0, 100.0, 3.0);  // first reading after reset: no jump
+  EXPECT_EQ(odom.pose().x, 0.0);
+}
+
+TEST(Odometry, RollingWindowAveragesTwist)
+{
+  auto p = params();
+  p.velocity_window = 4;
+  DiffDriveOdometry odom(p);
+  odom.update(0.0, 0.0, 0.0);
+  odom.update(1.0, 1.0, 1.0);  // 0.1 m/s
+  odom.update(4.0, 4.0, 2.0);  // 0.3 m/s
+  EXPECT_NEAR(odom.twist().vx, 0.2, 1e-12);
+}
+
+TEST(WheelEncoder, VelocityOverWindowWithWrapAndNaN)
+{
+  WheelEncoder enc(2, 2 * M_PI);
+  EXPECT_FALSE(enc.valid());
+  EXPECT_TRUE(enc.update(wrapAngle(3.0), 0.0));
+  EXPECT_EQ(enc.velocity(), 0.0);
+  EXPECT_TRUE(enc.update(wrapAngle(3.1), 0.1));  // crosses +pi -> -pi
+  EXPECT_TRUE(enc.valid());
+  EXPECT_NEAR(enc.velocity(), 1.0, 1e-9);
+  EXPECT_FALSE(enc.update(std::numeric_limits<double>::quiet_NaN(), 0.2));
+  EXPECT_FALSE(enc.update(3.3, 0.1));  // stale stamp
+  EXPECT_TRUE(enc.update(wrapAngle(3.5), 0.2));  // window of 2 steps: (3.5 - 3.0) / 0.2
+  EXPECT_NEAR(enc.velocity(), 2.5, 1e-9);
+  EXPECT_TRUE(enc.update(wrapAngle(3.6), 0.3));  // (3.6 - 3.1) / 0.2
+  EXPECT_NEAR(enc.velocity(), 2.5, 1e-9);
+  enc.reset();
+  EXPECT_FALSE(enc.valid());
+  EXPECT_EQ(enc.velocity(), 0.0);
+}
