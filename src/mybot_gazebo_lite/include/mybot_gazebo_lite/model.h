@@ -1,0 +1,134 @@
+// Plain descriptions of robots and worlds, parsed from URDF/SDF/YAML and
+// consumed by the physics and sensor code. No ROS types.
+#pragma once
+
+#include <LinearMath/btTransform.h>
+
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mybot_gazebo_lite {
+
+// Thrown for malformed input; what() names the file and the element.
+class LoadError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Triangle {
+  btVector3 a, b, c;
+};
+
+struct Shape {
+  enum Type { BOX, CYLINDER, SPHERE, PLANE, MESH } type = BOX;
+  btVector3 size{0, 0, 0};        // box full extents
+  double radius = 0, length = 0;  // cylinder (axis z) / sphere
+  btVector3 normal{0, 0, 1};      // plane
+  std::string mesh_path;          // resolved file path
+  btVector3 mesh_scale{1, 1, 1};
+  std::shared_ptr<const std::vector<Triangle>> triangles;  // mesh, scaled, shape frame
+  btTransform pose = btTransform::getIdentity();           // relative to its link
+  double mu1 = 1.0, mu2 = 1.0;
+};
+
+struct Inertial {
+  double mass = 0;
+  btTransform origin = btTransform::getIdentity();  // COM frame relative to link
+  double ixx = 0, ixy = 0, ixz = 0, iyy = 0, iyz = 0, izz = 0;
+};
+
+// A generic XML subtree (plugin and sensor blocks) kept for the plugins.
+struct XmlNode {
+  std::string name;
+  std::string text;
+  std::map<std::string, std::string> attributes;
+  std::vector<XmlNode> children;
+  const XmlNode* child(const std::string& n) const {
+    for (const auto& c : children)
+      if (c.name == n) return &c;
+    return nullptr;
+  }
+  std::vector<const XmlNode*> all(const std::string& n) const {
+    std::vector<const XmlNode*> out;
+    for (const auto& c : children)
+      if (c.name == n) out.push_back(&c);
+    return out;
+  }
+  std::string attr(const std::string& k, const std::string& def = "") const {
+    auto it = attributes.find(k);
+    return it == attributes.end() ? def : it->second;
+  }
+};
+
+struct LinkSpec {
+  std::string name;
+  bool has_inertial = false;
+  Inertial inertial;
+  std::vector<Shape> collisions;
+  std::vector<XmlNode> sensors;  // <sensor> blocks from <gazebo reference>
+};
+
+struct JointSpec {
+  enum Type { FIXED, REVOLUTE, CONTINUOUS, PRISMATIC, FLOATING, PLANAR } type = FIXED;
+  std::string name, parent, child;
+  btTransform origin = btTransform::getIdentity();  // child frame in parent frame
+  btVector3 axis{1, 0, 0};
+  bool has_limits = false;
+  double lower = 0, upper = 0, effort = 0, velocity = 0;
+  double damping = 0, friction = 0;
+};
+
+struct PluginSpec {
+  std::string name, filename;
+  std::string reference;  // link for sensor plugins, empty for model plugins
+  XmlNode xml;            // the <plugin> element
+  bool has_sensor = false;
+  XmlNode sensor;  // owning <sensor> element for sensor plugins
+};
+
+struct RobotSpec {
+  std::string name;
+  std::string source;  // file name or parameter, for messages
+  std::vector<LinkSpec> links;
+  std::vector<JointSpec> joints;
+  std::vector<PluginSpec> plugins;  // model plugins + sensor plugins
+  std::string root;
+  const LinkSpec* link(const std::string& n) const {
+    for (const auto& l : links)
+      if (l.name == n) return &l;
+    return nullptr;
+  }
+  const JointSpec* joint(const std::string& n) const {
+    for (const auto& j : joints)
+      if (j.name == n) return &j;
+    return nullptr;
+  }
+};
+
+// World models (SDF links with shapes; static or dynamic rigid bodies).
+struct WorldLink {
+  std::string name;
+  btTransform pose = btTransform::getIdentity();  // relative to model
+  double mass = 1.0;
+  std::vector<Shape> shapes;
+};
+
+struct WorldModel {
+  std::string name;
+  btTransform pose = btTransform::getIdentity();
+  bool is_static = true;
+  std::vector<WorldLink> links;
+};
+
+struct WorldSpec {
+  std::string name = "default";
+  std::string source;
+  btVector3 gravity{0, 0, -9.8};
+  bool ground_plane = false;
+  std::vector<WorldModel> models;
+};
+
+}  // namespace mybot_gazebo_lite

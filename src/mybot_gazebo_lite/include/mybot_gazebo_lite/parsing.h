@@ -1,0 +1,37 @@
+// URDF (+ <gazebo> extensions), SDF-subset and occupancy-image world loaders.
+#pragma once
+
+#include "mybot_gazebo_lite/model.h"
+
+#include <functional>
+#include <string>
+
+namespace tinyxml2 {
+class XMLElement;
+}
+
+namespace mybot_gazebo_lite {
+
+// Resolves package:// and model:// URIs and plain paths to a file path.
+// Returns "" when not found. Relative paths resolve against base_dir.
+using UriResolver = std::function<std::string(const std::string& uri, const std::string& base_dir)>;
+std::string defaultResolveUri(const std::string& uri, const std::string& base_dir);
+
+// Parses a URDF document. `source` names the file/parameter in error messages.
+RobotSpec parseUrdf(const std::string& xml, const std::string& source,
+                    const UriResolver& resolver = defaultResolveUri);
+
+// Loads a world: .yaml -> occupancy-image floor plan, anything else -> SDF.
+WorldSpec loadWorldFile(const std::string& path, const UriResolver& resolver = defaultResolveUri);
+WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const std::string& base_dir,
+                        const UriResolver& resolver = defaultResolveUri);
+WorldSpec loadImageWorld(const std::string& yaml_path);
+
+// Helpers shared by the loaders.
+btVector3 parseVec3(const std::string& s, const std::string& what);
+btTransform parsePose6(const std::string& s, const std::string& what);  // "x y z r p y"
+btTransform makeTransform(const btVector3& xyz, const btVector3& rpy);
+XmlNode toXmlNode(const tinyxml2::XMLElement* e);
+std::shared_ptr<const std::vector<Triangle>> loadMesh(const std::string& path, const btVector3& scale);
+
+}  // namespace mybot_gazebo_lite

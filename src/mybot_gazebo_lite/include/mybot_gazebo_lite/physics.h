@@ -1,0 +1,165 @@
+// Bullet (Featherstone) world holding static/dynamic world models and URDF
+// robots as btMultiBody trees. No ROS types.
+#pragma once
+
+#include "mybot_gazebo_lite/model.h"
+
+#include <LinearMath/btAlignedObjectArray.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+class btMultiBody;
+class btMultiBodyDynamicsWorld;
+class btMultiBodyJointMotor;
+class btCollisionObject;
+class btCollisionShape;
+class btRigidBody;
+class btCollisionConfiguration;
+class btCollisionDispatcher;
+class btBroadphaseInterface;
+class btMultiBodyConstraintSolver;
+class btMultiBodyConstraint;
+
+namespace mybot_gazebo_lite {
+
+struct Pose {
+  btTransform tf = btTransform::getIdentity();
+  btVector3 linear{0, 0, 0};   // world-frame velocity of the frame origin
+  btVector3 angular{0, 0, 0};  // world-frame angular velocity
+};
+
+class Robot {
+ public:
+  enum class Mode { NONE, VELOCITY, POSITION };
+  struct Joint {
+    const JointSpec* spec = nullptr;
+    int link = -1;  // btMultiBody link index
+    btMultiBodyJointMotor* motor = nullptr;
+    btMultiBodyJointMotor* friction = nullptr;
+    Mode mode = Mode::NONE;
+    double target = 0, max_effort = 0;
+  };
+  // A URDF link lives in a body (-1 = multibody base, else link index).
+  struct LinkRef {
+    int body = -1;
+    btTransform in_body_inertial;  // URDF link frame in the body's inertial frame
+  };
+
+  const std::string& name() const { return name_; }
+  const std::string& robotNamespace() const { return ns_; }
+  const RobotSpec& spec() const { return *spec_; }
+  const btTransform& spawnPose() const { return spawn_; }
+  bool hasLink(const std::string& n) const { return links_.count(n) != 0; }
+  bool hasJoint(const std::string& n) const { return joint_index_.count(n) != 0; }
+  std::vector<std::string> movableJoints() const;
+
+  // World pose and velocity of a URDF link frame.
+  Pose linkState(const std::string& link) const;
+  double jointPosition(const std::string& joint) const;
+  double jointVelocity(const std::string& joint) const;
+  const Joint& joint(const std::string& n) const { return joints_.at(joint_index_.at(n)); }
+
+  // Commands take effect at the next step; the motor is limited to max_effort (N m or N).
+  void commandVelocity(const std::string& joint, double vel, double max_effort);
+  void commandPosition(const std::string& joint, double pos, double max_effort);
+  void commandNone(const std::string& joint);
+
+  btMultiBody* multibody() const { return mb_; }
+  const std::vector<btCollisionObject*>& colliders() const { return colliders_; }
+
+ private:
+  friend class PhysicsWorld;
+  std::string name_, ns_;
+  std::shared_ptr<const RobotSpec> spec_;
+  btTransform spawn_;
+  btTransform base_root_in_inertial_;  // URDF root link frame in base inertial frame
+  btMultiBody* mb_ = nullptr;
+  std::map<std::string, LinkRef> links_;
+  std::vector<Joint> joints_;
+  std::map<std::string, size_t> joint_index_;
+  std::vector<btCollisionObject*> colliders_;
+  std::vector<btCollisionShape*> shapes_;
+  std::vector<btMultiBodyConstraint*> constraints_;
+  std::vector<std::unique_ptr<std::vector<double>>> child_mu_;
+};
+
+// A collision object that may intersect a sensor ray (robots and dynamic world bodies).
+struct DynamicObstacle {
+  const btCollisionObject* object;
+  btVector3 center;  // AABB centre
+  double radius;     // bounding sphere radius
+  double zmin, zmax;
+};
+
+class PhysicsWorld {
+ public:
+  struct Options {
+    double step = 0.001;
+    int solver_iterations = 10;
+  };
+  PhysicsWorld(const WorldSpec& world, const Options& opt);
+  ~PhysicsWorld();
+  PhysicsWorld(const PhysicsWorld&) = delete;
+  PhysicsWorld& operator=(const PhysicsWorld&) = delete;
+
+  // Throws LoadError (naming the element) for a model Bullet cannot build.
+  Robot& addRobot(std::shared_ptr<const RobotSpec> spec, const std::string& name, const std::string& ns,
+                  const btTransform& pose);
+  bool removeRobot(const std::string& name);
+  Robot* robot(const std::string& name);
+  std::vector<Robot*> robots();
+
+  void step();
+  double time() const { return time_; }
+  double stepSize() const { return opt_.step; }
+  uint64_t steps() const { return steps_; }
+
+  // Robots back to their spawn poses at rest, dynamic world models to their initial poses.
+  void resetWorld();
+  void resetTime() { time_ = 0; steps_ = 0; }
+
+  // Teleport a robot (base frame = URDF root link) or a world model; velocities in world frame.
+  bool setModelState(const std::string& name, const btTransform& pose, const btVector3& lin, const btVector3& ang);
+  bool getModelState(const std::string& name, Pose& out) const;
+
+  const WorldSpec& worldSpec() const { return spec_; }
+  std::vector<DynamicObstacle> dynamicObstacles(const Robot* exclude) const;
+  // Distance along the ray to the object (or -1 when missed).
+  double rayTestObject(const btCollisionObject* obj, const btVector3& from, const btVector3& to) const;
+  // Closest hit of a ray against all collision objects except those of `exclude`; -1 when missed.
+  double rayTest(const btVector3& from, const btVector3& to, const Robot* exclude) const;
+
+ private:
+  void addWorldModel(const WorldModel& m);
+  void syncRobotTransforms(Robot& r);
+  void setRobotPose(Robot& r, const btTransform& root_pose, const btVector3& lin, const btVector3& ang);
+  btCollisionShape* buildShape(const Shape& s, bool dynamic_body, std::vector<btCollisionShape*>& owned,
+                               const std::string& where);
+
+  Options opt_;
+  WorldSpec spec_;
+  double time_ = 0;
+  uint64_t steps_ = 0;
+  std::unique_ptr<btCollisionConfiguration> config_;
+  std::unique_ptr<btCollisionDispatcher> dispatcher_;
+  std::unique_ptr<btBroadphaseInterface> broadphase_;
+  std::unique_ptr<btMultiBodyConstraintSolver> solver_;
+  std::unique_ptr<btMultiBodyDynamicsWorld> world_;
+  std::vector<std::unique_ptr<Robot>> robots_;
+  struct WorldBody {
+    std::string model;
+    btCollisionObject* obj;
+    btRigidBody* body;  // null for static
+    btTransform initial;
+  };
+  std::vector<WorldBody> world_bodies_;
+  std::vector<btCollisionShape*> world_shapes_;
+  std::vector<std::unique_ptr<std::vector<double>>> world_mu_;
+  btAlignedObjectArray<btQuaternion> scratch_q_;
+  btAlignedObjectArray<btVector3> scratch_m_;
+};
+
+}  // namespace mybot_gazebo_lite

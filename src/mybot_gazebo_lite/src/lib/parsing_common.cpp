@@ -1,0 +1,135 @@
+#include "mybot_gazebo_lite/parsing.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <ros/package.h>
+#include <tinyxml2.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <sys/stat.h>
+
+namespace mybot_gazebo_lite {
+
+namespace {
+bool fileExists(const std::string& p) {
+  struct stat st;
+  return !p.empty() && stat(p.c_str(), &st) == 0;
+}
+
+std::vector<std::string> splitPathList(const char* env) {
+  std::vector<std::string> out;
+  if (!env) return out;
+  std::stringstream ss(env);
+  std::string item;
+  while (std::getline(ss, item, ':'))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+}  // namespace
+
+std::string defaultResolveUri(const std::string& uri, const std::string& base_dir) {
+  if (uri.rfind("file://", 0) == 0) return fileExists(uri.substr(7)) ? uri.substr(7) : "";
+  if (uri.rfind("package://", 0) == 0) {
+    std::string rest = uri.substr(10);
+    auto slash = rest.find('/');
+    std::string pkg = rest.substr(0, slash);
+    std::string dir = ros::package::getPath(pkg);
+    if (dir.empty()) return "";
+    std::string p = dir + (slash == std::string::npos ? "" : rest.substr(slash));
+    return fileExists(p) ? p : "";
+  }
+  if (uri.rfind("model://", 0) == 0) {
+    // Gazebo looks in GAZEBO_MODEL_PATH; we also accept <pkg>/models of every package path.
+    std::string rest = uri.substr(8);
+    std::vector<std::string> dirs = splitPathList(std::getenv("GAZEBO_MODEL_PATH"));
+    if (!base_dir.empty()) {
+      dirs.push_back(base_dir + "/models");
+      dirs.push_back(base_dir + "/../models");
+    }
+    std::string own = ros::package::getPath("mybot_gazebo_lite");
+    if (!own.empty()) dirs.push_back(own + "/models");
+    for (const auto& pp : splitPathList(std::getenv("ROS_PACKAGE_PATH"))) dirs.push_back(pp + "/../models");
+    for (const auto& d : dirs) {
+      std::string p = d + "/" + rest;
+      if (fileExists(p)) return p;
+    }
+    return "";
+  }
+  std::string p = (!uri.empty() && uri[0] != '/' && !base_dir.empty()) ? base_dir + "/" + uri : uri;
+  return fileExists(p) ? p : "";
+}
+
+btVector3 parseVec3(const std::string& s, const std::string& what) {
+  std::istringstream is(s);
+  double v[3];
+  for (double& x : v)
+    if (!(is >> x) || !std::isfinite(x)) throw LoadError(what + ": expected 3 numbers, got '" + s + "'");
+  std::string extra;
+  if (is >> extra) throw LoadError(what + ": expected 3 numbers, got '" + s + "'");
+  return btVector3(v[0], v[1], v[2]);
+}
+
+btTransform makeTransform(const btVector3& xyz, const btVector3& rpy) {
+  btQuaternion q;
+  q.setEulerZYX(rpy.z(), rpy.y(), rpy.x());  // URDF/SDF fixed-axis roll, pitch, yaw
+  return btTransform(q, xyz);
+}
+
+btTransform parsePose6(const std::string& s, const std::string& what) {
+  std::istringstream is(s);
+  double v[6];
+  for (double& x : v)
+    if (!(is >> x) || !std::isfinite(x)) throw LoadError(what + ": expected 6 numbers 'x y z roll pitch yaw', got '" + s + "'");
+  return makeTransform(btVector3(v[0], v[1], v[2]), btVector3(v[3], v[4], v[5]));
+}
+
+XmlNode toXmlNode(const tinyxml2::XMLElement* e) {
+  XmlNode n;
+  n.name = e->Name();
+  if (e->GetText()) n.text = e->GetText();
+  // Trim surrounding whitespace of text values.
+  auto b = n.text.find_first_not_of(" \t\r\n");
+  auto en = n.text.find_last_not_of(" \t\r\n");
+  n.text = b == std::string::npos ? "" : n.text.substr(b, en - b + 1);
+  for (auto* a = e->FirstAttribute(); a; a = a->Next()) n.attributes[a->Name()] = a->Value();
+  for (auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) n.children.push_back(toXmlNode(c));
+  return n;
+}
+
+std::shared_ptr<const std::vector<Triangle>> loadMesh(const std::string& path, const btVector3& scale) {
+  static std::mutex mtx;
+  static std::map<std::string, std::shared_ptr<const std::vector<Triangle>>> cache;
+  std::ostringstream key;
+  key << path << '|' << scale.x() << ',' << scale.y() << ',' << scale.z();
+  std::lock_guard<std::mutex> lock(mtx);
+  auto it = cache.find(key.str());
+  if (it != cache.end()) return it->second;
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                                     aiProcess_PreTransformVertices);
+  if (!scene || !scene->mRootNode) throw LoadError("mesh '" + path + "': " + importer.GetErrorString());
+  auto tris = std::make_shared<std::vector<Triangle>>();
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* mesh = scene->mMeshes[m];
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      btVector3 v[3];
+      for (int k = 0; k < 3; ++k) {
+        const aiVector3D& p = mesh->mVertices[face.mIndices[k]];
+        v[k] = btVector3(p.x * scale.x(), p.y * scale.y(), p.z * scale.z());
+      }
+      tris->push_back({v[0], v[1], v[2]});
+    }
+  }
+  if (tris->empty()) throw LoadError("mesh '" + path + "': no triangles");
+  cache[key.str()] = tris;
+  return tris;
+}
+
+}  // namespace mybot_gazebo_lite

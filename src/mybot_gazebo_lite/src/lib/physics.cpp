@@ -1,0 +1,603 @@
+#include "mybot_gazebo_lite/physics.h"
+
+#include <BulletCollision/CollisionShapes/btBvhTriangleMeshShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleMesh.h>
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
+#include <Eigen/Dense>
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace mybot_gazebo_lite {
+
+namespace {
+constexpr int kStaticGroup = btBroadphaseProxy::StaticFilter;
+constexpr int kDynamicGroup = btBroadphaseProxy::DefaultFilter;
+
+// Per-child friction: colliders carry a pointer to one mu per compound child,
+// so a frictionless caster lumped into the chassis stays frictionless.
+double childMu(const btCollisionObjectWrapper* w, int index) {
+  const btCollisionObject* o = w->getCollisionObject();
+  auto* mus = static_cast<const std::vector<double>*>(o->getUserPointer());
+  if (mus && index >= 0 && index < static_cast<int>(mus->size())) return (*mus)[index];
+  if (mus && mus->size() == 1) return (*mus)[0];
+  return o->getFriction();
+}
+
+bool contactAdded(btManifoldPoint& cp, const btCollisionObjectWrapper* w0, int, int i0,
+                  const btCollisionObjectWrapper* w1, int, int i1) {
+  cp.m_combinedFriction = std::min(childMu(w0, i0), childMu(w1, i1));  // ODE-style, as in Gazebo
+  cp.m_combinedRestitution = 0;
+  return true;
+}
+
+struct MassProps {
+  double mass = 0;
+  btTransform inertial = btTransform::getIdentity();  // in body root frame
+  btVector3 diag{0, 0, 0};
+};
+
+MassProps composite(const std::vector<std::pair<const LinkSpec*, btTransform>>& members) {
+  MassProps mp;
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();
+  struct Part {
+    double m;
+    Eigen::Vector3d c;
+    Eigen::Matrix3d I;
+  };
+  std::vector<Part> parts;
+  for (const auto& [link, tf] : members) {
+    if (!link->has_inertial || link->inertial.mass <= 0) continue;
+    const Inertial& in = link->inertial;
+    btTransform t = tf * in.origin;
+    Eigen::Matrix3d R;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R(r, c) = t.getBasis()[r][c];
+    Eigen::Matrix3d I;
+    I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+    Eigen::Vector3d c(t.getOrigin().x(), t.getOrigin().y(), t.getOrigin().z());
+    parts.push_back({in.mass, c, R * I * R.transpose()});
+    mp.mass += in.mass;
+    com += in.mass * c;
+  }
+  if (mp.mass <= 0) return mp;
+  com /= mp.mass;
+  Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
+  for (const auto& p : parts) {
+    Eigen::Vector3d d = p.c - com;
+    I += p.I + p.m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
+  Eigen::Matrix3d V = es.eigenvectors();
+  if (V.determinant() < 0) V.col(2) = -V.col(2);
+  btMatrix3x3 basis(V(0, 0), V(0, 1), V(0, 2), V(1, 0), V(1, 1), V(1, 2), V(2, 0), V(2, 1), V(2, 2));
+  mp.inertial = btTransform(basis, btVector3(com.x(), com.y(), com.z()));
+  Eigen::Vector3d ev = es.eigenvalues();
+  double floor = 1e-9;
+  mp.diag = btVector3(std::max(ev(0), floor), std::max(ev(1), floor), std::max(ev(2), floor));
+  return mp;
+}
+}  // namespace
+
+// ---------------------------------------------------------------- Robot
+
+std::vector<std::string> Robot::movableJoints() const {
+  std::vector<std::string> out;
+  for (const auto& j : joints_) out.push_back(j.spec->name);
+  return out;
+}
+
+Pose Robot::linkState(const std::string& link) const {
+  const LinkRef& ref = links_.at(link);
+  Pose p;
+  btTransform body_world;
+  btVector3 v, w;
+  if (ref.body < 0) {
+    body_world = mb_->getBaseWorldTransform();
+    v = mb_->getBaseVel();
+    w = mb_->getBaseOmega();
+  } else {
+    body_world = mb_->getLink(ref.body).m_cachedWorldTransform;
+    // Link velocities in local frames; index 0 is the base.
+    btAlignedObjectArray<btVector3> omega, vel;
+    omega.resize(mb_->getNumLinks() + 1);
+    vel.resize(mb_->getNumLinks() + 1);
+    mb_->compTreeLinkVelocities(&omega[0], &vel[0]);
+    w = body_world.getBasis() * omega[ref.body + 1];
+    v = body_world.getBasis() * vel[ref.body + 1];
+  }
+  p.tf = body_world * ref.in_body_inertial;
+  p.angular = w;
+  p.linear = v + w.cross(p.tf.getOrigin() - body_world.getOrigin());
+  return p;
+}
+
+double Robot::jointPosition(const std::string& j) const { return mb_->getJointPos(joint(j).link); }
+double Robot::jointVelocity(const std::string& j) const { return mb_->getJointVel(joint(j).link); }
+
+void Robot::commandVelocity(const std::string& n, double vel, double max_effort) {
+  Joint& j = joints_.at(joint_index_.at(n));
+  if (j.mode != Mode::VELOCITY || j.target != vel || j.max_effort != max_effort) mb_->wakeUp();
+  j.mode = Mode::VELOCITY;
+  j.target = vel;
+  j.max_effort = max_effort;
+}
+
+void Robot::commandPosition(const std::string& n, double pos, double max_effort) {
+  Joint& j = joints_.at(joint_index_.at(n));
+  if (j.mode != Mode::POSITION || j.target != pos || j.max_effort != max_effort) mb_->wakeUp();
+  j.mode = Mode::POSITION;
+  j.target = pos;
+  j.max_effort = max_effort;
+}
+
+void Robot::commandNone(const std::string& n) { joints_.at(joint_index_.at(n)).mode = Mode::NONE; }
+
+// ---------------------------------------------------------------- World
+
+PhysicsWorld::PhysicsWorld(const WorldSpec& world, const Options& opt) : opt_(opt), spec_(world) {
+  gContactAddedCallback = contactAdded;
+  config_ = std::make_unique<btDefaultCollisionConfiguration>();
+  dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
+  broadphase_ = std::make_unique<btDbvtBroadphase>();
+  solver_ = std::make_unique<btMultiBodyConstraintSolver>();
+  world_ = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
+                                                       config_.get());
+  world_->setGravity(spec_.gravity);
+  auto& si = world_->getSolverInfo();
+  si.m_numIterations = opt_.solver_iterations;
+  si.m_timeStep = opt_.step;
+  si.m_splitImpulse = 1;
+  if (spec_.ground_plane) {
+    WorldModel g;
+    g.name = "ground_plane";
+    g.is_static = true;
+    WorldLink l;
+    l.name = "link";
+    Shape s;
+    s.type = Shape::PLANE;
+    l.shapes.push_back(s);
+    g.links.push_back(l);
+    addWorldModel(g);
+  }
+  for (const auto& m : spec_.models) addWorldModel(m);
+}
+
+PhysicsWorld::~PhysicsWorld() {
+  while (!robots_.empty()) removeRobot(robots_.back()->name());
+  for (auto& wb : world_bodies_) {
+    if (wb.body)
+      world_->removeRigidBody(wb.body);
+    else
+      world_->removeCollisionObject(wb.obj);
+    delete wb.obj;
+  }
+  for (auto* s : world_shapes_) delete s;
+}
+
+btCollisionShape* PhysicsWorld::buildShape(const Shape& s, bool dynamic_body, std::vector<btCollisionShape*>& owned,
+                                           const std::string& where) {
+  btCollisionShape* shape = nullptr;
+  switch (s.type) {
+    case Shape::BOX: {
+      shape = new btBoxShape(s.size * 0.5);
+      // Bullet's default 4 cm margin would round small boxes away.
+      shape->setMargin(std::min(0.004, 0.1 * std::min({s.size.x(), s.size.y(), s.size.z()})));
+      break;
+    }
+    case Shape::CYLINDER: {
+      shape = new btCylinderShapeZ(btVector3(s.radius, s.radius, s.length * 0.5));
+      shape->setMargin(std::min(0.002, 0.1 * std::min(s.radius, s.length)));
+      break;
+    }
+    case Shape::SPHERE:
+      shape = new btSphereShape(s.radius);
+      break;
+    case Shape::PLANE:
+      if (dynamic_body) throw LoadError(where + ": <plane> geometry only in static models");
+      shape = new btStaticPlaneShape(s.normal, 0);
+      break;
+    case Shape::MESH: {
+      if (dynamic_body) {
+        auto* hull = new btConvexHullShape();
+        for (const auto& t : *s.triangles) {
+          hull->addPoint(t.a, false);
+          hull->addPoint(t.b, false);
+          hull->addPoint(t.c, false);
+        }
+        hull->recalcLocalAabb();
+        hull->optimizeConvexHull();
+        hull->setMargin(0.001);
+        shape = hull;
+      } else {
+        auto* mesh = new btTriangleMesh();
+        for (const auto& t : *s.triangles) mesh->addTriangle(t.a, t.b, t.c, true);
+        shape = new btBvhTriangleMeshShape(mesh, true);
+      }
+      break;
+    }
+  }
+  owned.push_back(shape);
+  return shape;
+}
+
+void PhysicsWorld::addWorldModel(const WorldModel& m) {
+  for (const auto& l : m.links) {
+    if (l.shapes.empty()) continue;
+    std::string where = spec_.source + ": model '" + m.name + "' link '" + l.name + "'";
+    auto* compound = new btCompoundShape(true, static_cast<int>(l.shapes.size()));
+    world_shapes_.push_back(compound);
+    auto mus = std::make_unique<std::vector<double>>();
+    bool has_plane = false;
+    for (const auto& s : l.shapes) {
+      btCollisionShape* cs = buildShape(s, !m.is_static, world_shapes_, where);
+      has_plane |= s.type == Shape::PLANE;
+      compound->addChildShape(s.pose, cs);
+      mus->push_back(std::min(s.mu1, s.mu2));
+    }
+    btTransform tf = m.pose * l.pose;
+    btCollisionObject* obj = nullptr;
+    btRigidBody* body = nullptr;
+    btCollisionShape* shape = compound;
+    if (has_plane && l.shapes.size() == 1) {
+      // Planes cannot live in compounds sensibly; use the plane directly.
+      shape = compound->getChildShape(0);
+      tf = tf * l.shapes[0].pose;
+    }
+    if (m.is_static) {
+      obj = new btCollisionObject();
+      obj->setCollisionShape(shape);
+      obj->setWorldTransform(tf);
+      obj->setFriction(1.0);
+      world_->addCollisionObject(obj, kStaticGroup, btBroadphaseProxy::AllFilter ^ kStaticGroup);
+    } else {
+      btVector3 inertia(0, 0, 0);
+      shape->calculateLocalInertia(l.mass, inertia);
+      btRigidBody::btRigidBodyConstructionInfo ci(l.mass, nullptr, shape, inertia);
+      ci.m_startWorldTransform = tf;
+      ci.m_friction = 1.0;
+      body = new btRigidBody(ci);
+      obj = body;
+      world_->addRigidBody(body, kDynamicGroup, btBroadphaseProxy::AllFilter);
+    }
+    if (shape == compound) obj->setUserPointer(mus.get());
+    world_mu_.push_back(std::move(mus));
+    world_bodies_.push_back({m.name, obj, body, tf});
+  }
+}
+
+Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::string& name, const std::string& ns,
+                              const btTransform& pose) {
+  if (robot(name)) throw LoadError("model name '" + name + "' already exists");
+  for (const auto& wb : world_bodies_)
+    if (wb.model == name) throw LoadError("model name '" + name + "' already exists");
+  auto r = std::make_unique<Robot>();
+  r->name_ = name;
+  r->ns_ = ns;
+  r->spec_ = spec;
+  r->spawn_ = pose;
+  const RobotSpec& rs = *spec;
+
+  // Lump fixed joints: bodies in breadth-first order so parents precede children.
+  struct Body {
+    std::string root;
+    int parent = -2;
+    const JointSpec* joint = nullptr;
+    btTransform joint_in_parent_root;
+    std::vector<std::pair<const LinkSpec*, btTransform>> members;
+    MassProps mp;
+  };
+  std::vector<Body> bodies;
+  std::map<std::string, std::pair<int, btTransform>> where;  // link -> (body, link frame in body root)
+  bodies.push_back(Body{rs.root, -1, nullptr, btTransform::getIdentity(), {{rs.link(rs.root), btTransform::getIdentity()}}, {}});
+  where[rs.root] = {0, btTransform::getIdentity()};
+  std::vector<std::string> queue{rs.root};
+  for (size_t qi = 0; qi < queue.size(); ++qi) {
+    const std::string cur = queue[qi];
+    for (const auto& j : rs.joints) {
+      if (j.parent != cur) continue;
+      auto [pb, ptf] = where[cur];
+      if (j.type == JointSpec::FIXED) {
+        btTransform t = ptf * j.origin;
+        where[j.child] = {pb, t};
+        bodies[pb].members.push_back({rs.link(j.child), t});
+      } else {
+        Body b;
+        b.root = j.child;
+        b.parent = pb;
+        b.joint = &j;
+        b.joint_in_parent_root = ptf * j.origin;
+        b.members.push_back({rs.link(j.child), btTransform::getIdentity()});
+        where[j.child] = {static_cast<int>(bodies.size()), btTransform::getIdentity()};
+        bodies.push_back(b);
+      }
+      queue.push_back(j.child);
+    }
+  }
+  for (auto& b : bodies) {
+    b.mp = composite(b.members);
+    if (b.mp.mass <= 0) {
+      if (b.parent == -1)
+        throw LoadError(rs.source + ": link '" + b.root + "': the root body (with its fixed children) has no mass");
+      // Massless moving links are kept with a token mass (Gazebo would drop them).
+      b.mp.mass = 1e-3;
+      b.mp.diag = btVector3(1e-7, 1e-7, 1e-7);
+    }
+  }
+
+  const int nlinks = static_cast<int>(bodies.size()) - 1;
+  btMultiBody* mb = new btMultiBody(nlinks, bodies[0].mp.mass, bodies[0].mp.diag, false, true);
+  mb->setLinearDamping(0);
+  mb->setAngularDamping(0);
+  mb->setHasSelfCollision(false);
+  mb->setUseGyroTerm(true);
+  mb->setMaxCoordinateVelocity(1000);
+  r->base_root_in_inertial_ = bodies[0].mp.inertial.inverse();
+  for (int i = 1; i <= nlinks; ++i) {
+    const Body& b = bodies[i];
+    const btTransform& Pi = bodies[b.parent].mp.inertial;
+    const btTransform& Ci = b.mp.inertial;
+    btTransform offA = Pi.inverse() * b.joint_in_parent_root;
+    btTransform offB = Ci.inverse();
+    btQuaternion rotParentToThis = offB.getRotation() * offA.getRotation().inverse();
+    btVector3 axis = quatRotate(offB.getRotation(), b.joint->axis);
+    int parent_link = b.parent - 1;
+    if (b.joint->type == JointSpec::PRISMATIC)
+      mb->setupPrismatic(i - 1, b.mp.mass, b.mp.diag, parent_link, rotParentToThis, axis, offA.getOrigin(),
+                         -offB.getOrigin(), true);
+    else
+      mb->setupRevolute(i - 1, b.mp.mass, b.mp.diag, parent_link, rotParentToThis, axis, offA.getOrigin(),
+                        -offB.getOrigin(), true);
+  }
+  mb->finalizeMultiDof();
+  world_->addMultiBody(mb);
+  r->mb_ = mb;
+
+  for (const auto& [lname, bw] : where) r->links_[lname] = Robot::LinkRef{bw.first - 1, bodies[bw.first].mp.inertial.inverse() * bw.second};
+
+  // Colliders: one compound per body in its inertial frame.
+  for (int i = 0; i <= nlinks; ++i) {
+    const Body& b = bodies[i];
+    auto* compound = new btCompoundShape(true);
+    auto mus = std::make_unique<std::vector<double>>();
+    btTransform inv = b.mp.inertial.inverse();
+    for (const auto& [link, tf] : b.members)
+      for (const auto& s : link->collisions) {
+        btCollisionShape* cs = buildShape(s, true, r->shapes_, rs.source + ": link '" + link->name + "'");
+        compound->addChildShape(inv * tf * s.pose, cs);
+        mus->push_back(std::min(s.mu1, s.mu2));
+      }
+    r->shapes_.push_back(compound);
+    if (compound->getNumChildShapes() == 0) continue;
+    auto* col = new btMultiBodyLinkCollider(mb, i - 1);
+    col->setCollisionShape(compound);
+    col->setFriction(1.0);
+    col->setRestitution(0);
+    col->setUserPointer(mus.get());
+    col->setCollisionFlags(col->getCollisionFlags() | btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK);
+    world_->addCollisionObject(col, kDynamicGroup, btBroadphaseProxy::AllFilter);
+    if (i == 0)
+      mb->setBaseCollider(col);
+    else
+      mb->getLink(i - 1).m_collider = col;
+    r->colliders_.push_back(col);
+    r->child_mu_.push_back(std::move(mus));
+  }
+
+  // Joints: a motor for commands, one for Coulomb friction, limits.
+  for (int i = 1; i <= nlinks; ++i) {
+    const JointSpec* js = bodies[i].joint;
+    Robot::Joint j;
+    j.spec = js;
+    j.link = i - 1;
+    j.motor = new btMultiBodyJointMotor(mb, i - 1, 0, 0);
+    j.motor->setMaxAppliedImpulse(0);
+    world_->addMultiBodyConstraint(j.motor);
+    r->constraints_.push_back(j.motor);
+    if (js->friction > 0) {
+      j.friction = new btMultiBodyJointMotor(mb, i - 1, 0, js->friction * opt_.step);
+      world_->addMultiBodyConstraint(j.friction);
+      r->constraints_.push_back(j.friction);
+    }
+    if (js->has_limits) {
+      auto* lim = new btMultiBodyJointLimitConstraint(mb, i - 1, js->lower, js->upper);
+      world_->addMultiBodyConstraint(lim);
+      r->constraints_.push_back(lim);
+    }
+    r->joint_index_[js->name] = r->joints_.size();
+    r->joints_.push_back(j);
+  }
+  setRobotPose(*r, pose, btVector3(0, 0, 0), btVector3(0, 0, 0));
+  robots_.push_back(std::move(r));
+  return *robots_.back();
+}
+
+void PhysicsWorld::setRobotPose(Robot& r, const btTransform& root_pose, const btVector3& lin, const btVector3& ang) {
+  btMultiBody* mb = r.mb_;
+  btTransform base = root_pose * r.base_root_in_inertial_.inverse();
+  mb->setBaseWorldTransform(base);
+  mb->setBaseVel(lin + ang.cross(base.getOrigin() - root_pose.getOrigin()));
+  mb->setBaseOmega(ang);
+  mb->clearForcesAndTorques();
+  mb->wakeUp();
+  syncRobotTransforms(r);
+}
+
+void PhysicsWorld::syncRobotTransforms(Robot& r) {
+  r.mb_->forwardKinematics(scratch_q_, scratch_m_);
+  r.mb_->updateCollisionObjectWorldTransforms(scratch_q_, scratch_m_);
+  for (auto* c : r.colliders_) world_->updateSingleAabb(c);
+}
+
+bool PhysicsWorld::removeRobot(const std::string& name) {
+  for (auto it = robots_.begin(); it != robots_.end(); ++it) {
+    Robot& r = **it;
+    if (r.name_ != name) continue;
+    for (auto* c : r.constraints_) {
+      world_->removeMultiBodyConstraint(c);
+      delete c;
+    }
+    for (auto* c : r.colliders_) {
+      world_->removeCollisionObject(c);
+      delete c;
+    }
+    world_->removeMultiBody(r.mb_);
+    delete r.mb_;
+    for (auto* s : r.shapes_) delete s;
+    robots_.erase(it);
+    return true;
+  }
+  return false;
+}
+
+Robot* PhysicsWorld::robot(const std::string& name) {
+  for (auto& r : robots_)
+    if (r->name_ == name) return r.get();
+  return nullptr;
+}
+
+std::vector<Robot*> PhysicsWorld::robots() {
+  std::vector<Robot*> out;
+  for (auto& r : robots_) out.push_back(r.get());
+  return out;
+}
+
+void PhysicsWorld::step() {
+  const double dt = opt_.step;
+  for (auto& rp : robots_) {
+    Robot& r = *rp;
+    btMultiBody* mb = r.mb_;
+    for (auto& j : r.joints_) {
+      double qd = mb->getJointVel(j.link);
+      if (j.spec->damping > 0) mb->addJointTorque(j.link, -j.spec->damping * qd);
+      switch (j.mode) {
+        case Robot::Mode::NONE:
+          j.motor->setMaxAppliedImpulse(0);
+          break;
+        case Robot::Mode::VELOCITY:
+          j.motor->setVelocityTarget(j.target, 1.0);
+          j.motor->setPositionTarget(0, 0);
+          j.motor->setMaxAppliedImpulse(j.max_effort * dt);
+          break;
+        case Robot::Mode::POSITION:
+          // Critically damped-ish servo: converge over ~10 steps, effort-limited.
+          j.motor->setPositionTarget(j.target, 0.1);
+          j.motor->setVelocityTarget(0, 1.0);
+          j.motor->setMaxAppliedImpulse(j.max_effort * dt);
+          break;
+      }
+    }
+  }
+  world_->stepSimulation(dt, 0, dt);
+  ++steps_;
+  time_ = steps_ * dt + 0.0;
+}
+
+void PhysicsWorld::resetWorld() {
+  for (auto& rp : robots_) {
+    Robot& r = *rp;
+    for (int i = 0; i < r.mb_->getNumLinks(); ++i) {
+      r.mb_->setJointPos(i, 0);
+      r.mb_->setJointVel(i, 0);
+    }
+    for (auto& j : r.joints_) {
+      if (j.mode == Robot::Mode::VELOCITY) j.target = 0;
+    }
+    setRobotPose(r, r.spawn_, btVector3(0, 0, 0), btVector3(0, 0, 0));
+  }
+  for (auto& wb : world_bodies_) {
+    if (!wb.body) continue;
+    wb.body->setWorldTransform(wb.initial);
+    wb.body->setLinearVelocity(btVector3(0, 0, 0));
+    wb.body->setAngularVelocity(btVector3(0, 0, 0));
+    wb.body->activate(true);
+  }
+  world_->getBroadphase()->resetPool(dispatcher_.get());
+  world_->getConstraintSolver()->reset();
+}
+
+bool PhysicsWorld::setModelState(const std::string& name, const btTransform& pose, const btVector3& lin,
+                                 const btVector3& ang) {
+  if (Robot* r = robot(name)) {
+    setRobotPose(*r, pose, lin, ang);
+    return true;
+  }
+  bool found = false;
+  for (auto& wb : world_bodies_) {
+    if (wb.model != name || !wb.body) continue;
+    wb.body->setWorldTransform(pose);
+    wb.body->setLinearVelocity(lin);
+    wb.body->setAngularVelocity(ang);
+    wb.body->activate(true);
+    found = true;
+  }
+  return found;
+}
+
+bool PhysicsWorld::getModelState(const std::string& name, Pose& out) const {
+  for (const auto& r : robots_)
+    if (r->name_ == name) {
+      out = r->linkState(r->spec_->root);
+      return true;
+    }
+  for (const auto& wb : world_bodies_)
+    if (wb.model == name) {
+      out.tf = wb.obj->getWorldTransform();
+      if (wb.body) {
+        out.linear = wb.body->getLinearVelocity();
+        out.angular = wb.body->getAngularVelocity();
+      }
+      return true;
+    }
+  return false;
+}
+
+std::vector<DynamicObstacle> PhysicsWorld::dynamicObstacles(const Robot* exclude) const {
+  std::vector<DynamicObstacle> out;
+  auto add = [&](const btCollisionObject* o) {
+    btVector3 mn, mx;
+    o->getCollisionShape()->getAabb(o->getWorldTransform(), mn, mx);
+    out.push_back({o, (mn + mx) * 0.5, (mx - mn).length() * 0.5, mn.z(), mx.z()});
+  };
+  for (const auto& r : robots_) {
+    if (r.get() == exclude) continue;
+    for (auto* c : r->colliders_) add(c);
+  }
+  for (const auto& wb : world_bodies_)
+    if (wb.body) add(wb.obj);
+  return out;
+}
+
+double PhysicsWorld::rayTestObject(const btCollisionObject* obj, const btVector3& from, const btVector3& to) const {
+  btCollisionWorld::ClosestRayResultCallback cb(from, to);
+  btTransform tf_from(btQuaternion::getIdentity(), from), tf_to(btQuaternion::getIdentity(), to);
+  btCollisionWorld::rayTestSingle(tf_from, tf_to, const_cast<btCollisionObject*>(obj), obj->getCollisionShape(),
+                                  obj->getWorldTransform(), cb);
+  if (!cb.hasHit()) return -1;
+  return cb.m_closestHitFraction * (to - from).length();
+}
+
+double PhysicsWorld::rayTest(const btVector3& from, const btVector3& to, const Robot* exclude) const {
+  struct Cb : btCollisionWorld::ClosestRayResultCallback {
+    const Robot* ex;
+    Cb(const btVector3& a, const btVector3& b, const Robot* e) : ClosestRayResultCallback(a, b), ex(e) {}
+    bool needsCollision(btBroadphaseProxy* proxy) const override {
+      auto* o = static_cast<const btCollisionObject*>(proxy->m_clientObject);
+      if (ex)
+        for (auto* c : ex->colliders()) if (c == o) return false;
+      return ClosestRayResultCallback::needsCollision(proxy);
+    }
+  } cb(from, to, exclude);
+  world_->rayTest(from, to, cb);
+  if (!cb.hasHit()) return -1;
+  return cb.m_closestHitFraction * (to - from).length();
+}
+
+}  // namespace mybot_gazebo_lite

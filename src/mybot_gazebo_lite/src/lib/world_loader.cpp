@@ -1,0 +1,370 @@
+// World loaders: an SDF subset (Gazebo classic .world files) and a floor plan
+// made from an occupancy image with a map_server-style YAML.
+#include "mybot_gazebo_lite/parsing.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <tinyxml2.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace mybot_gazebo_lite {
+
+namespace {
+using tinyxml2::XMLElement;
+
+std::string dirOf(const std::string& p) {
+  auto s = p.find_last_of('/');
+  return s == std::string::npos ? "." : p.substr(0, s);
+}
+
+std::string readFile(const std::string& path, const std::string& what) {
+  std::ifstream f(path);
+  if (!f) throw LoadError(what + ": cannot read '" + path + "'");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+struct SdfCtx {
+  std::string source, base_dir;
+  const UriResolver* resolver;
+  [[noreturn]] void fail(const std::string& where, const std::string& msg) const {
+    throw LoadError(source + ": " + where + ": " + msg);
+  }
+  std::string text(const XMLElement* e, const char* child, const std::string& where, bool required,
+                   const std::string& def = "") const {
+    const XMLElement* c = e->FirstChildElement(child);
+    if (!c || !c->GetText()) {
+      if (required) fail(where, std::string("missing <") + child + ">");
+      return def;
+    }
+    return c->GetText();
+  }
+  double number(const XMLElement* e, const char* child, const std::string& where, bool required,
+                double def = 0) const {
+    std::string t = text(e, child, where, required);
+    if (t.empty()) return def;
+    char* end = nullptr;
+    double d = std::strtod(t.c_str(), &end);
+    while (end && (*end == ' ' || *end == '\n' || *end == '\t' || *end == '\r')) ++end;
+    if (*end != '\0' || !std::isfinite(d)) fail(where + " <" + child + ">", "not a number: '" + t + "'");
+    return d;
+  }
+  btTransform pose(const XMLElement* e, const std::string& where) const {
+    const XMLElement* p = e->FirstChildElement("pose");
+    if (!p || !p->GetText()) return btTransform::getIdentity();
+    try {
+      return parsePose6(p->GetText(), "<pose>");
+    } catch (const LoadError& ex) {
+      fail(where, ex.what());
+    }
+  }
+};
+
+Shape parseSdfGeometry(const SdfCtx& c, const XMLElement* g, const std::string& where) {
+  const XMLElement* s = g ? g->FirstChildElement() : nullptr;
+  if (!s) c.fail(where, "missing <geometry> content");
+  Shape shape;
+  std::string t = s->Name();
+  std::string w = where + " <" + t + ">";
+  if (t == "box") {
+    shape.type = Shape::BOX;
+    try {
+      shape.size = parseVec3(c.text(s, "size", w, true), "<size>");
+    } catch (const LoadError& e) {
+      c.fail(w, e.what());
+    }
+    if (shape.size.x() <= 0 || shape.size.y() <= 0 || shape.size.z() <= 0) c.fail(w, "size must be positive");
+  } else if (t == "cylinder") {
+    shape.type = Shape::CYLINDER;
+    shape.radius = c.number(s, "radius", w, true);
+    shape.length = c.number(s, "length", w, true);
+    if (shape.radius <= 0 || shape.length <= 0) c.fail(w, "radius and length must be positive");
+  } else if (t == "sphere") {
+    shape.type = Shape::SPHERE;
+    shape.radius = c.number(s, "radius", w, true);
+    if (shape.radius <= 0) c.fail(w, "radius must be positive");
+  } else if (t == "plane") {
+    shape.type = Shape::PLANE;
+    std::string n = c.text(s, "normal", w, false, "0 0 1");
+    try {
+      shape.normal = parseVec3(n, "<normal>");
+    } catch (const LoadError& e) {
+      c.fail(w, e.what());
+    }
+    if (shape.normal.length() < 1e-9) c.fail(w, "zero normal");
+    shape.normal.normalize();
+  } else if (t == "mesh") {
+    shape.type = Shape::MESH;
+    std::string uri = c.text(s, "uri", w, true);
+    std::string sc = c.text(s, "scale", w, false, "1 1 1");
+    try {
+      shape.mesh_scale = parseVec3(sc, "<scale>");
+    } catch (const LoadError& e) {
+      c.fail(w, e.what());
+    }
+    shape.mesh_path = (*c.resolver)(uri, c.base_dir);
+    if (shape.mesh_path.empty()) c.fail(w, "mesh '" + uri + "' not found");
+    try {
+      shape.triangles = loadMesh(shape.mesh_path, shape.mesh_scale);
+    } catch (const LoadError& e) {
+      c.fail(w, e.what());
+    }
+  } else {
+    c.fail(w, "unsupported geometry");
+  }
+  return shape;
+}
+
+WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string& where_in) {
+  WorldModel model;
+  model.name = m->Attribute("name") ? m->Attribute("name") : "";
+  std::string where = where_in + " <model name='" + model.name + "'>";
+  if (model.name.empty()) c.fail(where_in, "<model> without name");
+  model.pose = c.pose(m, where);
+  std::string st = c.text(m, "static", where, false, "false");
+  model.is_static = (st == "true" || st == "1");
+  for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
+    WorldLink link;
+    link.name = l->Attribute("name") ? l->Attribute("name") : "link";
+    std::string lw = where + " <link name='" + link.name + "'>";
+    link.pose = c.pose(l, lw);
+    if (const XMLElement* in = l->FirstChildElement("inertial")) {
+      link.mass = c.number(in, "mass", lw + " <inertial>", false, 1.0);
+      if (link.mass <= 0) c.fail(lw + " <inertial> <mass>", "mass must be positive");
+    }
+    for (const XMLElement* col = l->FirstChildElement("collision"); col; col = col->NextSiblingElement("collision")) {
+      std::string cw = lw + " <collision name='" + (col->Attribute("name") ? col->Attribute("name") : "") + "'>";
+      Shape s = parseSdfGeometry(c, col->FirstChildElement("geometry"), cw);
+      s.pose = c.pose(col, cw);
+      if (const XMLElement* surf = col->FirstChildElement("surface"))
+        if (const XMLElement* fr = surf->FirstChildElement("friction"))
+          if (const XMLElement* ode = fr->FirstChildElement("ode")) {
+            s.mu1 = c.number(ode, "mu", cw + " <friction><ode>", false, 1.0);
+            s.mu2 = c.number(ode, "mu2", cw + " <friction><ode>", false, s.mu1);
+          }
+      link.shapes.push_back(s);
+    }
+    model.links.push_back(std::move(link));
+  }
+  // Nested models are flattened into this one.
+  for (const XMLElement* n = m->FirstChildElement("model"); n; n = n->NextSiblingElement("model")) {
+    WorldModel sub = parseSdfModel(c, n, where);
+    for (auto& l : sub.links) {
+      l.pose = sub.pose * l.pose;
+      l.name = sub.name + "::" + l.name;
+      model.links.push_back(l);
+    }
+  }
+  return model;
+}
+
+// Resolves <include><uri>model://X</uri></include>. Returns false for the
+// built-in sun (a light, nothing to simulate).
+bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, WorldModel& out) {
+  std::string where = "<include>";
+  std::string uri = c.text(inc, "uri", where, true);
+  where = "<include> <uri>" + uri + "</uri>";
+  if (uri == "model://sun") return false;
+  if (uri == "model://ground_plane") {
+    world.ground_plane = true;
+    return false;
+  }
+  std::string dir = (*c.resolver)(uri, c.base_dir);
+  if (dir.empty()) c.fail(where, "model not found in GAZEBO_MODEL_PATH or package model paths");
+  std::string sdf_file = dir + "/model.sdf";
+  std::ifstream cfg(dir + "/model.config");
+  if (cfg) {
+    tinyxml2::XMLDocument doc;
+    std::stringstream ss;
+    ss << cfg.rdbuf();
+    if (doc.Parse(ss.str().c_str()) == tinyxml2::XML_SUCCESS)
+      if (const XMLElement* mdl = doc.FirstChildElement("model"))
+        if (const XMLElement* s = mdl->FirstChildElement("sdf"))
+          if (s->GetText()) sdf_file = dir + "/" + s->GetText();
+  }
+  std::string xml = readFile(sdf_file, c.source + ": " + where);
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
+    throw LoadError(sdf_file + ": XML: " + (doc.ErrorStr() ? doc.ErrorStr() : "parse error"));
+  const XMLElement* sdf = doc.FirstChildElement("sdf");
+  const XMLElement* m = sdf ? sdf->FirstChildElement("model") : nullptr;
+  if (!m) throw LoadError(sdf_file + ": no <sdf><model>");
+  SdfCtx sub{sdf_file, dir, c.resolver};
+  out = parseSdfModel(sub, m, "");
+  if (const char* n = inc->FirstChildElement("name") ? inc->FirstChildElement("name")->GetText() : nullptr)
+    out.name = n;
+  if (inc->FirstChildElement("pose")) out.pose = c.pose(inc, where);
+  if (const XMLElement* st = inc->FirstChildElement("static"))
+    if (st->GetText()) out.is_static = std::string(st->GetText()) == "true" || std::string(st->GetText()) == "1";
+  return true;
+}
+}  // namespace
+
+WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const std::string& base_dir,
+                        const UriResolver& resolver) {
+  SdfCtx c{source, base_dir, &resolver};
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
+    c.fail("XML", doc.ErrorStr() ? doc.ErrorStr() : "parse error");
+  const XMLElement* sdf = doc.FirstChildElement("sdf");
+  if (!sdf) c.fail("document", "no <sdf> element");
+  const XMLElement* w = sdf->FirstChildElement("world");
+  if (!w) c.fail("<sdf>", "no <world> element");
+  WorldSpec world;
+  world.source = source;
+  if (w->Attribute("name")) world.name = w->Attribute("name");
+  if (const XMLElement* g = w->FirstChildElement("gravity")) {
+    try {
+      world.gravity = parseVec3(g->GetText() ? g->GetText() : "", "<gravity>");
+    } catch (const LoadError& e) {
+      c.fail("<world>", e.what());
+    }
+  }
+  for (const XMLElement* e = w->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    std::string n = e->Name();
+    if (n == "include") {
+      WorldModel m;
+      if (parseInclude(c, e, world, m)) world.models.push_back(std::move(m));
+    } else if (n == "model") {
+      world.models.push_back(parseSdfModel(c, e, "<world>"));
+    }
+  }
+  // Gazebo applies the poses saved in a <state> block on load.
+  for (const XMLElement* st = w->FirstChildElement("state"); st; st = st->NextSiblingElement("state")) {
+    for (const XMLElement* m = st->FirstChildElement("model"); m; m = m->NextSiblingElement("model")) {
+      std::string name = m->Attribute("name") ? m->Attribute("name") : "";
+      std::string where = "<state> <model name='" + name + "'>";
+      for (auto& wm : world.models) {
+        if (wm.name != name) continue;
+        if (m->FirstChildElement("pose")) wm.pose = c.pose(m, where);
+        for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
+          std::string ln = l->Attribute("name") ? l->Attribute("name") : "";
+          // State link poses are in the world frame.
+          if (l->FirstChildElement("pose"))
+            for (auto& wl : wm.links)
+              if (wl.name == ln) wl.pose = wm.pose.inverse() * c.pose(l, where + " <link>");
+        }
+      }
+    }
+  }
+  return world;
+}
+
+WorldSpec loadImageWorld(const std::string& yaml_path) {
+  YAML::Node y;
+  try {
+    y = YAML::LoadFile(yaml_path);
+  } catch (const std::exception& e) {
+    throw LoadError(yaml_path + ": YAML: " + e.what());
+  }
+  auto fail = [&](const std::string& key, const std::string& msg) -> void {
+    throw LoadError(yaml_path + ": '" + key + "': " + msg);
+  };
+  auto num = [&](const char* key, bool required, double def) {
+    if (!y[key]) {
+      if (required) fail(key, "missing");
+      return def;
+    }
+    try {
+      return y[key].as<double>();
+    } catch (const std::exception&) {
+      fail(key, "not a number");
+    }
+    return def;
+  };
+  if (!y.IsMap()) throw LoadError(yaml_path + ": expected a map_server-style YAML mapping");
+  if (!y["image"]) fail("image", "missing");
+  std::string image = y["image"].as<std::string>();
+  if (image.empty() || image[0] != '/') image = dirOf(yaml_path) + "/" + image;
+  double res = num("resolution", true, 0);
+  if (!(res > 0)) fail("resolution", "must be positive");
+  double ox = 0, oy = 0, oyaw = 0;
+  if (!y["origin"] || !y["origin"].IsSequence() || y["origin"].size() != 3) fail("origin", "expected [x, y, yaw]");
+  try {
+    ox = y["origin"][0].as<double>();
+    oy = y["origin"][1].as<double>();
+    oyaw = y["origin"][2].as<double>();
+  } catch (const std::exception&) {
+    fail("origin", "expected [x, y, yaw] numbers");
+  }
+  double occ = num("occupied_thresh", false, 0.65);
+  int negate = static_cast<int>(num("negate", false, 0));
+  double height = num("height", false, 1.0);
+  if (!(height > 0)) fail("height", "must be positive");
+  cv::Mat img = cv::imread(image, cv::IMREAD_GRAYSCALE);
+  if (img.empty()) fail("image", "cannot read image '" + image + "'");
+
+  WorldSpec world;
+  world.source = yaml_path;
+  world.name = "floor_plan";
+  world.ground_plane = true;
+  WorldModel walls;
+  walls.name = "floor_plan_walls";
+  walls.is_static = true;
+  walls.pose = makeTransform(btVector3(ox, oy, 0), btVector3(0, 0, oyaw));
+  WorldLink link;
+  link.name = "walls";
+  // Occupied cells are merged into rectangles: row runs, extended downwards while identical.
+  const int W = img.cols, H = img.rows;
+  auto occupied = [&](int r, int col) {
+    double v = img.at<uint8_t>(r, col) / 255.0;
+    double p = negate ? v : 1.0 - v;
+    return p > occ;
+  };
+  struct Run {
+    int x0, x1, r0;
+  };
+  std::vector<Run> open;
+  auto emit = [&](const Run& run, int r_end) {
+    // Image row 0 is the top (largest y).
+    double x0 = run.x0 * res, x1 = (run.x1 + 1) * res;
+    double ytop = (H - run.r0) * res, ybot = (H - r_end) * res;
+    Shape s;
+    s.type = Shape::BOX;
+    s.size = btVector3(x1 - x0, ytop - ybot, height);
+    s.pose.setIdentity();
+    s.pose.setOrigin(btVector3((x0 + x1) / 2, (ytop + ybot) / 2, height / 2));
+    link.shapes.push_back(s);
+  };
+  for (int r = 0; r <= H; ++r) {
+    std::vector<Run> runs;
+    if (r < H) {
+      for (int col = 0; col < W;) {
+        if (!occupied(r, col)) {
+          ++col;
+          continue;
+        }
+        int s = col;
+        while (col < W && occupied(r, col)) ++col;
+        runs.push_back({s, col - 1, r});
+      }
+    }
+    std::vector<Run> next;
+    for (auto& o : open) {
+      bool cont = false;
+      for (auto& n : runs)
+        if (n.x0 == o.x0 && n.x1 == o.x1 && n.r0 == r) {
+          n.r0 = o.r0;
+          cont = true;
+        }
+      if (!cont) emit(o, r);
+    }
+    open = runs;
+  }
+  if (!link.shapes.empty()) walls.links.push_back(std::move(link));
+  world.models.push_back(std::move(walls));
+  return world;
+}
+
+WorldSpec loadWorldFile(const std::string& path, const UriResolver& resolver) {
+  auto ends = [&](const std::string& s) { return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0; };
+  if (ends(".yaml") || ends(".yml")) return loadImageWorld(path);
+  std::string xml = readFile(path, "world");
+  return parseSdfWorld(xml, path, dirOf(path), resolver);
+}
+
+}  // namespace mybot_gazebo_lite

@@ -1,0 +1,294 @@
+// gazebo_lite: the headless simulator node. Steps the Bullet world at a fixed
+// step, publishes /clock, runs the plugin emulations and the /gazebo services.
+#include "plugins.h"
+
+#include "mybot_gazebo_lite/DeleteModel.h"
+#include "mybot_gazebo_lite/GetModelState.h"
+#include "mybot_gazebo_lite/SetModelState.h"
+#include "mybot_gazebo_lite/SpawnModel.h"
+#include "mybot_gazebo_lite/parsing.h"
+#include "mybot_gazebo_lite/physics.h"
+
+#include <ros/ros.h>
+#include <ros/callback_queue.h>
+#include <rosgraph_msgs/Clock.h>
+#include <std_srvs/Empty.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <cmath>
+#include <memory>
+#include <thread>
+
+namespace mybot_gazebo_lite {
+
+class SimNode {
+ public:
+  SimNode() : pnh_("~") {}
+
+  bool init() {
+    std::string world_file;
+    pnh_.param<std::string>("world", world_file, "");
+    double step = pnh_.param("max_step_size", 0.001);
+    int iters = pnh_.param("solver_iterations", 10);
+    rtf_ = pnh_.param("real_time_factor", 1.0);
+    paused_ = pnh_.param("paused", false);
+    clock_hz_ = pnh_.param("pub_clock_frequency", 1000.0);
+    int seed = pnh_.param("seed", 0);
+    if (!(step > 0 && step <= 0.01)) return bad("max_step_size", "must be in (0, 0.01] s");
+    if (iters < 1) return bad("solver_iterations", "must be >= 1");
+    if (!(rtf_ >= 0) || !std::isfinite(rtf_)) return bad("real_time_factor", "must be >= 0 (0 = as fast as possible)");
+    if (clock_hz_ < 0) return bad("pub_clock_frequency", "must be >= 0 (0 = every step)");
+    WorldSpec spec;
+    try {
+      if (world_file.empty()) {
+        spec.ground_plane = true;
+        spec.name = "empty";
+      } else {
+        spec = loadWorldFile(world_file);
+      }
+    } catch (const std::exception& e) {
+      ROS_FATAL("gazebo_lite: cannot load world: %s", e.what());
+      return false;
+    }
+    PhysicsWorld::Options opt;
+    opt.step = step;
+    opt.solver_iterations = iters;
+    world_ = std::make_unique<PhysicsWorld>(spec, opt);
+    slices_ = std::make_unique<StaticSliceCache>(world_->worldSpec());
+    rng_.seed(seed);
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+    ros::NodeHandle g("/gazebo");
+    srvs_.push_back(g.advertiseService("reset_world", &SimNode::resetWorld, this));
+    srvs_.push_back(g.advertiseService("reset_simulation", &SimNode::resetSimulation, this));
+    srvs_.push_back(g.advertiseService("pause_physics", &SimNode::pause, this));
+    srvs_.push_back(g.advertiseService("unpause_physics", &SimNode::unpause, this));
+    srvs_.push_back(g.advertiseService("spawn_urdf_model", &SimNode::spawn, this));
+    srvs_.push_back(g.advertiseService("delete_model", &SimNode::remove, this));
+    srvs_.push_back(g.advertiseService("get_model_state", &SimNode::getState, this));
+    srvs_.push_back(g.advertiseService("set_model_state", &SimNode::setState, this));
+    publishClock(true);
+    ROS_INFO("gazebo_lite: world '%s' (%zu models), step %.4f s, real_time_factor %g%s", spec.name.c_str(),
+             spec.models.size(), step, rtf_, paused_ ? ", paused" : "");
+    return true;
+  }
+
+  void run() {
+    auto* queue = ros::getGlobalCallbackQueue();
+    anchor();
+    while (ros::ok()) {
+      queue->callAvailable();
+      if (paused_) {
+        publishClock(false);
+        queue->callAvailable(ros::WallDuration(0.005));
+        anchor();
+        continue;
+      }
+      double t = world_->time();
+      for (auto& m : models_)
+        for (auto& p : m.plugins) p->preStep(t);
+      world_->step();
+      t = world_->time();
+      for (auto& m : models_)
+        for (auto& p : m.plugins) p->update(t);
+      publishClock(false);
+      if (rtf_ > 0) {
+        // Pace against the wall clock from an anchor so errors do not accumulate.
+        ros::WallTime target = wall0_ + ros::WallDuration((t - sim0_) / rtf_);
+        ros::WallTime now = ros::WallTime::now();
+        if (target > now) {
+          std::this_thread::sleep_for(std::chrono::nanoseconds((target - now).toNSec()));
+        } else if ((now - target).toSec() > 0.5) {
+          anchor();  // far behind: do not try to catch up in a burst
+        }
+      }
+    }
+  }
+
+ private:
+  struct ModelEntry {
+    std::string name;
+    std::vector<std::unique_ptr<SimPlugin>> plugins;
+  };
+
+  bool bad(const std::string& param, const std::string& msg) {
+    ROS_FATAL("gazebo_lite: parameter ~%s: %s", param.c_str(), msg.c_str());
+    return false;
+  }
+  void anchor() {
+    wall0_ = ros::WallTime::now();
+    sim0_ = world_->time();
+  }
+  void publishClock(bool force) {
+    double t = world_->time();
+    if (!force && clock_hz_ > 0 && t + 1e-9 < last_clock_ + 1.0 / clock_hz_) return;
+    rosgraph_msgs::Clock c;
+    c.clock = ros::Time(t);
+    clock_pub_.publish(c);
+    last_clock_ = t;
+  }
+
+  bool resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    world_->resetWorld();
+    for (auto& m : models_)
+      for (auto& p : m.plugins) p->reset();
+    return true;
+  }
+  bool resetSimulation(std_srvs::Empty::Request& a, std_srvs::Empty::Response& b) {
+    resetWorld(a, b);
+    world_->resetTime();
+    last_clock_ = -1;
+    publishClock(true);
+    anchor();
+    return true;
+  }
+  bool pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    paused_ = true;
+    return true;
+  }
+  bool unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    paused_ = false;
+    anchor();
+    return true;
+  }
+
+  bool spawn(SpawnModel::Request& req, SpawnModel::Response& res) {
+    res.success = false;
+    if (req.model_name.empty()) {
+      res.status_message = "model_name is empty";
+      return true;
+    }
+    if (!req.reference_frame.empty() && req.reference_frame != "world" && req.reference_frame != "map") {
+      res.status_message = "reference_frame '" + req.reference_frame + "' not supported (use world)";
+      return true;
+    }
+    try {
+      auto spec = std::make_shared<RobotSpec>(parseUrdf(req.model_xml, "URDF of model '" + req.model_name + "'"));
+      const auto& p = req.initial_pose;
+      btQuaternion q(p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w);
+      if (q.length2() < 1e-12) q = btQuaternion::getIdentity();
+      q.normalize();
+      btTransform pose(q, btVector3(p.position.x, p.position.y, p.position.z));
+      std::string ns = req.robot_namespace;
+      Robot& robot = world_->addRobot(spec, req.model_name, ns, pose);
+      ModelEntry entry;
+      entry.name = req.model_name;
+      try {
+        for (const auto& ps : spec->plugins) {
+          PluginContext ctx;
+          ctx.world = world_.get();
+          ctx.robot = &robot;
+          ctx.spec = &ps;
+          ctx.ns = ns;
+          if (const XmlNode* rn = ps.xml.child("robotNamespace")) ctx.ns = rn->text;
+          ros::NodeHandle nsh(ctx.ns);
+          std::string key;
+          if (nsh.searchParam("tf_prefix", key)) nsh.getParam(key, ctx.tf_prefix);
+          while (!ctx.tf_prefix.empty() && ctx.tf_prefix[0] == '/') ctx.tf_prefix.erase(0, 1);
+          ctx.tf = &tfb_;
+          ctx.slices = slices_.get();
+          ctx.rng = &rng_;
+          if (auto plugin = createPlugin(ctx)) entry.plugins.push_back(std::move(plugin));
+        }
+      } catch (...) {
+        world_->removeRobot(req.model_name);
+        throw;
+      }
+      models_.push_back(std::move(entry));
+      res.success = true;
+      res.status_message = "spawned '" + req.model_name + "'";
+      ROS_INFO("gazebo_lite: spawned '%s' (namespace '%s') with %zu plugins", req.model_name.c_str(), ns.c_str(),
+               models_.back().plugins.size());
+    } catch (const std::exception& e) {
+      res.status_message = e.what();
+      ROS_ERROR("gazebo_lite: spawn '%s' failed: %s", req.model_name.c_str(), e.what());
+    }
+    return true;
+  }
+
+  bool remove(DeleteModel::Request& req, DeleteModel::Response& res) {
+    for (auto it = models_.begin(); it != models_.end(); ++it)
+      if (it->name == req.model_name) {
+        models_.erase(it);  // plugins first: they reference the robot
+        world_->removeRobot(req.model_name);
+        res.success = true;
+        res.status_message = "deleted '" + req.model_name + "'";
+        return true;
+      }
+    res.success = false;
+    res.status_message = "no model named '" + req.model_name + "'";
+    return true;
+  }
+
+  bool getState(GetModelState::Request& req, GetModelState::Response& res) {
+    Pose s;
+    res.header.stamp = ros::Time(world_->time());
+    res.header.frame_id = "world";
+    if (!world_->getModelState(req.model_name, s)) {
+      res.success = false;
+      res.status_message = "no model named '" + req.model_name + "'";
+      return true;
+    }
+    if (!req.relative_entity_name.empty() && req.relative_entity_name != "world" && req.relative_entity_name != "map") {
+      res.success = false;
+      res.status_message = "relative_entity_name '" + req.relative_entity_name + "' not supported (use world)";
+      return true;
+    }
+    const btVector3& o = s.tf.getOrigin();
+    btQuaternion q = s.tf.getRotation();
+    res.pose.position.x = o.x();
+    res.pose.position.y = o.y();
+    res.pose.position.z = o.z();
+    res.pose.orientation.x = q.x();
+    res.pose.orientation.y = q.y();
+    res.pose.orientation.z = q.z();
+    res.pose.orientation.w = q.w();
+    res.twist.linear.x = s.linear.x();
+    res.twist.linear.y = s.linear.y();
+    res.twist.linear.z = s.linear.z();
+    res.twist.angular.x = s.angular.x();
+    res.twist.angular.y = s.angular.y();
+    res.twist.angular.z = s.angular.z();
+    res.success = true;
+    res.status_message = "GetModelState: got properties";
+    return true;
+  }
+
+  bool setState(SetModelState::Request& req, SetModelState::Response& res) {
+    const auto& m = req.model_state;
+    btQuaternion q(m.pose.orientation.x, m.pose.orientation.y, m.pose.orientation.z, m.pose.orientation.w);
+    if (q.length2() < 1e-12 || !std::isfinite(q.length2())) {
+      res.success = false;
+      res.status_message = "invalid orientation quaternion";
+      return true;
+    }
+    q.normalize();
+    btTransform pose(q, btVector3(m.pose.position.x, m.pose.position.y, m.pose.position.z));
+    btVector3 lin(m.twist.linear.x, m.twist.linear.y, m.twist.linear.z);
+    btVector3 ang(m.twist.angular.x, m.twist.angular.y, m.twist.angular.z);
+    res.success = world_->setModelState(m.model_name, pose, lin, ang);
+    res.status_message = res.success ? "SetModelState: set model state" : "no model named '" + m.model_name + "'";
+    return true;
+  }
+
+  ros::NodeHandle nh_, pnh_;
+  std::unique_ptr<PhysicsWorld> world_;
+  std::unique_ptr<StaticSliceCache> slices_;
+  std::vector<ModelEntry> models_;
+  std::vector<ros::ServiceServer> srvs_;
+  ros::Publisher clock_pub_;
+  tf2_ros::TransformBroadcaster tfb_;
+  std::mt19937 rng_;
+  double rtf_ = 1, clock_hz_ = 1000, last_clock_ = -1, sim0_ = 0;
+  bool paused_ = false;
+  ros::WallTime wall0_;
+};
+
+}  // namespace mybot_gazebo_lite
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "gazebo_lite");
+  mybot_gazebo_lite::SimNode node;
+  if (!node.init()) return 1;
+  node.run();
+  return 0;
+}

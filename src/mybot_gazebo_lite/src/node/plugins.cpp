@@ -1,0 +1,627 @@
+#include "plugins.h"
+
+#include "mybot_gazebo_lite/kinematics.h"
+#include "mybot_gazebo_lite/parsing.h"
+
+#include <geometry_msgs/Twist.h>
+#include <nav_msgs/Odometry.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/JointState.h>
+#include <sensor_msgs/LaserScan.h>
+#include <std_msgs/Float64.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace mybot_gazebo_lite {
+
+const RayCaster2D& StaticSliceCache::at(double z) {
+  long key = std::lround(z * 100.0);  // 1 cm bins
+  auto it = cache_.find(key);
+  if (it == cache_.end())
+    it = cache_.emplace(key, std::make_unique<RayCaster2D>(sliceWorld(world_, key / 100.0))).first;
+  return *it->second;
+}
+
+namespace {
+
+// Reads plugin/sensor parameters; every error names tag, link and file.
+class Params {
+ public:
+  Params(const PluginContext& c, const XmlNode& x) : c_(c), x_(x) {}
+  [[noreturn]] void fail(const std::string& tag, const std::string& msg) const {
+    std::ostringstream os;
+    os << c_.robot->spec().source << ": plugin '" << c_.spec->name << "' (" << c_.spec->filename << ")";
+    if (!c_.spec->reference.empty()) os << " on link '" << c_.spec->reference << "'";
+    os << ": <" << tag << ">: " << msg;
+    throw LoadError(os.str());
+  }
+  const XmlNode* node(const std::string& path) const {
+    const XmlNode* n = &x_;
+    std::stringstream ss(path);
+    std::string part;
+    while (n && std::getline(ss, part, '/')) n = n->child(part);
+    return n;
+  }
+  bool has(const std::string& tag) const { return node(tag) != nullptr; }
+  std::string str(const std::string& tag, const std::string& def) const {
+    const XmlNode* n = node(tag);
+    return n ? n->text : def;
+  }
+  std::string requiredStr(const std::string& tag) const {
+    const XmlNode* n = node(tag);
+    if (!n || n->text.empty()) fail(tag, "required parameter missing");
+    return n->text;
+  }
+  double num(const std::string& tag, double def) const {
+    const XmlNode* n = node(tag);
+    if (!n) return def;
+    return parse(tag, n->text);
+  }
+  double requiredNum(const std::string& tag) const {
+    const XmlNode* n = node(tag);
+    if (!n) fail(tag, "required parameter missing");
+    return parse(tag, n->text);
+  }
+  bool boolean(const std::string& tag, bool def) const {
+    const XmlNode* n = node(tag);
+    if (!n) return def;
+    if (n->text == "true" || n->text == "1") return true;
+    if (n->text == "false" || n->text == "0") return false;
+    fail(tag, "expected true/false, got '" + n->text + "'");
+  }
+  std::string joint(const std::string& tag, const std::string& def) const {
+    std::string j = str(tag, def);
+    if (!c_.robot->hasJoint(j)) fail(tag, "no movable joint named '" + j + "'");
+    return j;
+  }
+  btTransform pose(const std::string& tag) const {
+    const XmlNode* n = node(tag);
+    if (!n) return btTransform::getIdentity();
+    try {
+      return parsePose6(n->text, "pose");
+    } catch (const LoadError& e) {
+      fail(tag, e.what());
+    }
+  }
+
+ private:
+  double parse(const std::string& tag, const std::string& t) const {
+    char* end = nullptr;
+    double d = std::strtod(t.c_str(), &end);
+    if (t.empty() || *end != '\0' || !std::isfinite(d)) fail(tag, "expected a number, got '" + t + "'");
+    return d;
+  }
+  const PluginContext& c_;
+  const XmlNode& x_;
+};
+
+std::string resolveFrame(const PluginContext& c, std::string f) {
+  while (!f.empty() && f[0] == '/') f.erase(0, 1);
+  return c.tf_prefix.empty() ? f : c.tf_prefix + "/" + f;
+}
+
+// Fires at a fixed sim-time period (0 = every step).
+struct Rate {
+  double period = 0, next = 0;
+  explicit Rate(double hz = 0) : period(hz > 0 ? 1.0 / hz : 0) {}
+  bool due(double t) {
+    if (period <= 0) return true;
+    if (t + 1e-9 < next) return false;
+    next = (next + period < t) ? t + period : next + period;
+    return true;
+  }
+};
+
+void toMsg(const btTransform& tf, geometry_msgs::Pose& p) {
+  p.position.x = tf.getOrigin().x();
+  p.position.y = tf.getOrigin().y();
+  p.position.z = tf.getOrigin().z();
+  btQuaternion q = tf.getRotation();
+  p.orientation.x = q.x();
+  p.orientation.y = q.y();
+  p.orientation.z = q.z();
+  p.orientation.w = q.w();
+}
+
+geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std::string& parent, const std::string& child) {
+  geometry_msgs::TransformStamped m;
+  m.header.stamp = ros::Time(t);
+  m.header.frame_id = parent;
+  m.child_frame_id = child;
+  m.transform.translation.x = tf.getOrigin().x();
+  m.transform.translation.y = tf.getOrigin().y();
+  m.transform.translation.z = tf.getOrigin().z();
+  btQuaternion q = tf.getRotation();
+  m.transform.rotation.x = q.x();
+  m.transform.rotation.y = q.y();
+  m.transform.rotation.z = q.z();
+  m.transform.rotation.w = q.w();
+  return m;
+}
+
+// ------------------------------------------------ libgazebo_ros_diff_drive.so
+class DiffDrive : public SimPlugin {
+ public:
+  explicit DiffDrive(const PluginContext& c) : c_(c) {
+    Params p(c, c.spec->xml);
+    ros::NodeHandle nh(c.ns);
+    left_ = p.joint("leftJoint", "left_joint");
+    right_ = p.joint("rightJoint", "right_joint");
+    geo_.separation = p.num("wheelSeparation", 0.34);
+    geo_.diameter = p.num("wheelDiameter", 0.15);
+    if (!(geo_.separation > 0)) p.fail("wheelSeparation", "must be positive");
+    if (!(geo_.diameter > 0)) p.fail("wheelDiameter", "must be positive");
+    if (!p.has("legacyMode"))
+      ROS_WARN("%s: diff_drive plugin missing <legacyMode>, defaults to true (left/right swapped, as in gazebo_ros)",
+               c.robot->name().c_str());
+    geo_.legacy = p.boolean("legacyMode", true);
+    accel_ = p.num("wheelAcceleration", 0.0);
+    torque_ = p.num("wheelTorque", 5.0);
+    if (accel_ < 0) p.fail("wheelAcceleration", "must be >= 0");
+    if (!(torque_ > 0)) p.fail("wheelTorque", "must be positive");
+    rate_ = Rate(p.num("updateRate", 100.0));
+    timeout_ = p.num("commandTimeout", 0.5);
+    if (timeout_ < 0) p.fail("commandTimeout", "must be >= 0");
+    std::string src = p.str("odometrySource", "world");
+    if (src == "encoder" || src == "0")
+      encoder_ = true;
+    else if (src != "world" && src != "1")
+      p.fail("odometrySource", "expected 'encoder' or 'world', got '" + src + "'");
+    publish_odom_tf_ = p.boolean("publishOdomTF", true);
+    publish_wheel_tf_ = p.boolean("publishWheelTF", false);
+    publish_wheel_js_ = p.boolean("publishWheelJointState", false);
+    odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
+    base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
+    base_link_ = p.str("robotBaseFrame", "base_footprint");
+    if (!c.robot->hasLink(base_link_)) base_link_ = c.robot->spec().root;
+    sub_ = nh.subscribe(p.str("commandTopic", "cmd_vel"), 1, &DiffDrive::onCmd, this);
+    odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
+    if (publish_wheel_js_) js_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 1);
+    hold();
+  }
+  void onCmd(const geometry_msgs::Twist::ConstPtr& m) {
+    if (!std::isfinite(m->linear.x) || !std::isfinite(m->angular.z)) {
+      ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite cmd_vel", c_.robot->name().c_str());
+      return;
+    }
+    x_ = m->linear.x;
+    rot_ = m->angular.z;
+    last_cmd_ = c_.world->time();
+    have_cmd_ = true;
+  }
+  void reset() override {
+    odo_ = EncoderOdometry();
+    x_ = rot_ = 0;
+    instr_[0] = instr_[1] = 0;
+    hold();
+  }
+  void update(double t) override {
+    double dt = c_.world->stepSize();
+    odo_.update(c_.robot->jointVelocity(left_), c_.robot->jointVelocity(right_), dt, geo_);
+    if (!rate_.due(t)) return;
+    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_) {
+      x_ = rot_ = 0;
+      have_cmd_ = false;
+    }
+    publishOdometry(t);
+    auto [vl, vr] = diffDriveWheelSpeeds(x_, rot_, geo_);
+    double r = geo_.diameter / 2;
+    double period = rate_.period > 0 ? rate_.period : dt;
+    double target[2] = {vl, vr};
+    const std::string* joints[2] = {&left_, &right_};
+    for (int i = 0; i < 2; ++i) {
+      double cur = c_.robot->jointVelocity(*joints[i]) * r;
+      instr_[i] = accel_ > 0 ? rampWheelSpeed(instr_[i], target[i], cur, accel_, period) : target[i];
+      c_.robot->commandVelocity(*joints[i], instr_[i] / r, torque_);
+    }
+  }
+
+ private:
+  void hold() {
+    c_.robot->commandVelocity(left_, 0, torque_);
+    c_.robot->commandVelocity(right_, 0, torque_);
+  }
+  void publishOdometry(double t) {
+    nav_msgs::Odometry o;
+    o.header.stamp = ros::Time(t);
+    o.header.frame_id = odom_frame_;
+    o.child_frame_id = base_frame_;
+    btTransform pose;
+    if (encoder_) {
+      btQuaternion q;
+      q.setEulerZYX(odo_.theta, 0, 0);
+      pose = btTransform(q, btVector3(odo_.x, odo_.y, 0));
+      o.twist.twist.linear.x = odo_.v;
+      o.twist.twist.angular.z = odo_.w;
+    } else {
+      Pose s = c_.robot->linkState(c_.robot->spec().root);
+      pose = s.tf;
+      btScalar yaw, pitch, roll;
+      pose.getBasis().getEulerZYX(yaw, pitch, roll);
+      o.twist.twist.linear.x = std::cos(yaw) * s.linear.x() + std::sin(yaw) * s.linear.y();
+      o.twist.twist.linear.y = std::cos(yaw) * s.linear.y() - std::sin(yaw) * s.linear.x();
+      o.twist.twist.angular.z = s.angular.z();
+    }
+    toMsg(pose, o.pose.pose);
+    o.pose.covariance[0] = o.pose.covariance[7] = 0.00001;
+    o.pose.covariance[14] = o.pose.covariance[21] = o.pose.covariance[28] = 1e12;
+    o.pose.covariance[35] = 0.001;
+    odom_pub_.publish(o);
+    if (publish_odom_tf_) c_.tf->sendTransform(toTf(pose, t, odom_frame_, base_frame_));
+    if (publish_wheel_tf_ || publish_wheel_js_) {
+      sensor_msgs::JointState js;
+      js.header.stamp = ros::Time(t);
+      for (const std::string* j : {&left_, &right_}) {
+        const JointSpec* spec = c_.robot->joint(*j).spec;
+        if (publish_wheel_tf_) {
+          btTransform rel = c_.robot->linkState(spec->parent).tf.inverse() * c_.robot->linkState(spec->child).tf;
+          c_.tf->sendTransform(toTf(rel, t, resolveFrame(c_, spec->parent), resolveFrame(c_, spec->child)));
+        }
+        js.name.push_back(*j);
+        js.position.push_back(c_.robot->jointPosition(*j));
+        js.velocity.push_back(c_.robot->jointVelocity(*j));
+      }
+      if (publish_wheel_js_) js_pub_.publish(js);
+    }
+  }
+  PluginContext c_;
+  std::string left_, right_, odom_frame_, base_frame_, base_link_;
+  DiffDriveGeometry geo_;
+  double accel_, torque_, timeout_;
+  bool encoder_ = false, publish_odom_tf_, publish_wheel_tf_, publish_wheel_js_;
+  Rate rate_;
+  double x_ = 0, rot_ = 0, last_cmd_ = 0, instr_[2] = {0, 0};
+  bool have_cmd_ = false;
+  EncoderOdometry odo_;
+  ros::Subscriber sub_;
+  ros::Publisher odom_pub_, js_pub_;
+};
+
+// ------------------------------------------------ libgazebo_ros_p3d.so
+class P3D : public SimPlugin {
+ public:
+  explicit P3D(const PluginContext& c) : c_(c), noise_(0, 1) {
+    Params p(c, c.spec->xml);
+    body_ = p.requiredStr("bodyName");
+    if (!c.robot->hasLink(body_)) p.fail("bodyName", "no link named '" + body_ + "'");
+    std::string topic = p.requiredStr("topicName");
+    frame_ = p.str("frameName", "world");
+    if (frame_ != "world" && frame_ != "/world" && frame_ != "map" && frame_ != "/map")
+      p.fail("frameName", "only the world frame is supported, got '" + frame_ + "'");
+    while (!frame_.empty() && frame_[0] == '/') frame_.erase(0, 1);
+    rate_ = Rate(p.num("updateRate", 0.0));
+    gn_ = p.num("gaussianNoise", 0.0);
+    btVector3 xyz(0, 0, 0), rpy(0, 0, 0);
+    try {
+      if (p.has("xyzOffsets")) xyz = parseVec3(p.str("xyzOffsets", ""), "xyzOffsets");
+      if (p.has("rpyOffsets")) rpy = parseVec3(p.str("rpyOffsets", ""), "rpyOffsets");
+    } catch (const LoadError& e) {
+      p.fail("xyzOffsets/rpyOffsets", e.what());
+    }
+    offset_ = makeTransform(xyz, rpy);
+    pub_ = ros::NodeHandle(c.ns).advertise<nav_msgs::Odometry>(topic, 10);
+  }
+  void update(double t) override {
+    if (!rate_.due(t)) return;
+    Pose s = c_.robot->linkState(body_);
+    nav_msgs::Odometry o;
+    o.header.stamp = ros::Time(t);
+    o.header.frame_id = frame_;
+    o.child_frame_id = resolveFrame(c_, body_);
+    btTransform pose = offset_ * s.tf;
+    auto n = [&]() { return gn_ > 0 ? gn_ * noise_(*c_.rng) : 0.0; };
+    pose.setOrigin(pose.getOrigin() + btVector3(n(), n(), n()));
+    toMsg(pose, o.pose.pose);
+    o.twist.twist.linear.x = s.linear.x() + n();
+    o.twist.twist.linear.y = s.linear.y() + n();
+    o.twist.twist.linear.z = s.linear.z() + n();
+    o.twist.twist.angular.x = s.angular.x() + n();
+    o.twist.twist.angular.y = s.angular.y() + n();
+    o.twist.twist.angular.z = s.angular.z() + n();
+    for (int i = 0; i < 6; ++i) o.pose.covariance[i * 7] = o.twist.covariance[i * 7] = gn_ * gn_;
+    pub_.publish(o);
+  }
+
+ private:
+  PluginContext c_;
+  std::string body_, frame_;
+  Rate rate_;
+  double gn_;
+  btTransform offset_;
+  std::normal_distribution<double> noise_;
+  ros::Publisher pub_;
+};
+
+// ------------------------------------------------ libgazebo_ros_joint_state_publisher.so
+class JointStatePub : public SimPlugin {
+ public:
+  explicit JointStatePub(const PluginContext& c) : c_(c) {
+    Params p(c, c.spec->xml);
+    if (p.has("jointName")) {
+      std::stringstream ss(p.str("jointName", ""));
+      std::string j;
+      while (std::getline(ss, j, ',')) {
+        j.erase(0, j.find_first_not_of(" \t\n"));
+        j.erase(j.find_last_not_of(" \t\n") + 1);
+        if (j.empty()) continue;
+        if (!c.robot->hasJoint(j)) p.fail("jointName", "no movable joint named '" + j + "'");
+        joints_.push_back(j);
+      }
+    } else {
+      joints_ = c.robot->movableJoints();
+    }
+    rate_ = Rate(p.num("updateRate", 100.0));
+    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::JointState>("joint_states", 10);
+  }
+  void update(double t) override {
+    if (!rate_.due(t)) return;
+    sensor_msgs::JointState js;
+    js.header.stamp = ros::Time(t);
+    js.name = joints_;
+    for (const auto& j : joints_) {
+      js.position.push_back(c_.robot->jointPosition(j));
+      js.velocity.push_back(c_.robot->jointVelocity(j));
+    }
+    pub_.publish(js);
+  }
+
+ private:
+  PluginContext c_;
+  std::vector<std::string> joints_;
+  Rate rate_;
+  ros::Publisher pub_;
+};
+
+// ------------------------------------------------ libmybot_joint_command.so (ours)
+class JointCommand : public SimPlugin {
+ public:
+  explicit JointCommand(const PluginContext& c) : c_(c) {
+    Params p(c, c.spec->xml);
+    timeout_ = p.num("commandTimeout", 0.5);
+    if (timeout_ < 0) p.fail("commandTimeout", "must be >= 0");
+    ros::NodeHandle nh(c.ns);
+    auto blocks = c.spec->xml.all("joint");
+    if (blocks.empty()) p.fail("joint", "at least one <joint> block is required");
+    for (const XmlNode* b : blocks) {
+      Params jp(c, *b);
+      auto e = std::make_unique<Entry>();
+      e->name = jp.requiredStr("name");
+      if (!c.robot->hasJoint(e->name)) jp.fail("joint/name", "no movable joint named '" + e->name + "'");
+      std::string type = jp.requiredStr("type");
+      if (type == "velocity")
+        e->position = false;
+      else if (type == "position")
+        e->position = true;
+      else
+        jp.fail("joint/type", "expected 'velocity' or 'position', got '" + type + "'");
+      double urdf_effort = c.robot->joint(e->name).spec->effort;
+      e->effort = jp.num("effortLimit", urdf_effort);
+      if (!(e->effort > 0))
+        jp.fail("joint/effortLimit", "must be positive (URDF <limit effort> of '" + e->name + "' is " +
+                                         std::to_string(urdf_effort) + ")");
+      Entry* raw = e.get();
+      e->sub = nh.subscribe<std_msgs::Float64>(jp.str("topicName", e->name + "/command"), 1,
+                                               [this, raw](const std_msgs::Float64::ConstPtr& m) { onCmd(raw, m->data); });
+      entries_.push_back(std::move(e));
+    }
+    reset();
+  }
+  void reset() override {
+    for (auto& e : entries_) {
+      e->target = e->position ? c_.robot->jointPosition(e->name) : 0.0;
+      e->have = false;
+      apply(*e);
+    }
+  }
+  void update(double t) override {
+    if (timeout_ <= 0) return;
+    for (auto& e : entries_)
+      if (e->have && !e->position && t - e->stamp > timeout_) {
+        e->target = 0;  // a velocity joint whose commands stop must stop
+        e->have = false;
+        apply(*e);
+      }
+  }
+
+ private:
+  struct Entry {
+    std::string name;
+    bool position = false, have = false;
+    double effort = 0, target = 0, stamp = 0;
+    ros::Subscriber sub;
+  };
+  void onCmd(Entry* e, double v) {
+    if (!std::isfinite(v)) {
+      ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite command for joint '%s'", c_.robot->name().c_str(), e->name.c_str());
+      return;
+    }
+    e->target = v;
+    e->stamp = c_.world->time();
+    e->have = true;
+    apply(*e);
+  }
+  void apply(const Entry& e) {
+    if (e.position)
+      c_.robot->commandPosition(e.name, e.target, e.effort);
+    else
+      c_.robot->commandVelocity(e.name, e.target, e.effort);
+  }
+  PluginContext c_;
+  double timeout_;
+  std::vector<std::unique_ptr<Entry>> entries_;
+};
+
+// ------------------------------------------------ libgazebo_ros_laser.so / gpu_laser
+class Laser : public SimPlugin {
+ public:
+  explicit Laser(const PluginContext& c) : c_(c), noise_(0, 1) {
+    Params p(c, c.spec->xml);
+    if (!c.spec->has_sensor) p.fail("sensor", "the laser plugin must sit inside a <sensor type=\"ray\">");
+    Params s(c, c.spec->sensor);
+    link_ = c.spec->reference;
+    sensor_pose_ = s.pose("pose");
+    rate_ = Rate(s.num("update_rate", 0.0));
+    samples_ = static_cast<int>(s.num("ray/scan/horizontal/samples", 640));
+    if (samples_ < 1) s.fail("ray/scan/horizontal/samples", "must be >= 1");
+    amin_ = s.num("ray/scan/horizontal/min_angle", 0.0);
+    amax_ = s.num("ray/scan/horizontal/max_angle", 0.0);
+    if (amax_ < amin_) s.fail("ray/scan/horizontal/max_angle", "smaller than min_angle");
+    rmin_ = s.requiredNum("ray/range/min");
+    rmax_ = s.requiredNum("ray/range/max");
+    if (rmin_ < 0 || rmax_ <= rmin_) s.fail("ray/range/max", "need 0 <= min < max");
+    mean_ = s.num("ray/noise/mean", 0.0);
+    stddev_ = s.num("ray/noise/stddev", 0.0);
+    if (stddev_ < 0) s.fail("ray/noise/stddev", "must be >= 0");
+    // gazebo_ros_laser's defaults for both.
+    frame_ = resolveFrame(c, p.str("frameName", "/world"));
+    std::string topic = p.str("topicName", "/world");
+    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::LaserScan>(topic, 1);
+    inc_ = samples_ > 1 ? (amax_ - amin_) / (samples_ - 1) : 0.0;
+    for (int i = 0; i < samples_; ++i) {
+      cos_.push_back(std::cos(amin_ + i * inc_));
+      sin_.push_back(std::sin(amin_ + i * inc_));
+    }
+  }
+  void update(double t) override {
+    if (!rate_.due(t)) return;
+    btTransform tf = c_.robot->linkState(link_).tf * sensor_pose_;
+    const btVector3 o = tf.getOrigin();
+    btScalar yaw, pitch, roll;
+    tf.getBasis().getEulerZYX(yaw, pitch, roll);
+    const double cy = std::cos(yaw), sy = std::sin(yaw);
+    const RayCaster2D& caster = c_.slices->at(o.z());
+    ranges_.resize(samples_);
+    for (int i = 0; i < samples_; ++i) {
+      double dx = cy * cos_[i] - sy * sin_[i], dy = sy * cos_[i] + cy * sin_[i];
+      ranges_[i] = caster.cast(o.x(), o.y(), dx, dy, rmax_);
+    }
+    // Robots and dynamic bodies: Bullet ray tests only for beams that can reach them.
+    for (const auto& ob : c_.world->dynamicObstacles(c_.robot)) {
+      if (o.z() < ob.zmin || o.z() > ob.zmax) continue;
+      double ddx = ob.center.x() - o.x(), ddy = ob.center.y() - o.y();
+      double dist = std::hypot(ddx, ddy);
+      if (dist - ob.radius > rmax_) continue;
+      double half = dist <= ob.radius ? M_PI : std::asin(ob.radius / dist);
+      double bearing = std::atan2(ddy, ddx) - yaw;
+      for (int i = 0; i < samples_; ++i) {
+        double a = std::remainder(amin_ + i * inc_ - bearing, 2 * M_PI);
+        if (std::abs(a) > half) continue;
+        double dx = cy * cos_[i] - sy * sin_[i], dy = sy * cos_[i] + cy * sin_[i];
+        double reach = std::min(ranges_[i], rmax_);
+        double d = c_.world->rayTestObject(ob.object, o, o + btVector3(dx, dy, 0) * reach);
+        if (d >= 0 && d < ranges_[i]) ranges_[i] = d;
+      }
+    }
+    sensor_msgs::LaserScan m;
+    m.header.stamp = ros::Time(t);
+    m.header.frame_id = frame_;
+    m.angle_min = amin_;
+    m.angle_max = amax_;
+    m.angle_increment = inc_;
+    m.range_min = rmin_;
+    m.range_max = rmax_;
+    m.ranges.resize(samples_);
+    m.intensities.assign(samples_, 0.0f);
+    for (int i = 0; i < samples_; ++i) {
+      double n = stddev_ > 0 ? mean_ + stddev_ * noise_(*c_.rng) : mean_;
+      m.ranges[i] = static_cast<float>(laserRange(ranges_[i], rmin_, rmax_, n));
+    }
+    pub_.publish(m);
+  }
+
+ private:
+  PluginContext c_;
+  std::string link_, frame_;
+  btTransform sensor_pose_;
+  Rate rate_;
+  int samples_;
+  double amin_, amax_, inc_, rmin_, rmax_, mean_, stddev_;
+  std::vector<double> cos_, sin_, ranges_;
+  std::normal_distribution<double> noise_;
+  ros::Publisher pub_;
+};
+
+// ------------------------------------------------ IMU (sensor and model plugin)
+class Imu : public SimPlugin {
+ public:
+  Imu(const PluginContext& c, bool sensor_plugin) : c_(c), noise_(0, 1) {
+    Params p(c, c.spec->xml);
+    if (sensor_plugin) {
+      if (!c.spec->has_sensor) p.fail("sensor", "libgazebo_ros_imu_sensor.so must sit inside a <sensor type=\"imu\">");
+      Params s(c, c.spec->sensor);
+      body_ = p.str("bodyName", c.spec->reference);
+      sensor_pose_ = s.pose("pose");
+      rate_ = Rate(p.num("updateRateHZ", s.num("update_rate", 1.0)));
+    } else {
+      body_ = p.requiredStr("bodyName");
+      rate_ = Rate(p.num("updateRate", 0.0));
+    }
+    if (!c.robot->hasLink(body_)) p.fail("bodyName", "no link named '" + body_ + "'");
+    frame_ = resolveFrame(c, p.str("frameName", body_));
+    gn_ = p.num("gaussianNoise", 0.0);
+    if (gn_ < 0) p.fail("gaussianNoise", "must be >= 0");
+    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Imu>(p.str("topicName", "imu"), 10);
+  }
+  void reset() override { have_prev_ = false; }
+  void update(double t) override {
+    Pose s = c_.robot->linkState(body_);
+    btTransform tf = s.tf * sensor_pose_;
+    btVector3 v = s.linear + s.angular.cross(tf.getOrigin() - s.tf.getOrigin());
+    if (have_prev_) accel_ = (v - prev_v_) / c_.world->stepSize();
+    prev_v_ = v;
+    have_prev_ = true;
+    if (!rate_.due(t)) return;
+    const btMatrix3x3& R = tf.getBasis();
+    btVector3 w = R.transpose() * s.angular;
+    btVector3 a = R.transpose() * (accel_ - c_.world->worldSpec().gravity);
+    auto n = [&]() { return gn_ > 0 ? gn_ * noise_(*c_.rng) : 0.0; };
+    sensor_msgs::Imu m;
+    m.header.stamp = ros::Time(t);
+    m.header.frame_id = frame_;
+    btQuaternion q = tf.getRotation();
+    m.orientation.x = q.x();
+    m.orientation.y = q.y();
+    m.orientation.z = q.z();
+    m.orientation.w = q.w();
+    m.angular_velocity.x = w.x() + n();
+    m.angular_velocity.y = w.y() + n();
+    m.angular_velocity.z = w.z() + n();
+    m.linear_acceleration.x = a.x() + n();
+    m.linear_acceleration.y = a.y() + n();
+    m.linear_acceleration.z = a.z() + n();
+    double var = gn_ * gn_;
+    for (int i = 0; i < 3; ++i)
+      m.orientation_covariance[i * 4] = m.angular_velocity_covariance[i * 4] = m.linear_acceleration_covariance[i * 4] = var;
+    pub_.publish(m);
+  }
+
+ private:
+  PluginContext c_;
+  std::string body_, frame_;
+  btTransform sensor_pose_ = btTransform::getIdentity();
+  Rate rate_;
+  double gn_;
+  btVector3 prev_v_{0, 0, 0}, accel_{0, 0, 0};
+  bool have_prev_ = false;
+  std::normal_distribution<double> noise_;
+  ros::Publisher pub_;
+};
+
+}  // namespace
+
+std::unique_ptr<SimPlugin> createPlugin(const PluginContext& c) {
+  const std::string& f = c.spec->filename;
+  if (f == "libgazebo_ros_diff_drive.so") return std::make_unique<DiffDrive>(c);
+  if (f == "libgazebo_ros_p3d.so") return std::make_unique<P3D>(c);
+  if (f == "libgazebo_ros_joint_state_publisher.so") return std::make_unique<JointStatePub>(c);
+  if (f == "libmybot_joint_command.so") return std::make_unique<JointCommand>(c);
+  if (f == "libgazebo_ros_laser.so" || f == "libgazebo_ros_gpu_laser.so") return std::make_unique<Laser>(c);
+  if (f == "libgazebo_ros_imu_sensor.so") return std::make_unique<Imu>(c, true);
+  if (f == "libgazebo_ros_imu.so") return std::make_unique<Imu>(c, false);
+  ROS_WARN("%s: plugin '%s': unknown plugin file '%s' ignored", c.robot->spec().source.c_str(), c.spec->name.c_str(),
+           f.c_str());
+  return nullptr;
+}
+
+}  // namespace mybot_gazebo_lite

@@ -1,0 +1,117 @@
+// world_to_map: renders a world's static geometry into a ground-truth
+// occupancy grid (PGM + YAML in map_server's format).
+#include "mybot_gazebo_lite/parsing.h"
+#include "mybot_gazebo_lite/raycast2d.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <string>
+
+using namespace mybot_gazebo_lite;
+
+namespace {
+int usage() {
+  std::cerr << "usage: world_to_map <world file (.world/.sdf/.yaml)> <out_name> [--resolution 0.05]\n"
+               "                    [--height H | --z-min 0.05 --z-max 2.0] [--margin 1.0]\n"
+               "writes <out_name>.pgm and <out_name>.yaml (map_server format).\n"
+               "--height slices at one height (e.g. the laser's); otherwise any static\n"
+               "geometry between z-min and z-max is occupied.\n";
+  return 2;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) return usage();
+  std::string world_file = argv[1], out = argv[2];
+  double res = 0.05, zmin = 0.05, zmax = 2.0, margin = 1.0;
+  for (int i = 3; i < argc; ++i) {
+    std::string a = argv[i];
+    if (i + 1 >= argc) return usage();
+    char* end = nullptr;
+    double v = std::strtod(argv[i + 1], &end);
+    if (*end != '\0' || !std::isfinite(v)) {
+      std::cerr << "world_to_map: " << a << ": not a number: " << argv[i + 1] << "\n";
+      return 2;
+    }
+    if (a == "--resolution")
+      res = v;
+    else if (a == "--height")
+      zmin = zmax = v;
+    else if (a == "--z-min")
+      zmin = v;
+    else if (a == "--z-max")
+      zmax = v;
+    else if (a == "--margin")
+      margin = v;
+    else
+      return usage();
+    ++i;
+  }
+  if (!(res > 0) || zmax < zmin || margin < 0) {
+    std::cerr << "world_to_map: need resolution > 0, z-max >= z-min, margin >= 0\n";
+    return 2;
+  }
+  WorldSpec world;
+  try {
+    world = loadWorldFile(world_file);
+  } catch (const std::exception& e) {
+    std::cerr << "world_to_map: " << e.what() << "\n";
+    return 1;
+  }
+  Slice2D all;
+  for (double z = zmin;; z += 0.05) {
+    z = std::min(z, zmax);
+    Slice2D s = sliceWorld(world, z);
+    all.polygons.insert(all.polygons.end(), s.polygons.begin(), s.polygons.end());
+    all.circles.insert(all.circles.end(), s.circles.begin(), s.circles.end());
+    all.segments.insert(all.segments.end(), s.segments.begin(), s.segments.end());
+    if (z >= zmax) break;
+  }
+  if (all.empty()) {
+    std::cerr << "world_to_map: " << world_file << ": no static geometry between z=" << zmin << " and " << zmax << "\n";
+    return 1;
+  }
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  for (const auto& s : all.allSegments()) {
+    x0 = std::min({x0, s.x0, s.x1});
+    x1 = std::max({x1, s.x0, s.x1});
+    y0 = std::min({y0, s.y0, s.y1});
+    y1 = std::max({y1, s.y0, s.y1});
+  }
+  for (const auto& c : all.circles) {
+    x0 = std::min(x0, c.cx - c.r);
+    x1 = std::max(x1, c.cx + c.r);
+    y0 = std::min(y0, c.cy - c.r);
+    y1 = std::max(y1, c.cy + c.r);
+  }
+  // Align the origin to the resolution so maps of one world line up.
+  x0 = std::floor((x0 - margin) / res) * res;
+  y0 = std::floor((y0 - margin) / res) * res;
+  int w = static_cast<int>(std::ceil((x1 + margin - x0) / res));
+  int h = static_cast<int>(std::ceil((y1 + margin - y0) / res));
+  std::vector<uint8_t> grid;
+  rasterizeSlice(all, x0, y0, res, w, h, grid);
+
+  std::string pgm = out + ".pgm", yaml = out + ".yaml";
+  std::ofstream f(pgm, std::ios::binary);
+  if (!f) {
+    std::cerr << "world_to_map: cannot write " << pgm << "\n";
+    return 1;
+  }
+  f << "P5\n# ground truth from " << world_file << "\n" << w << " " << h << "\n255\n";
+  for (int r = h - 1; r >= 0; --r)  // PGM row 0 is the top (max y)
+    for (int c = 0; c < w; ++c) f.put(grid[static_cast<size_t>(r) * w + c] ? 0 : 254);
+  std::ofstream y(yaml);
+  std::string base = pgm.substr(pgm.find_last_of('/') == std::string::npos ? 0 : pgm.find_last_of('/') + 1);
+  y << "image: " << base << "\nresolution: " << res << "\norigin: [" << x0 << ", " << y0
+    << ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  if (!y) {
+    std::cerr << "world_to_map: cannot write " << yaml << "\n";
+    return 1;
+  }
+  std::cout << "wrote " << pgm << " (" << w << "x" << h << " @ " << res << " m) and " << yaml << "\n";
+  return 0;
+}
