@@ -66,7 +66,10 @@ class Node:
                     rospy.loginfo("nav_timed: %s %s for %.2f s (t=%.2f)", seg.name, seg.twist, seg.duration, t)
                     current = k
                 self.publish(twist)
-                self._sleep_until(t0 + min(t + period, timed_moves.next_boundary(self.profile, t)))
+                # next tick on a fixed grid (a late wake-up does not shift later ticks), or the
+                # segment boundary if that comes first
+                tick = (math.floor(t / period + 1e-9) + 1) * period
+                self._sleep_until(t0 + min(tick, timed_moves.next_boundary(self.profile, t)))
         finally:
             if not rospy.is_shutdown():
                 self.publish(timed_moves.ZERO)

@@ -77,10 +77,12 @@ class Node:
         self.publish(self.teleop.twist())
         print(tk.MSG)
         print(tk.vels(self.teleop.speed, self.teleop.turn))
-        last_key = rospy.get_time()
+        last_key = now = rospy.get_time()
         while not (self.teleop.done or self.stop_requested or rospy.is_shutdown()):
             key = self.read_key(fd)
-            now = rospy.get_time()
+            before, now = now, rospy.get_time()
+            if now < before:  # ROS time jumped back (simulation reset): restart the timers
+                self.last_pub = last_key = now
             if key is None and self.key_timeout > 0 and now - last_key >= self.key_timeout:
                 key = tk.TIMEOUT
             if key is not None:
@@ -92,8 +94,6 @@ class Node:
                     self.publish(self.teleop.twist())
             elif self.repeat_rate > 0 and now - self.last_pub >= 1.0 / self.repeat_rate:
                 self.publish(self.teleop.twist())
-            if now < self.last_pub:  # ROS time jumped back (sim reset)
-                self.last_pub = last_key = now
 
     def request_stop(self, *_):
         self.stop_requested = True
