@@ -1,0 +1,136 @@
+// Graph SLAM for a 2D laser: keyframes gated by travelled distance/rotation (gmapping's
+// linearUpdate/angularUpdate), scan-to-local-map correlative matching, loop closure by
+// branch-and-bound matching against older parts of the map, Ceres pose-graph optimisation and
+// re-rendering of the global log-odds map after each closure.
+#pragma once
+
+#include <deque>
+#include <memory>
+#include <vector>
+
+#include "mybot_navigation/occupancy_grid.h"
+#include "mybot_navigation/pose_graph.h"
+#include "mybot_navigation/scan_matcher.h"
+
+namespace mybot_navigation
+{
+
+struct SlamParams
+{
+  OccupancyGridParams grid;        // grid.resolution is gmapping's `delta`
+  double linear_update = 1.0;      // m travelled before the next scan is processed (gmapping linearUpdate)
+  double angular_update = 0.5;     // rad turned before the next scan is processed (angularUpdate)
+  double temporal_update = -1.0;   // s; process a scan at least this often (< 0: never forced)
+  double occ_thresh = 0.5;         // P(occ) above which a published cell is 100
+
+  // Scan-to-local-map matching.
+  int local_map_scans = 20;            // keyframes in the local map
+  double match_sigma = 0.05;           // m, Gaussian fall-off of the lookup field
+  double search_window_linear = 0.3;   // m
+  double search_window_angular = 0.35; // rad
+  double min_match_score = 0.35;       // below: keep the odometry prediction
+  double match_point_spacing = 0.1;    // m, voxel filter of the points used for matching
+  double sigma_xy = 0.02;              // m, sequential edge uncertainty
+  double sigma_theta = 0.01;           // rad
+
+  // Loop closure.
+  bool loop_closure = true;
+  double loop_search_radius = 4.0;     // m: older keyframes this close to the estimate are candidates
+  double loop_min_travel = 8.0;        // m of path separating a candidate from the current keyframe
+  double loop_window_linear = 1.5;     // m, search window of the closure matcher
+  double loop_window_angular = 0.5;    // rad
+  double loop_min_score = 0.6;         // acceptance threshold (mean field value)
+  double loop_min_constraint_ratio = 0.3;   // reject closures that leave a direction unconstrained
+  int loop_submap_scans = 10;          // candidate's neighbours (each side) rendered for matching
+  int loop_check_interval = 3;         // keyframes between closure attempts
+  double loop_sigma_xy = 0.05;
+  double loop_sigma_theta = 0.02;
+};
+
+struct Keyframe
+{
+  double stamp = 0.0;
+  Pose2D odom;            // odometry pose of the base when the scan was taken
+  Pose2D pose;            // current estimate in the map frame
+  RangeScan scan;         // base frame
+  std::vector<Point2D> match_points;  // voxel-filtered hits used for matching
+  double travelled = 0.0; // odometry path length up to this keyframe
+};
+
+enum class ScanOutcome
+{
+  Processed,     // became a keyframe
+  Skipped,       // not enough motion since the last keyframe
+  OutOfOrder,    // stamp not newer than the last scan
+  NoValidPoints  // nothing usable to match or insert
+};
+
+struct SlamStats
+{
+  int scans = 0;
+  int keyframes = 0;
+  int weak_matches = 0;          // matcher below min_match_score: odometry used
+  int loop_attempts = 0;
+  int loop_closures = 0;
+  double last_match_score = 0.0;
+};
+
+class Slam
+{
+public:
+  explicit Slam(const SlamParams& params = SlamParams());
+
+  // Whether a scan at this stamp/odometry would be processed (enough motion since the last
+  // keyframe, or the first one). Lets callers skip converting scans that would be dropped.
+  bool wantsScan(double stamp, const Pose2D& odom) const;
+
+  // One laser scan with the odometry pose at its stamp. Returns what happened to it.
+  ScanOutcome addScan(double stamp, const Pose2D& odom, const RangeScan& scan);
+
+  // map -> odom correction (identity until the first scan).
+  Pose2D mapToOdom() const { return map_to_odom_; }
+  // Latest base pose in the map frame (last keyframe + odometry since).
+  Pose2D currentPose() const { return current_pose_; }
+  // Tracks odometry between keyframes (map -> odom is unchanged by this).
+  void updateOdometry(const Pose2D& odom);
+  const std::vector<Keyframe>& keyframes() const { return keyframes_; }
+  const SlamStats& stats() const { return stats_; }
+  const PoseGraph& graph() const { return graph_; }
+  const SlamParams& params() const { return params_; }
+
+  GridMap map() const { return global_.toGridMap(params_.occ_thresh); }
+  // Incremented whenever the map content changes.
+  uint64_t mapVersion() const { return map_version_; }
+  size_t memoryBytes() const;
+
+  // Re-renders the global map from every keyframe at its current pose.
+  void renderGlobalMap();
+
+private:
+  void insertIntoLocalMaps(int index);
+  void rebuildLocalMaps();
+  bool tryLoopClosure(int current);
+
+  struct LocalMap
+  {
+    OccupancyGrid grid;
+    std::vector<int> members;
+  };
+
+  SlamParams params_;
+  std::vector<Keyframe> keyframes_;
+  PoseGraph graph_;
+  OccupancyGrid global_;
+  LocalMap local_[2];
+  MatchField local_field_;
+  int local_field_source_ = -1;  // which local map the field was built from
+  bool local_field_dirty_ = true;
+  Pose2D map_to_odom_;
+  Pose2D current_pose_;
+  double last_stamp_ = -1e300;
+  int last_loop_attempt_ = -1000000;
+  SlamStats stats_;
+  uint64_t map_version_ = 0;
+};
+
+}  // namespace mybot_navigation

@@ -1,0 +1,179 @@
+#include "mybot_navigation/map_io.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include <opencv2/imgcodecs.hpp>
+#include <yaml-cpp/yaml.h>
+
+namespace mybot_navigation
+{
+namespace
+{
+std::string dirName(const std::string& path)
+{
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string(".") : path.substr(0, slash == 0 ? 1 : slash);
+}
+
+std::string baseName(const std::string& path)
+{
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+template <typename T>
+T required(const YAML::Node& doc, const std::string& key, const std::string& file)
+{
+  const YAML::Node n = doc[key];
+  if (!n)
+    throw MapIoError(file + ": the map does not contain a '" + key + "' field");
+  try
+  {
+    return n.as<T>();
+  }
+  catch (const YAML::Exception&)
+  {
+    throw MapIoError(file + ": field '" + key + "' is invalid");
+  }
+}
+}  // namespace
+
+MapYaml readMapYaml(const std::string& yaml_path)
+{
+  std::ifstream in(yaml_path);
+  if (!in)
+    throw MapIoError(yaml_path + ": cannot open map YAML file");
+  YAML::Node doc;
+  try
+  {
+    doc = YAML::Load(in);
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw MapIoError(yaml_path + ": not valid YAML: " + e.what());
+  }
+  if (!doc.IsMap())
+    throw MapIoError(yaml_path + ": not a YAML mapping");
+  MapYaml m;
+  m.resolution = required<double>(doc, "resolution", yaml_path);
+  if (!(m.resolution > 0.0) || !std::isfinite(m.resolution))
+    throw MapIoError(yaml_path + ": field 'resolution' must be a positive number");
+  m.negate = required<int>(doc, "negate", yaml_path) != 0;
+  m.occupied_thresh = required<double>(doc, "occupied_thresh", yaml_path);
+  m.free_thresh = required<double>(doc, "free_thresh", yaml_path);
+  if (doc["mode"])
+  {
+    const std::string mode = required<std::string>(doc, "mode", yaml_path);
+    if (mode == "trinary")
+      m.mode = MapMode::Trinary;
+    else if (mode == "scale")
+      m.mode = MapMode::Scale;
+    else if (mode == "raw")
+      m.mode = MapMode::Raw;
+    else
+      throw MapIoError(yaml_path + ": field 'mode' has invalid value \"" + mode + "\" (trinary, scale or raw)");
+  }
+  const YAML::Node origin = doc["origin"];
+  if (!origin)
+    throw MapIoError(yaml_path + ": the map does not contain a 'origin' field");
+  if (!origin.IsSequence() || origin.size() != 3)
+    throw MapIoError(yaml_path + ": field 'origin' must be [x, y, yaw]");
+  try
+  {
+    m.origin = {origin[0].as<double>(), origin[1].as<double>(), origin[2].as<double>()};
+  }
+  catch (const YAML::Exception&)
+  {
+    throw MapIoError(yaml_path + ": field 'origin' is invalid");
+  }
+  m.image = required<std::string>(doc, "image", yaml_path);
+  if (m.image.empty())
+    throw MapIoError(yaml_path + ": field 'image' cannot be an empty string");
+  if (m.image[0] != '/')
+    m.image = dirName(yaml_path) + "/" + m.image;
+  return m;
+}
+
+GridMap loadMapImage(const MapYaml& meta)
+{
+  const cv::Mat img = cv::imread(meta.image, cv::IMREAD_UNCHANGED);
+  if (img.empty())
+    throw MapIoError("failed to open image file \"" + meta.image + "\" (field 'image')");
+  if (img.depth() != CV_8U)
+    throw MapIoError("image file \"" + meta.image + "\" is not 8 bits per channel");
+  MapInfo info;
+  info.resolution = meta.resolution;
+  info.width = img.cols;
+  info.height = img.rows;
+  info.origin = meta.origin;
+  GridMap map(info, GridMap::kUnknown);
+  const int channels = img.channels();
+  const bool has_alpha = channels == 4 || channels == 2;
+  // Like map_server: in trinary mode alpha is averaged with the colours.
+  const int avg_channels = (meta.mode == MapMode::Trinary || !has_alpha) ? channels : channels - 1;
+  for (int j = 0; j < img.rows; ++j)
+  {
+    const uint8_t* row = img.ptr<uint8_t>(j);
+    for (int i = 0; i < img.cols; ++i)
+    {
+      const uint8_t* p = row + i * channels;
+      int sum = 0;
+      for (int k = 0; k < avg_channels; ++k)
+        sum += p[k];
+      double color_avg = sum / static_cast<double>(avg_channels);
+      const int alpha = channels == 1 ? 1 : p[channels - 1];
+      if (meta.negate)
+        color_avg = 255 - color_avg;
+      unsigned char value;
+      if (meta.mode == MapMode::Raw)
+      {
+        value = static_cast<unsigned char>(color_avg);
+      }
+      else
+      {
+        const double occ = (255 - color_avg) / 255.0;
+        if (occ > meta.occupied_thresh)
+          value = 100;
+        else if (occ < meta.free_thresh)
+          value = 0;
+        else if (meta.mode == MapMode::Trinary || alpha < 1.0)
+          value = static_cast<unsigned char>(-1);
+        else
+          value = static_cast<unsigned char>(1 + 98 * (occ - meta.free_thresh) / (meta.occupied_thresh - meta.free_thresh));
+      }
+      // Image rows run top-down, the grid bottom-up.
+      map.at(i, img.rows - j - 1) = static_cast<int8_t>(value);
+    }
+  }
+  return map;
+}
+
+GridMap loadMap(const std::string& yaml_path) { return loadMapImage(readMapYaml(yaml_path)); }
+
+void saveMap(const GridMap& map, const std::string& basename, int occ, int free)
+{
+  const std::string pgm = basename + ".pgm";
+  FILE* out = std::fopen(pgm.c_str(), "w");
+  if (!out)
+    throw MapIoError("cannot write map image " + pgm);
+  std::fprintf(out, "P5\n# CREATOR: map_saver.cpp %.3f m/pix\n%d %d\n255\n", map.info.resolution, map.info.width,
+               map.info.height);
+  for (int y = 0; y < map.info.height; ++y)
+    for (int x = 0; x < map.info.width; ++x)
+    {
+      const int v = map.at(x, map.info.height - y - 1);
+      std::fputc(v >= 0 && v <= free ? 254 : (v >= occ ? 0 : 205), out);
+    }
+  std::fclose(out);
+  const std::string yaml = basename + ".yaml";
+  FILE* y = std::fopen(yaml.c_str(), "w");
+  if (!y)
+    throw MapIoError("cannot write map metadata " + yaml);
+  std::fprintf(y, "image: %s\nresolution: %f\norigin: [%f, %f, %f]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n\n",
+               baseName(pgm).c_str(), map.info.resolution, map.info.origin.x, map.info.origin.y, map.info.origin.theta);
+  std::fclose(y);
+}
+
+}  // namespace mybot_navigation

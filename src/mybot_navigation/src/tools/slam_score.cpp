@@ -1,0 +1,97 @@
+// Scores a SLAM map against a ground-truth map (both map_server YAML files) and optionally a
+// trajectory against ground truth (text files: "stamp x y yaw" per line, matched by line).
+//   slam_score --map MAP.yaml --truth TRUTH.yaml [--traj EST.txt --truth-traj GT.txt] [--tolerance 1]
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "mybot_navigation/evaluation.h"
+#include "mybot_navigation/map_io.h"
+
+using namespace mybot_navigation;
+
+namespace
+{
+std::vector<Pose2D> readTrajectory(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw std::runtime_error("cannot open trajectory file " + path);
+  std::vector<Pose2D> out;
+  std::string line;
+  while (std::getline(in, line))
+  {
+    if (line.empty() || line[0] == '#')
+      continue;
+    std::istringstream ss(line);
+    double t;
+    Pose2D p;
+    if (!(ss >> t >> p.x >> p.y >> p.theta))
+      throw std::runtime_error(path + ": bad line '" + line + "' (expected: stamp x y yaw)");
+    out.push_back(p);
+  }
+  return out;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  std::string map, truth, traj, truth_traj;
+  int tolerance = 1;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc)
+      {
+        std::fprintf(stderr, "slam_score: %s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--map")
+      map = value();
+    else if (a == "--truth")
+      truth = value();
+    else if (a == "--traj")
+      traj = value();
+    else if (a == "--truth-traj")
+      truth_traj = value();
+    else if (a == "--tolerance")
+      tolerance = std::stoi(value());
+    else
+    {
+      std::fprintf(stderr,
+                   "usage: slam_score --map MAP.yaml --truth TRUTH.yaml [--traj EST.txt --truth-traj GT.txt] "
+                   "[--tolerance CELLS]\n");
+      return 2;
+    }
+  }
+  if (map.empty() || truth.empty())
+  {
+    std::fprintf(stderr, "slam_score: --map and --truth are required\n");
+    return 2;
+  }
+  try
+  {
+    Pose2D align;
+    if (!traj.empty())
+    {
+      const auto est = readTrajectory(traj), gt = readTrajectory(truth_traj);
+      align = alignTrajectories(est, gt);
+      const RelativePoseError rpe = relativePoseError(est, gt, 1);
+      std::printf("ate_rmse_m %.4f\nrpe_translation_rms_m %.4f\nrpe_rotation_rms_rad %.4f\n",
+                  absoluteTrajectoryRmse(est, gt, align), rpe.translation_rms, rpe.rotation_rms);
+    }
+    const MapScore s = scoreMap(loadMap(map), loadMap(truth), align, tolerance);
+    std::printf("precision %.4f\nrecall %.4f\n", s.precision, s.recall);
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "slam_score: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

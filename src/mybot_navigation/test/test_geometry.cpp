@@ -1,0 +1,105 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "mybot_navigation/evaluation.h"
+#include "mybot_navigation/range_scan.h"
+#include "mybot_navigation/ray_cast.h"
+#include "mybot_navigation/synthetic_world.h"
+
+using namespace mybot_navigation;
+
+TEST(Pose2D, ComposeInverseRoundTrip)
+{
+  const Pose2D a{1.0, -2.0, 2.5}, b{0.3, 0.7, 1.2};
+  const Pose2D c = compose(a, b);
+  const Pose2D back = between(a, c);
+  EXPECT_NEAR(back.x, b.x, 1e-12);
+  EXPECT_NEAR(back.y, b.y, 1e-12);
+  EXPECT_NEAR(back.theta, b.theta, 1e-12);
+  EXPECT_NEAR(c.theta, normalizeAngle(3.7), 1e-12);
+  EXPECT_LE(std::abs(c.theta), M_PI);
+}
+
+TEST(RayCast, ExactDistanceToWall)
+{
+  // 10 x 10 m room, walls 0.1 m thick: from (5,5) facing +x the wall face is at x = 9.9.
+  const GridMap world = makeWorld(10.0, 10.0, 0.01, {});
+  EXPECT_NEAR(castRay(world, 5.0, 5.0, 0.0, 30.0), 4.9, 1e-6);
+  EXPECT_NEAR(castRay(world, 5.0, 5.0, M_PI, 30.0), 4.9, 1e-6);
+  EXPECT_NEAR(castRay(world, 5.0, 5.0, M_PI / 4, 30.0), 4.9 * std::sqrt(2.0), 0.02);
+  EXPECT_DOUBLE_EQ(castRay(world, 5.0, 5.0, 0.0, 2.0), 2.0);  // max range when nothing is hit
+}
+
+TEST(RayCast, LineVisitsEndpointsInOrder)
+{
+  std::vector<std::pair<int, int>> cells;
+  traceLine(0, 0, 5, 2, [&](int x, int y) {
+    cells.emplace_back(x, y);
+    return true;
+  });
+  ASSERT_EQ(cells.size(), 6u);
+  EXPECT_EQ(cells.front(), std::make_pair(0, 0));
+  EXPECT_EQ(cells.back(), std::make_pair(5, 2));
+}
+
+TEST(RangeScan, InvalidReadingsAreClassified)
+{
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const std::vector<float> ranges{1.0f, nan, inf, -inf, 0.01f, 35.0f, 12.0f};
+  ScanGeometry g;
+  g.sensor_in_base = {0.1, 0.0, 0.0};
+  ScanConversionStats st;
+  const RangeScan s = convertRanges(ranges, 0.0, 0.1, 0.1, 30.0, 10.0, g, &st);
+  EXPECT_EQ(st.hits, 1);
+  EXPECT_EQ(st.invalid, 3);    // NaN, -inf, below range_min
+  EXPECT_EQ(st.no_return, 2);  // +inf, >= range_max
+  EXPECT_EQ(st.clipped, 1);    // 12 m > max usable 10 m
+  ASSERT_EQ(s.hits.size(), 1u);
+  EXPECT_NEAR(s.hits[0].x, 1.1, 1e-9);
+  EXPECT_EQ(s.misses.size(), 3u);
+  for (const Point2D& m : s.misses)
+    EXPECT_NEAR(std::hypot(m.x - 0.1, m.y), 10.0, 1e-6);
+}
+
+TEST(RangeScan, UpsideDownSensorMirrorsAngles)
+{
+  ScanGeometry g;
+  g.upside_down = true;
+  const RangeScan s = convertRanges({1.0f}, M_PI / 2, 0.0, 0.1, 30.0, 30.0, g);
+  ASSERT_EQ(s.hits.size(), 1u);
+  EXPECT_NEAR(s.hits[0].y, -1.0, 1e-9);
+}
+
+TEST(Evaluation, AlignmentRecoversRigidTransform)
+{
+  const Pose2D T{1.0, -0.5, 0.4};
+  std::vector<Pose2D> est, truth;
+  for (int i = 0; i < 20; ++i)
+  {
+    const Pose2D p{0.3 * i, std::sin(0.5 * i), 0.1 * i};
+    est.push_back(p);
+    truth.push_back(compose(T, p));
+  }
+  const Pose2D A = alignTrajectories(est, truth);
+  EXPECT_NEAR(A.x, T.x, 1e-9);
+  EXPECT_NEAR(A.y, T.y, 1e-9);
+  EXPECT_NEAR(A.theta, T.theta, 1e-9);
+  EXPECT_NEAR(absoluteTrajectoryRmse(est, truth, A), 0.0, 1e-9);
+  const RelativePoseError rpe = relativePoseError(est, truth, 1);
+  EXPECT_EQ(rpe.pairs, 19);
+  EXPECT_NEAR(rpe.translation_rms, 0.0, 1e-9);
+}
+
+TEST(Evaluation, MapScoreToleratesOneCellOffset)
+{
+  const GridMap truth = makeWorld(5.0, 5.0, 0.05, {{2.0, 2.0, 2.5, 2.5}});
+  GridMap shifted = truth;
+  shifted.info.origin.x += 0.05;  // one cell off
+  const MapScore s1 = scoreMap(shifted, truth, Pose2D{}, 1);
+  EXPECT_DOUBLE_EQ(s1.precision, 1.0);
+  EXPECT_DOUBLE_EQ(s1.recall, 1.0);
+  const MapScore s0 = scoreMap(shifted, truth, Pose2D{}, 0);
+  EXPECT_LT(s0.precision, 0.9);
+}

@@ -1,0 +1,125 @@
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "mybot_navigation/evaluation.h"
+#include "mybot_navigation/ray_cast.h"
+#include "mybot_navigation/synthetic_world.h"
+
+using namespace mybot_navigation;
+
+namespace
+{
+// A loop through both rooms of the office world, back to the start.
+const std::vector<Point2D> kOfficeLoop{{1.0, 1.0}, {5.0, 0.8}, {5.0, 4.2}, {7.5, 4.2}, {10.5, 1.0},
+                                       {10.5, 6.5}, {7.0, 9.0}, {6.8, 4.3}, {3.0, 4.2}, {0.8, 6.5},
+                                       {3.0, 9.0}, {4.5, 6.0}, {1.0, 3.0}, {1.0, 1.0}};
+
+SlamParams testParams()
+{
+  SlamParams p;
+  p.linear_update = 0.25;
+  p.angular_update = 0.25;
+  return p;
+}
+
+struct Score
+{
+  MapScore map;
+  double ate;
+};
+
+Score evaluate(const Slam& slam, const OfflineRun& run, const GridMap& world)
+{
+  const Pose2D align = alignTrajectories(run.estimate, run.truth);
+  return {scoreMap(slam.map(), world, align, 1), absoluteTrajectoryRmse(run.estimate, run.truth, align)};
+}
+}  // namespace
+
+TEST(Slam, OfficeLoopWithOdometryNoiseMeetsAccuracyTargets)
+{
+  const GridMap world = officeWorld(0.01);
+  const LaserSpec laser;
+  OdometryNoise noise;
+  noise.alpha_trans = 0.05;
+  noise.alpha_rot = 0.05;
+  noise.drift_rot = 0.02;
+  DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 7);
+  Slam slam(testParams());
+  const OfflineRun run = runSlamOnDrive(slam, drive, laser, 30.0);
+  ASSERT_GT(run.estimate.size(), 50u);
+  const Score s = evaluate(slam, run, world);
+  const double odom_ate = absoluteTrajectoryRmse(run.odometry, run.truth, alignTrajectories(run.odometry, run.truth));
+  RecordProperty("precision", std::to_string(s.map.precision));
+  std::printf("precision %.3f recall %.3f ATE %.3f m (odometry %.3f m), loop closures %d/%d, weak %d\n",
+              s.map.precision, s.map.recall, s.ate, odom_ate, slam.stats().loop_closures, slam.stats().loop_attempts,
+              slam.stats().weak_matches);
+  EXPECT_GE(s.map.precision, 0.9);
+  EXPECT_GE(s.map.recall, 0.9);
+  EXPECT_LT(s.ate, 0.05);
+  EXPECT_GT(odom_ate, 3 * s.ate);
+  // map -> odom is the accumulated correction: it takes the last odometry pose onto the estimate.
+  const Keyframe& last = slam.keyframes().back();
+  const Pose2D via_tf = compose(slam.mapToOdom(), last.odom);
+  EXPECT_NEAR(via_tf.x, last.pose.x, 1e-9);
+  EXPECT_NEAR(via_tf.y, last.pose.y, 1e-9);
+  EXPECT_NEAR(normalizeAngle(via_tf.theta - last.pose.theta), 0.0, 1e-9);
+}
+
+TEST(Slam, LoopClosureImprovesMapUnderOdometryDrift)
+{
+  // A short usable range and strong heading drift make the front end drift; closing the loop
+  // must pull the trajectory and the map back together.
+  const GridMap world = officeWorld(0.01);
+  const LaserSpec laser;
+  OdometryNoise noise;
+  noise.alpha_trans = 0.1;
+  noise.alpha_rot = 0.1;
+  noise.drift_rot = 0.05;
+  auto run = [&](bool closure, Score* score, SlamStats* stats) {
+    DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 2);
+    SlamParams p = testParams();
+    p.loop_closure = closure;
+    p.local_map_scans = 6;
+    Slam slam(p);
+    const OfflineRun r = runSlamOnDrive(slam, drive, laser, 5.0);
+    *score = evaluate(slam, r, world);
+    *stats = slam.stats();
+  };
+  Score open, closed;
+  SlamStats s_open, s_closed;
+  run(false, &open, &s_open);
+  run(true, &closed, &s_closed);
+  std::printf("without closure: precision %.3f recall %.3f ATE %.3f; with: precision %.3f recall %.3f ATE %.3f "
+              "(%d closures)\n",
+              open.map.precision, open.map.recall, open.ate, closed.map.precision, closed.map.recall, closed.ate,
+              s_closed.loop_closures);
+  EXPECT_GT(s_closed.loop_closures, 0);
+  EXPECT_LT(closed.ate, open.ate);
+  EXPECT_GT(closed.map.precision, open.map.precision + 0.1);
+  EXPECT_GT(closed.map.recall, open.map.recall);
+}
+
+TEST(Slam, BadInputIsReportedNotFatal)
+{
+  Slam slam(testParams());
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const LaserSpec laser;
+  auto convert = [&](const std::vector<float>& r) {
+    return convertRanges(r, laser.angle_min, laser.angleIncrement(), laser.range_min, laser.range_max, 30.0,
+                         ScanGeometry{});
+  };
+  EXPECT_EQ(slam.addScan(1.0, {}, convert(std::vector<float>(720, nan))), ScanOutcome::NoValidPoints);
+  EXPECT_EQ(slam.addScan(1.1, {}, convert({})), ScanOutcome::NoValidPoints);
+  const GridMap world = officeWorld(0.01);
+  const auto ranges = simulateScan(world, {2, 2, 0}, laser.angle_min, laser.angleIncrement(), laser.beams, 30.0);
+  EXPECT_EQ(slam.addScan(1.2, {}, convert(ranges)), ScanOutcome::Processed);
+  EXPECT_EQ(slam.addScan(1.2, {}, convert(ranges)), ScanOutcome::OutOfOrder);
+  EXPECT_EQ(slam.addScan(0.5, {}, convert(ranges)), ScanOutcome::OutOfOrder);
+  EXPECT_EQ(slam.addScan(1.3, {0.01, 0, 0}, convert(ranges)), ScanOutcome::Skipped);
+  EXPECT_EQ(slam.stats().keyframes, 1);
+  const GridMap m = slam.map();
+  EXPECT_GT(m.info.width, 0);
+  for (int8_t v : m.data)
+    EXPECT_TRUE(v == -1 || v == 0 || v == 100);
+}
