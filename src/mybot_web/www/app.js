@@ -404,7 +404,9 @@ function draw() {
   ctx.setTransform(s, 0, 0, -s, canvas.width / 2 - view.cx * s, canvas.height / 2 + view.cy * s);
   const px = 1 / view.scale;  // one CSS pixel in metres
 
-  if (conn.map && conn.mapImage) {
+  // A map in another frame than the views (e.g. "map" before localisation publishes
+  // map -> odom) would be drawn in the wrong place: leave it out and say so.
+  if (conn.map && conn.mapImage && mapDrawable()) {
     const m = conn.map;
     ctx.save();
     ctx.translate(m.origin[0], m.origin[1]); ctx.rotate(m.origin[2]);
@@ -442,6 +444,11 @@ function draw() {
   }
 }
 
+function mapDrawable() {
+  const f = conn.map.frame.replace(/^\//, "");
+  return !conn.state?.frame || !f || f === conn.state.frame;
+}
+
 function drawGrid(px) {
   // 1 m grid around the view when there is no map yet.
   const r = canvas.getBoundingClientRect();
@@ -477,7 +484,9 @@ function updatePanel(st) {
   $("pose").textContent = st.pose
     ? `${st.pose[0].toFixed(2)}, ${st.pose[1].toFixed(2)} m, ${(st.pose[2] * 180 / Math.PI).toFixed(0)}°`
     : "unknown";
-  $("frame").textContent = st.frame ? `frame: ${st.frame}` : "no pose";
+  let frameText = st.frame ? `frame: ${st.frame}` : "no pose";
+  if (conn.map && !mapDrawable()) frameText += ` (map is in ${conn.map.frame}: not shown)`;
+  $("frame").textContent = frameText;
   $("battery").textContent = fmt(st.battery, 2, "V");
   $("cpu").textContent = st.cpu === null ? "–" : `${st.cpu.toFixed(0)} % (${st.cpu_source})`;
   $("rostime").textContent = fmt(st.time, 1, "s");
