@@ -50,6 +50,11 @@ class DriverNode:
         if cfg.publish_enc:
             self.enc_pubs = (rospy.Publisher("lwheel_angular_vel_enc", Float32, queue_size=10),
                              rospy.Publisher("rwheel_angular_vel_enc", Float32, queue_size=10))
+        # Simulated backend only: the model's true wheel angles/speeds (unquantised),
+        # the ground truth tests and benchmarks compare against; effort = motor command.
+        self.truth_pub = None
+        if hasattr(core.backend, "true_state"):
+            self.truth_pub = rospy.Publisher("~sim_truth", JointState, queue_size=10)
         self.joint_state = JointState()
         self.joint_state.name = [cfg.left_joint, cfg.right_joint]
         rospy.Subscriber("lwheel_angular_vel_motor", Float32, self._on_cmd, LEFT, queue_size=1)
@@ -93,6 +98,13 @@ class DriverNode:
         js.position = list(state.positions)
         js.velocity = list(state.velocities)
         self.js_pub.publish(js)
+        if self.truth_pub is not None:
+            truth = JointState()
+            truth.header.stamp = js.header.stamp
+            truth.name = js.name
+            truth.position, truth.velocity = (list(x) for x in self.core.backend.true_state())
+            truth.effort = [float(c) for c in self.core.backend.last_commands]  # motor commands applied
+            self.truth_pub.publish(truth)
         if self.enc_pubs is not None:
             self.enc_pubs[0].publish(Float32(state.velocities[0]))
             self.enc_pubs[1].publish(Float32(state.velocities[1]))
