@@ -1,0 +1,289 @@
+// slam_node: thin ROS wrapper around mybot_navigation::Slam with gmapping's interface
+// (scan + tf odom->base in; map, map_metadata, tf map->odom, dynamic_map out).
+#include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include <message_filters/subscriber.h>
+#include <nav_msgs/GetMap.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <ros/ros.h>
+#include <sensor_msgs/LaserScan.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/message_filter.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "mybot_navigation/ros/conversions.h"
+#include "mybot_navigation/slam.h"
+
+using namespace mybot_navigation;
+
+namespace
+{
+// Reads a private parameter, applies a check and stops the node with one clear message on failure.
+template <typename T, typename Check>
+T param(ros::NodeHandle& pnh, const std::string& name, T def, Check ok, const char* requirement)
+{
+  T v = def;
+  if (pnh.hasParam(name) && !pnh.getParam(name, v))
+  {
+    ROS_FATAL("slam: parameter ~%s has the wrong type (expected %s)", name.c_str(), requirement);
+    ros::shutdown();
+    std::exit(1);
+  }
+  if (!ok(v))
+  {
+    ROS_FATAL("slam: parameter ~%s is invalid: must be %s", name.c_str(), requirement);
+    ros::shutdown();
+    std::exit(1);
+  }
+  return v;
+}
+
+const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+const auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
+const auto any_number = [](double v) { return std::isfinite(v); };
+const auto probability = [](double v) { return v > 0.0 && v < 1.0; };
+const auto non_empty = [](const std::string& s) { return !s.empty(); };
+}  // namespace
+
+class SlamNode
+{
+public:
+  SlamNode() : pnh_("~"), listener_(tf_buffer_)
+  {
+    base_frame_ = param<std::string>(pnh_, "base_frame", "base_link", non_empty, "a frame name");
+    odom_frame_ = param<std::string>(pnh_, "odom_frame", "odom", non_empty, "a frame name");
+    map_frame_ = param<std::string>(pnh_, "map_frame", "map", non_empty, "a frame name");
+    map_update_interval_ = param(pnh_, "map_update_interval", 5.0, non_negative, "a number >= 0 (s)");
+    transform_publish_period_ = param(pnh_, "transform_publish_period", 0.05, non_negative, "a number >= 0 (s)");
+    max_urange_ = param(pnh_, "maxUrange", 80.0, positive, "a positive range (m)");
+    max_range_ = param(pnh_, "maxRange", 0.0, non_negative, "a range >= 0 (m); 0 = the scan's range_max");
+    throttle_scans_ = param(pnh_, "throttle_scans", 1, [](int v) { return v >= 1; }, "an integer >= 1");
+
+    SlamParams p;
+    p.grid.resolution = param(pnh_, "delta", 0.05, positive, "a positive cell size (m)");
+    p.linear_update = param(pnh_, "linearUpdate", 1.0, non_negative, "a distance >= 0 (m)");
+    p.angular_update = param(pnh_, "angularUpdate", 0.5, non_negative, "an angle >= 0 (rad)");
+    p.temporal_update = param(pnh_, "temporalUpdate", -1.0, any_number, "a number (s; < 0 disables)");
+    p.occ_thresh = param(pnh_, "occ_thresh", 0.5, probability, "a probability in (0, 1)");
+    p.local_map_scans = param(pnh_, "local_map_scans", 20, [](int v) { return v >= 2; }, "an integer >= 2");
+    p.search_window_linear = param(pnh_, "search_window_linear", 0.3, non_negative, "a distance >= 0 (m)");
+    p.search_window_angular = param(pnh_, "search_window_angular", 0.35, non_negative, "an angle >= 0 (rad)");
+    p.min_match_score = param(pnh_, "min_match_score", 0.35, [](double v) { return v >= 0 && v < 1; }, "in [0, 1)");
+    p.loop_closure = param(pnh_, "loop_closure", true, [](bool) { return true; }, "a bool");
+    p.loop_search_radius = param(pnh_, "loop_search_radius", 4.0, positive, "a positive distance (m)");
+    p.loop_min_travel = param(pnh_, "loop_min_travel", 8.0, positive, "a positive distance (m)");
+    p.loop_window_linear = param(pnh_, "loop_window_linear", 1.5, positive, "a positive distance (m)");
+    p.loop_window_angular = param(pnh_, "loop_window_angular", 0.5, positive, "a positive angle (rad)");
+    p.loop_min_score = param(pnh_, "loop_min_score", 0.6, [](double v) { return v > 0 && v < 1; }, "in (0, 1)");
+    if (p.grid.resolution > 1.0)
+      ROS_WARN("slam: ~delta = %.2f m is a very coarse map", p.grid.resolution);
+    slam_ = std::make_unique<Slam>(p);
+
+    map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
+    meta_pub_ = nh_.advertise<nav_msgs::MapMetaData>("map_metadata", 1, true);
+    map_srv_ = nh_.advertiseService("dynamic_map", &SlamNode::mapService, this);
+
+    scan_sub_.subscribe(nh_, "scan", 5);
+    scan_filter_ = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(scan_sub_, tf_buffer_, odom_frame_,
+                                                                                     10, nh_);
+    scan_filter_->registerCallback(&SlamNode::scanCallback, this);
+    scan_filter_->registerFailureCallback(
+        [this](const sensor_msgs::LaserScan::ConstPtr& scan, tf2_ros::filter_failure_reasons::FilterFailureReason) {
+          ROS_WARN_THROTTLE(5.0, "slam: dropping scan at %.3f: no transform %s -> %s at its stamp (is odometry "
+                                 "running?)",
+                            scan->header.stamp.toSec(), scan->header.frame_id.c_str(), odom_frame_.c_str());
+        });
+    if (transform_publish_period_ > 0.0)
+      tf_timer_ = nh_.createTimer(ros::Duration(transform_publish_period_), &SlamNode::publishTransform, this);
+    ROS_INFO("slam: delta %.3f m, linearUpdate %.2f m, angularUpdate %.2f rad, frames %s -> %s -> %s, loop closure %s",
+             p.grid.resolution, p.linear_update, p.angular_update, map_frame_.c_str(), odom_frame_.c_str(),
+             base_frame_.c_str(), p.loop_closure ? "on" : "off");
+  }
+
+private:
+  struct BeamTable
+  {
+    double angle_min, angle_increment;
+    size_t count;
+  };
+
+  bool laserGeometry(const sensor_msgs::LaserScan& scan, ScanGeometry& g)
+  {
+    auto it = geometry_.find(scan.header.frame_id);
+    if (it != geometry_.end())
+    {
+      g = it->second;
+      return true;
+    }
+    geometry_msgs::TransformStamped t;
+    try
+    {
+      t = tf_buffer_.lookupTransform(base_frame_, scan.header.frame_id, ros::Time(0));
+    }
+    catch (const tf2::TransformException& e)
+    {
+      ROS_WARN_THROTTLE(5.0, "slam: no transform %s -> %s yet: %s", scan.header.frame_id.c_str(), base_frame_.c_str(),
+                        e.what());
+      return false;
+    }
+    const auto& q = t.transform.rotation;
+    // Laser z axis expressed in the base frame: pointing down means a mounted-upside-down laser.
+    const double z_z = 1.0 - 2.0 * (q.x * q.x + q.y * q.y);
+    // Laser x axis in the base frame gives the yaw of beam 0 direction reference.
+    const double x_x = 1.0 - 2.0 * (q.y * q.y + q.z * q.z), x_y = 2.0 * (q.x * q.y + q.w * q.z);
+    g.sensor_in_base = {t.transform.translation.x, t.transform.translation.y, std::atan2(x_y, x_x)};
+    g.upside_down = z_z < 0.0;
+    if (std::abs(z_z) < 0.99)
+      ROS_WARN("slam: laser frame %s is tilted with respect to %s; treating it as horizontal",
+               scan.header.frame_id.c_str(), base_frame_.c_str());
+    geometry_[scan.header.frame_id] = g;
+    return true;
+  }
+
+  void scanCallback(const sensor_msgs::LaserScan::ConstPtr& scan)
+  {
+    if (++scan_counter_ % throttle_scans_ != 0)
+      return;
+    const double stamp = scan->header.stamp.toSec();
+    if (scan->ranges.empty())
+    {
+      ROS_WARN_THROTTLE(5.0, "slam: empty scan at %.3f ignored", stamp);
+      return;
+    }
+    if (!(scan->angle_increment != 0.0f) || !std::isfinite(scan->angle_increment) || !std::isfinite(scan->angle_min))
+    {
+      ROS_WARN_THROTTLE(5.0, "slam: scan with invalid angle_min/angle_increment ignored");
+      return;
+    }
+    geometry_msgs::TransformStamped odom_tf;
+    try
+    {
+      odom_tf = tf_buffer_.lookupTransform(odom_frame_, base_frame_, scan->header.stamp);
+    }
+    catch (const tf2::TransformException& e)
+    {
+      ROS_WARN_THROTTLE(5.0, "slam: no odometry (%s -> %s) at scan time %.3f: %s", odom_frame_.c_str(),
+                        base_frame_.c_str(), stamp, e.what());
+      return;
+    }
+    const Pose2D odom = toPose2D(odom_tf.transform);
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!slam_->wantsScan(stamp, odom))
+    {
+      if (stamp <= last_stamp_)
+        ROS_WARN_THROTTLE(5.0, "slam: scan at %.3f is not newer than the last one (%.3f): dropped", stamp, last_stamp_);
+      else
+        slam_->updateOdometry(odom);
+      return;
+    }
+    ScanGeometry g;
+    if (!laserGeometry(*scan, g))
+      return;
+    const double range_max = max_range_ > 0.0 ? std::min<double>(max_range_, scan->range_max) : scan->range_max;
+    ScanConversionStats stats;
+    const RangeScan rs = convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min,
+                                       range_max, max_urange_, g, &stats);
+    if (stats.invalid > 0)
+      ROS_DEBUG_THROTTLE(5.0, "slam: %d invalid readings (NaN/-inf/below range_min) ignored", stats.invalid);
+    const ScanOutcome outcome = slam_->addScan(stamp, odom, rs);
+    last_stamp_ = std::max(last_stamp_, stamp);
+    switch (outcome)
+    {
+      case ScanOutcome::NoValidPoints:
+        ROS_WARN_THROTTLE(5.0, "slam: scan at %.3f has no valid returns (%d invalid, %d out of range): not used",
+                          stamp, stats.invalid, stats.no_return + stats.clipped);
+        return;
+      case ScanOutcome::OutOfOrder:
+        ROS_WARN_THROTTLE(5.0, "slam: scan at %.3f is out of order: dropped", stamp);
+        return;
+      case ScanOutcome::Skipped:
+        return;
+      case ScanOutcome::Processed:
+        break;
+    }
+    if (slam_->stats().last_match_score < slam_->params().min_match_score)
+      ROS_WARN_THROTTLE(10.0, "slam: weak scan match (score %.2f): using odometry for this step",
+                        slam_->stats().last_match_score);
+    if (!published_ || stamp - last_map_publish_ >= map_update_interval_)
+      publishMap(scan->header.stamp);
+  }
+
+  void publishMap(const ros::Time& stamp)
+  {
+    if (slam_->mapVersion() == published_version_ && published_)
+      return;
+    nav_msgs::OccupancyGrid msg;
+    toOccupancyGrid(slam_->map(), msg);
+    msg.header.frame_id = map_frame_;
+    msg.header.stamp = stamp;
+    msg.info.map_load_time = stamp;
+    map_pub_.publish(msg);
+    meta_pub_.publish(msg.info);
+    published_ = true;
+    published_version_ = slam_->mapVersion();
+    last_map_publish_ = stamp.toSec();
+    ROS_DEBUG("slam: published %dx%d map (%d keyframes, %d loop closures)", msg.info.width, msg.info.height,
+              slam_->stats().keyframes, slam_->stats().loop_closures);
+  }
+
+  bool mapService(nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& res)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (slam_->keyframes().empty())
+      return false;  // gmapping also fails the call until a map exists
+    toOccupancyGrid(slam_->map(), res.map);
+    res.map.header.frame_id = map_frame_;
+    res.map.header.stamp = ros::Time::now();
+    return true;
+  }
+
+  void publishTransform(const ros::TimerEvent&)
+  {
+    Pose2D m2o;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      m2o = slam_->mapToOdom();
+    }
+    geometry_msgs::TransformStamped t;
+    // Future-dated like gmapping so consumers can interpolate up to the next publication.
+    t.header.stamp = ros::Time::now() + ros::Duration(transform_publish_period_);
+    t.header.frame_id = map_frame_;
+    t.child_frame_id = odom_frame_;
+    t.transform = toTransform(m2o);
+    broadcaster_.sendTransform(t);
+  }
+
+  ros::NodeHandle nh_, pnh_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener listener_;
+  tf2_ros::TransformBroadcaster broadcaster_;
+  message_filters::Subscriber<sensor_msgs::LaserScan> scan_sub_;
+  std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
+  ros::Publisher map_pub_, meta_pub_;
+  ros::ServiceServer map_srv_;
+  ros::Timer tf_timer_;
+  std::string base_frame_, odom_frame_, map_frame_;
+  double map_update_interval_, transform_publish_period_, max_urange_, max_range_;
+  int throttle_scans_;
+  long scan_counter_ = 0;
+  std::unique_ptr<Slam> slam_;
+  std::map<std::string, ScanGeometry> geometry_;
+  std::mutex mutex_;
+  double last_stamp_ = -1e300;
+  bool published_ = false;
+  uint64_t published_version_ = 0;
+  double last_map_publish_ = 0.0;
+};
+
+int main(int argc, char** argv)
+{
+  ros::init(argc, argv, "slam");
+  SlamNode node;
+  ros::spin();
+  return 0;
+}
