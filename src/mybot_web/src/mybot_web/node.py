@@ -109,7 +109,11 @@ class RosBackend:
         self._publish_lock()
         self._lock_period = 1.0 / cfg.lock_rate
         self._last_lock_pub = rospy.get_rostime()
-        self.timer = rospy.Timer(rospy.Duration(min(0.05, cfg.deadman_timeout / 3.0)), self._tick)
+        self._robot_pose = None
+        # Checked often so the stop comes close to the timeout, not a period later.
+        self.timer = rospy.Timer(rospy.Duration(min(0.02, cfg.deadman_timeout / 5.0)), self._tick)
+        # The pose (and trail) is tracked with or without a page open, so the trail has history.
+        self.pose_timer = rospy.Timer(rospy.Duration(1.0 / cfg.view_rate), self._update_pose)
 
     # -- dead man and mode lock (rospy timer thread, ROS time) --
     def _tick(self, _event):
@@ -206,7 +210,7 @@ class RosBackend:
             return None if self._map is None else (self._map_version, self._map)
 
     def state(self):
-        pose = self._pose()
+        pose = self._robot_pose
         now = rospy.get_rostime()
         if self._cpu_stamp is None or time.monotonic() - self._cpu_stamp >= CPU_PERIOD:
             self._cpu_stamp = time.monotonic()
@@ -232,7 +236,10 @@ class RosBackend:
             }
 
     # -- ROS inputs --
-    def _pose(self):
+    def _update_pose(self, _event):
+        self._robot_pose = self._lookup_pose()
+
+    def _lookup_pose(self):
         for frame in (self.cfg.global_frame, self.cfg.odom_frame):
             try:
                 tr = self.tf.lookup_transform(frame, self.cfg.base_frame, rospy.Time(0))
@@ -244,6 +251,8 @@ class RosBackend:
                 self.frame = frame
                 self.trail.add(frame, pose[0], pose[1])
             return pose
+        with self._lock:
+            self.frame = None
         return None
 
     def _on_map(self, msg):
@@ -296,6 +305,7 @@ class RosBackend:
 
     def shutdown(self):
         self.timer.shutdown()
+        self.pose_timer.shutdown()
         with self._lock:
             if self.arbiter.owner is not None:
                 self.arbiter.release(self.arbiter.owner)
