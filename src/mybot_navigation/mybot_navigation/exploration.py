@@ -1,0 +1,132 @@
+"""Frontier exploration on an occupancy grid (no ROS types).
+
+A frontier cell is a known-free cell with an unknown 4-neighbour. Frontier
+cells are grouped into 8-connected clusters; each cluster offers one goal: its
+reachable cell with enough clearance closest to the cluster's centroid. The
+explorer picks the cluster with the shortest path from the robot (a breadth-
+first search over free cells with clearance), never a blacklisted one.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
+
+UNKNOWN = -1
+
+
+@dataclass
+class GridInfo:
+    resolution: float
+    origin_x: float
+    origin_y: float
+
+    def to_cell(self, x, y):
+        return int(np.floor((y - self.origin_y) / self.resolution)), int(np.floor((x - self.origin_x) / self.resolution))
+
+    def to_world(self, row, col):
+        return (self.origin_x + (col + 0.5) * self.resolution, self.origin_y + (row + 0.5) * self.resolution)
+
+
+@dataclass
+class Frontier:
+    goal: tuple          # (x, y) in the map frame
+    size: int            # frontier cells in the cluster
+    path_length: float   # metres along free space from the robot
+    cells: np.ndarray    # (N, 2) rows/cols of the cluster
+
+
+def free_mask(grid, free_thresh=25):
+    return (grid >= 0) & (grid <= free_thresh)
+
+
+def frontier_mask(grid, free_thresh=25):
+    """Free cells with at least one unknown 4-neighbour."""
+    unknown = grid == UNKNOWN
+    near_unknown = np.zeros_like(unknown)
+    near_unknown[1:, :] |= unknown[:-1, :]
+    near_unknown[:-1, :] |= unknown[1:, :]
+    near_unknown[:, 1:] |= unknown[:, :-1]
+    near_unknown[:, :-1] |= unknown[:, 1:]
+    return free_mask(grid, free_thresh) & near_unknown
+
+
+def path_lengths(passable, start):
+    """8-connected shortest path lengths in cells from start over passable
+    cells (Dijkstra on a sparse graph); inf where unreachable."""
+    rows, cols = passable.shape
+    dist = np.full(passable.shape, np.inf)
+    r0, c0 = start
+    if not (0 <= r0 < rows and 0 <= c0 < cols) or not passable[r0, c0]:
+        return dist
+    index = np.full(passable.shape, -1, dtype=np.int64)
+    index[passable] = np.arange(int(passable.sum()))
+    src, dst, w = [], [], []
+    for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
+        a = index[max(0, -dr):rows - max(0, dr), max(0, -dc):cols - max(0, dc)]
+        b = index[max(0, dr):rows - max(0, -dr), max(0, dc):cols - max(0, -dc)]
+        both = (a >= 0) & (b >= 0)
+        src.append(a[both]); dst.append(b[both]); w.append(np.full(int(both.sum()), np.hypot(dr, dc)))
+    n = int(passable.sum())
+    graph = csr_matrix((np.concatenate(w), (np.concatenate(src), np.concatenate(dst))), shape=(n, n))
+    d = dijkstra(graph, directed=False, indices=int(index[r0, c0]))
+    dist[passable] = d
+    return dist
+
+
+def find_frontiers(grid, info, robot_xy, robot_radius=0.2, min_frontier_size=5,
+                   blacklist=(), blacklist_radius=0.5, free_thresh=25):
+    """Frontier clusters reachable from the robot, nearest (by path) first."""
+    grid = np.asarray(grid)
+    free = free_mask(grid, free_thresh)
+    blocked = ~free  # unknown counts as blocked for clearance: goals stay inside known space
+    clearance = ndimage.distance_transform_edt(~blocked) * info.resolution
+    passable = free & (clearance >= robot_radius)
+
+    start = info.to_cell(*robot_xy)
+    if not (0 <= start[0] < grid.shape[0] and 0 <= start[1] < grid.shape[1]):
+        return []
+    if not passable[start]:
+        # The robot stands closer to a wall than its radius: search from the
+        # nearest passable cell so exploration can still begin.
+        cand = np.argwhere(passable)
+        if len(cand) == 0:
+            return []
+        near = cand[np.argmin(np.hypot(cand[:, 0] - start[0], cand[:, 1] - start[1]))]
+        if np.hypot(*(near - np.array(start))) * info.resolution > 2 * robot_radius + info.resolution:
+            return []
+        start = tuple(int(v) for v in near)
+    dist = path_lengths(passable, start)
+
+    labels, n = ndimage.label(frontier_mask(grid, free_thresh), structure=np.ones((3, 3)))
+    frontiers = []
+    for k in range(1, n + 1):
+        cells = np.argwhere(labels == k)
+        if len(cells) < min_frontier_size:
+            continue
+        # Frontier cells border unknown space, so they rarely have clearance:
+        # the goal is the reachable cell nearest the cluster within a short reach.
+        centroid = cells.mean(axis=0)
+        window = int(np.ceil((robot_radius * 2 + 0.5) / info.resolution))
+        r0, c0 = np.maximum(cells.min(axis=0) - window, 0)
+        r1, c1 = np.minimum(cells.max(axis=0) + window + 1, grid.shape)
+        sub = dist[r0:r1, c0:c1]
+        reach = np.argwhere(np.isfinite(sub))
+        if len(reach) == 0:
+            continue
+        reach = reach + [r0, c0]
+        # Distance from each reachable candidate to the nearest frontier cell of the cluster.
+        d_front = np.min(np.hypot(reach[:, None, 0] - cells[None, ::max(1, len(cells) // 50), 0],
+                                  reach[:, None, 1] - cells[None, ::max(1, len(cells) // 50), 1]), axis=1)
+        ok = reach[d_front * info.resolution <= robot_radius * 2 + 0.5]
+        if len(ok) == 0:
+            continue
+        best = ok[np.argmin(np.hypot(ok[:, 0] - centroid[0], ok[:, 1] - centroid[1]))]
+        goal = info.to_world(*best)
+        if any(np.hypot(goal[0] - bx, goal[1] - by) < blacklist_radius for bx, by in blacklist):
+            continue
+        frontiers.append(Frontier(goal=goal, size=len(cells), path_length=float(dist[tuple(best)]) * info.resolution,
+                                  cells=cells))
+    frontiers.sort(key=lambda f: f.path_length)
+    return frontiers

@@ -1,0 +1,63 @@
+"""Frontier exploration on synthetic grids."""
+import numpy as np
+import pytest
+
+from mybot_navigation.exploration import GridInfo, find_frontiers, frontier_mask, path_lengths
+
+
+def room(rows=60, cols=80, known_cols=40):
+    """A walled room; the left part is known free, the right part unknown."""
+    g = np.full((rows, cols), -1, dtype=np.int8)
+    g[:, :known_cols] = 0
+    g[0, :known_cols] = g[-1, :known_cols] = 100
+    g[:, 0] = 100
+    return g
+
+
+INFO = GridInfo(resolution=0.05, origin_x=0.0, origin_y=0.0)
+
+
+def test_frontier_cells_are_free_cells_next_to_unknown():
+    g = room()
+    m = frontier_mask(g)
+    cols = np.unique(np.argwhere(m)[:, 1])
+    assert list(cols) == [39]
+    assert not m[0, 39] and not m[-1, 39]   # walls are never frontier
+
+
+def test_path_lengths_go_around_walls():
+    free = np.ones((20, 20), dtype=bool)
+    free[:15, 10] = False                     # a wall with a gap at the bottom
+    d = path_lengths(free, (0, 0))
+    assert d[0, 0] == 0
+    assert d[0, 5] == pytest.approx(5)
+    assert d[0, 19] > 28                      # must go down through the gap and back up
+    free2 = free.copy()
+    free2[15:, 10] = False
+    assert np.isinf(path_lengths(free2, (0, 0))[0, 19])
+
+
+def test_nearest_reachable_frontier_first_and_blacklist():
+    g = room()
+    g[:, 60:] = 0                             # a second known area, unreachable (unknown between)
+    fr = find_frontiers(g, INFO, robot_xy=(0.5, 1.5), robot_radius=0.2)
+    assert fr, "a frontier is expected"
+    x, y = fr[0].goal
+    assert 1.2 < x < 2.0                      # near the boundary at x = 2.0 m, on the known side
+    assert all(np.isfinite(f.path_length) for f in fr)
+    assert all(f.goal[0] < 2.0 for f in fr)   # the disconnected area's frontiers are unreachable
+    fr2 = find_frontiers(g, INFO, robot_xy=(0.5, 1.5), blacklist=[fr[0].goal], blacklist_radius=5.0)
+    assert fr2 == []
+
+
+def test_fully_known_map_has_no_frontier():
+    g = np.zeros((40, 40), dtype=np.int8)
+    g[0, :] = g[-1, :] = g[:, 0] = g[:, -1] = 100
+    assert find_frontiers(g, INFO, robot_xy=(1.0, 1.0)) == []
+
+
+def test_small_frontiers_are_ignored():
+    g = np.zeros((40, 40), dtype=np.int8)
+    g[0, :] = g[-1, :] = g[:, 0] = g[:, -1] = 100
+    g[20, 20] = -1                            # a single unknown cell: 4 frontier cells < 5
+    assert find_frontiers(g, INFO, robot_xy=(0.5, 0.5), min_frontier_size=5) == []

@@ -1,0 +1,248 @@
+#!/usr/bin/env python3
+"""One stage of the demo mission, run as a rospy node against the stage's own
+master (the orchestrator, tools/demo.py, starts one per stage):
+
+  mapping:    runs the frontier explorer until the map is complete (or the
+              budget is spent), then saves the map with map_saver;
+  navigation: gives AMCL an initial pose, lets it localize, then visits goals.
+
+Both record ground truth (ground_truth/odom, world frame), the estimated pose
+(tf map -> base_footprint) and odometry, and write <out>/<name>.json and
+<out>/<name>_traj.npz. Everything waits in ROS (sim) time.
+"""
+import argparse
+import json
+import math
+import subprocess
+import sys
+import time
+
+import actionlib
+import numpy as np
+import rospy
+import tf2_ros
+from actionlib_msgs.msg import GoalStatus
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
+from nav_msgs.msg import OccupancyGrid, Odometry
+from rosgraph_msgs.msg import Clock
+
+
+def yaw_of(q):
+    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+
+
+def wrap(a):
+    return (a + math.pi) % (2 * math.pi) - math.pi
+
+
+def log(msg):
+    print("[demo]   " + msg, flush=True)
+
+
+class Recorder:
+    """Samples ground truth (converted into the map frame), the tf estimate and
+    odometry at a fixed sim-time rate."""
+
+    def __init__(self, world_to_map, map_frame="map", base_frame="base_footprint", rate=5.0):
+        self.map_frame, self.base_frame = map_frame, base_frame
+        wx, wy, wyaw = world_to_map  # pose of the map frame in the world
+        self.T = (wx, wy, wyaw)
+        self.gt = None
+        self.odom = None
+        self.rows = []  # t, gt x y yaw, est x y yaw, odom x y yaw
+        self.tf = tf2_ros.Buffer(rospy.Duration(30))
+        tf2_ros.TransformListener(self.tf)
+        rospy.Subscriber("ground_truth/odom", Odometry, self._on_gt, queue_size=5)
+        rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=5)
+        rospy.Timer(rospy.Duration(1.0 / rate), self._sample)
+
+    def world_to_map(self, x, y, yaw):
+        wx, wy, wyaw = self.T
+        dx, dy = x - wx, y - wy
+        c, s = math.cos(-wyaw), math.sin(-wyaw)
+        return c * dx - s * dy, s * dx + c * dy, wrap(yaw - wyaw)
+
+    def _on_gt(self, msg):
+        p = msg.pose.pose
+        self.gt = self.world_to_map(p.position.x, p.position.y, yaw_of(p.orientation))
+
+    def _on_odom(self, msg):
+        p = msg.pose.pose
+        self.odom = (p.position.x, p.position.y, yaw_of(p.orientation))
+
+    def estimate(self):
+        try:
+            t = self.tf.lookup_transform(self.map_frame, self.base_frame, rospy.Time(0))
+        except tf2_ros.TransformException:
+            return None
+        return (t.transform.translation.x, t.transform.translation.y, yaw_of(t.transform.rotation))
+
+    def _sample(self, _):
+        est = self.estimate()
+        if self.gt is None or est is None:
+            return
+        odom = self.odom or (math.nan,) * 3
+        self.rows.append((rospy.Time.now().to_sec(),) + tuple(self.gt) + tuple(est) + tuple(odom))
+
+    def array(self):
+        return np.array(self.rows, dtype=float).reshape(-1, 10)
+
+    def errors(self, since=None):
+        a = self.array()
+        if since is not None:
+            a = a[a[:, 0] >= since]
+        if len(a) == 0:
+            return {"samples": 0}
+        pos = np.hypot(a[:, 1] - a[:, 4], a[:, 2] - a[:, 5])
+        ang = np.abs([wrap(v) for v in a[:, 3] - a[:, 6]])
+        return {"samples": int(len(a)), "rms_m": float(np.sqrt(np.mean(pos ** 2))), "max_m": float(pos.max()),
+                "rms_deg": float(np.degrees(np.sqrt(np.mean(ang ** 2)))), "final_m": float(pos[-1])}
+
+
+def wait_for(cond, timeout, what):
+    """Waits in wall time (the sim may be paused or not started yet)."""
+    deadline = time.monotonic() + timeout
+    while not rospy.is_shutdown() and time.monotonic() < deadline:
+        if cond():
+            return
+        time.sleep(0.05)
+    raise RuntimeError("timed out after %.0f s waiting for %s" % (timeout, what))
+
+
+def sim_started():
+    try:
+        rospy.wait_for_message("/clock", Clock, timeout=1.0)
+        return True
+    except rospy.ROSException:
+        return False
+
+
+def path_length(a):
+    if len(a) < 2:
+        return 0.0
+    return float(np.sum(np.hypot(np.diff(a[:, 1]), np.diff(a[:, 2]))))
+
+
+def run_mapping(args, rec, result):
+    log("exploring (frontiers on the SLAM map, goals through the move_base action)")
+    t0 = rospy.Time.now()
+    explore = subprocess.run(["rosrun", "mybot_navigation", "explore",
+                              "_time_budget:=%f" % args.budget, "_robot_radius:=%f" % args.robot_radius],
+                             stdout=open(args.out + "/" + args.name + "_explore.log", "w"), stderr=subprocess.STDOUT)
+    result["explore_exit"] = explore.returncode
+    result["explore_sim_s"] = (rospy.Time.now() - t0).to_sec()
+    result["explored_completely"] = explore.returncode == 0
+    log("exploration ended (%s) after %.0f s of sim time" %
+        ("no frontier left" if explore.returncode == 0 else "exit %d" % explore.returncode, result["explore_sim_s"]))
+    saver = subprocess.run(["rosrun", "mybot_navigation", "map_saver", "-f", args.map_out],
+                           capture_output=True, text=True, timeout=120)
+    result["map_saved"] = saver.returncode == 0
+    if saver.returncode != 0:
+        raise RuntimeError("map_saver failed: " + (saver.stderr or saver.stdout)[-500:])
+    log("map saved to %s.yaml / .pgm" % args.map_out)
+
+
+def send_initial_pose(x, y, yaw):
+    pub = rospy.Publisher("initialpose", PoseWithCovarianceStamped, queue_size=1, latch=True)
+    msg = PoseWithCovarianceStamped()
+    msg.header.frame_id = "map"
+    msg.header.stamp = rospy.Time.now()
+    msg.pose.pose.position.x, msg.pose.pose.position.y = x, y
+    msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    cov = [0.0] * 36
+    cov[0] = cov[7] = 0.25 ** 2
+    cov[35] = 0.25 ** 2
+    msg.pose.covariance = cov
+    pub.publish(msg)
+    return pub
+
+
+def run_navigation(args, rec, result):
+    ix, iy, iyaw = args.initial_pose
+    log("initial pose estimate (%.2f, %.2f, %.0f deg) given to AMCL" % (ix, iy, math.degrees(iyaw)))
+    keep = send_initial_pose(ix, iy, iyaw)  # noqa: F841 (latched publisher must stay alive)
+    client = actionlib.SimpleActionClient("move_base", MoveBaseAction)
+    if not client.wait_for_server(rospy.Duration(60)):
+        raise RuntimeError("no move_base action server")
+    goals = []
+    for i, (gx, gy, gyaw) in enumerate(args.goals):
+        goal = MoveBaseGoal()
+        goal.target_pose.header.frame_id = "map"
+        goal.target_pose.header.stamp = rospy.Time.now()
+        goal.target_pose.pose.position.x, goal.target_pose.pose.position.y = gx, gy
+        goal.target_pose.pose.orientation.z = math.sin(gyaw / 2)
+        goal.target_pose.pose.orientation.w = math.cos(gyaw / 2)
+        t0 = rospy.Time.now()
+        client.send_goal(goal)
+        done = client.wait_for_result(rospy.Duration(args.goal_timeout))
+        state = client.get_state() if done else GoalStatus.ABORTED
+        if not done:
+            client.cancel_goal()
+        gt = rec.gt
+        err = math.hypot(gt[0] - gx, gt[1] - gy) if gt else math.nan
+        yaw_err = abs(wrap(gt[2] - gyaw)) if gt else math.nan
+        est = rec.estimate()
+        loc_err = math.hypot(gt[0] - est[0], gt[1] - est[1]) if gt and est else math.nan
+        reached = state == GoalStatus.SUCCEEDED and err < args.goal_tolerance
+        goals.append({"goal": [gx, gy, gyaw], "reached": bool(reached), "state": int(state),
+                      "text": client.get_goal_status_text(), "sim_s": (rospy.Time.now() - t0).to_sec(),
+                      "position_error_m": err, "yaw_error_deg": math.degrees(yaw_err),
+                      "localization_error_m": loc_err})
+        log("goal %d/%d (%.2f, %.2f): %s in %.1f s sim, %.3f m from the goal by ground truth, "
+            "localization error %.3f m" % (i + 1, len(args.goals), gx, gy, "reached" if reached else
+                                           "NOT reached (%s)" % client.get_goal_status_text(),
+                                           goals[-1]["sim_s"], err, loc_err))
+    result["goals"] = goals
+    result["goals_reached"] = sum(g["reached"] for g in goals)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("stage", choices=("mapping", "navigation"))
+    ap.add_argument("--name", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--map-origin", type=float, nargs=3, default=[0, 0, 0],
+                    help="pose (x y yaw) of the map frame in the world frame")
+    ap.add_argument("--map-out", help="mapping: map_saver -f argument")
+    ap.add_argument("--budget", type=float, default=900.0, help="mapping: exploration budget, sim s")
+    ap.add_argument("--robot-radius", type=float, default=0.25)
+    ap.add_argument("--initial-pose", type=float, nargs=3, help="navigation: AMCL initial pose (map frame)")
+    ap.add_argument("--goals", type=json.loads, default=[], help="navigation: JSON list of [x, y, yaw]")
+    ap.add_argument("--goal-timeout", type=float, default=180.0)
+    ap.add_argument("--goal-tolerance", type=float, default=0.3)
+    ap.add_argument("--startup-timeout", type=float, default=120.0)
+    args = ap.parse_args()
+
+    rospy.init_node("demo_" + args.stage, disable_signals=True)
+    result = {"stage": args.stage, "name": args.name, "ok": False}
+    wall0 = time.monotonic()
+    try:
+        wait_for(sim_started, args.startup_timeout, "/clock from the simulator")
+        sim0 = rospy.Time.now().to_sec()
+        rec = Recorder(args.map_origin)
+        wait_for(lambda: rec.gt is not None, args.startup_timeout, "ground_truth/odom")
+        wait_for(lambda: rospy.wait_for_message("map", OccupancyGrid, timeout=2.0) is not None,
+                 args.startup_timeout, "a map")
+        if args.stage == "mapping":
+            run_mapping(args, rec, result)
+            result["ok"] = result["map_saved"]
+        else:
+            run_navigation(args, rec, result)
+            result["ok"] = bool(result["goals"]) and result["goals_reached"] == len(result["goals"])
+        a = rec.array()
+        result["trajectory_error"] = rec.errors()
+        result["distance_m"] = path_length(a)
+        result["sim_s"] = rospy.Time.now().to_sec() - sim0
+        np.savez(args.out + "/" + args.name + "_traj.npz", traj=a)
+    except Exception as e:  # the orchestrator reports the reason
+        result["error"] = str(e)
+        log("FAILED: %s" % e)
+    result["wall_s"] = time.monotonic() - wall0
+    with open(args.out + "/" + args.name + ".json", "w") as f:
+        json.dump(result, f, indent=2)
+    return 0 if result["ok"] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
