@@ -8,9 +8,11 @@ Plant (the thesis's wheel model, Euler-integrated with step dt over a horizon):
 step: the drive cannot change its acceleration instantly (a first-order lag),
 which makes the loop oscillate under high gain like a real wheel does.
 
-PID (control_toolbox semantics): e = goal - v, i_error += e*dt (the integral term
-i*i_error is clamped to [i_clamp_min, i_clamp_max] when given), d_error =
-(e - e_prev)/dt with e_prev = 0 at start, u = p*e + i_term + d*d_error.
+PID: the same law as the wheel/swerve controllers' C++ Pid (mybot_control/pid.hpp), so
+tuned gains transfer: e = goal - v; u = p*e + i_term - d*dv/dt (derivative on the
+measurement: no kick on a setpoint step); i_term += i*e*dt clamped to the i_clamp
+range, with conditional integration (the integral does not grow while it would push
+a saturated output further); u is clamped to +/- max_torque (output_min/max).
 A MultiPID schedule picks, at every step, the gains whose key is nearest to
 |goal - v| (keys are step sizes; one tuning per integer step).
 
@@ -119,13 +121,13 @@ def simulate(plant, gains, goal, tolerance=0.02, i_clamp=(None, None), record=Fa
         sched = np.array([g.as_tuple() for g in schedule.gains], dtype=float)
     v = np.zeros(shape)
     acc = np.zeros(shape)
-    i_err = np.zeros(shape)
-    e_prev = np.zeros(shape)
+    i_term = np.zeros(shape)
     band = tolerance * np.where(goal == 0, 1.0, np.abs(goal))
     nsgn = np.where(goal < 0, 1.0, -1.0)  # -sign(goal): overshoot = max(-sign * e)
     keep, gain_in = plant.acceleration_damping, (1.0 - plant.acceleration_damping) / plant.inertia
     lo, hi = -plant.max_torque, plant.max_torque
-    clamp_i = i_clamp[0] is not None or i_clamp[1] is not None
+    i_lo = -np.inf if i_clamp[0] is None else i_clamp[0]
+    i_hi = np.inf if i_clamp[1] is None else i_clamp[1]
     # streaming metrics (plain ufunc calls with out=: small batches are overhead-bound)
     overshoot = np.zeros(shape)
     error = np.zeros(shape)
@@ -134,7 +136,7 @@ def simulate(plant, gains, goal, tolerance=0.02, i_clamp=(None, None), record=Fa
     out_mag = np.zeros(shape)                        # |e| - band at that sample (>0)
     in_mag = np.zeros(shape)                         # band - |e| at the sample after it
     slope_sign = np.zeros(shape)                     # sign of the last non-zero slope
-    e, ae, tmp, u, slope = (np.empty(shape) for _ in range(5))
+    e, ae, tmp, u, slope, cand, d_term = (np.empty(shape) for _ in range(7))
     outside, just_in, turn, nz = (np.empty(shape, dtype=bool) for _ in range(4))
     traj = [v.copy()] if record else None
     n = plant.steps
@@ -157,16 +159,20 @@ def simulate(plant, gains, goal, tolerance=0.02, i_clamp=(None, None), record=Fa
         if schedule is not None:
             idx = np.abs(ae[..., None] - keys).argmin(axis=-1)
             p, i, d = sched[idx, 0], sched[idx, 1], sched[idx, 2]
-        i_err += e * dt
-        i_term = i * i_err
-        if clamp_i:
-            i_term = np.clip(i_term, i_clamp[0], i_clamp[1])
-        # u = p*e + i_term + d*(e - e_prev)/dt
-        np.subtract(e, e_prev, out=u)
-        u *= d / dt
+        # derivative on measurement; acc is the last step's dv/dt (0 before the first step)
+        np.multiply(acc, d, out=d_term)
+        np.negative(d_term, out=d_term)
+        # conditional integration, as in the C++ Pid
+        np.multiply(e, i * dt, out=cand)
+        cand += i_term
+        np.minimum(cand, i_hi, out=cand)
+        np.maximum(cand, i_lo, out=cand)
+        np.multiply(p, e, out=u)
+        u += d_term
+        np.add(u, cand, out=tmp)
+        push = ((tmp > hi) & (cand > i_term)) | ((tmp < lo) & (cand < i_term))
+        np.copyto(i_term, cand, where=~push)
         u += i_term
-        u += p * e
-        e_prev, e = e, e_prev
         np.minimum(u, hi, out=u)
         np.maximum(u, lo, out=u)
         acc *= keep

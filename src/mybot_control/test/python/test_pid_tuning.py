@@ -13,15 +13,22 @@ COST = pt.Cost()
 
 
 def reference_step(plant, p, i, d, goal):
-    """Scalar, loop-by-loop version of the plant and PID (the thesis's style) for cross-checking."""
-    v = acc = i_err = e_prev = 0.0
+    """Scalar, loop-by-loop transcription of the plant and of the C++ Pid::compute
+    (derivative on measurement, conditional integration) for cross-checking."""
+    v = acc = i_term = 0.0
+    v_prev = None
     vs = [v]
     for _ in range(plant.steps):
         e = goal - v
-        i_err += e * plant.dt
-        u = p * e + i * i_err + d * (e - e_prev) / plant.dt
-        e_prev = e
-        u = max(-plant.max_torque, min(plant.max_torque, u))
+        rate = 0.0 if v_prev is None else (v - v_prev) / plant.dt
+        v_prev = v
+        d_term = -d * rate
+        cand = i_term + i * e * plant.dt
+        unsat_with = p * e + cand + d_term
+        pushes = (unsat_with > plant.max_torque and cand > i_term) or (unsat_with < -plant.max_torque and cand < i_term)
+        if not pushes:
+            i_term = cand
+        u = max(-plant.max_torque, min(plant.max_torque, p * e + i_term + d_term))
         acc = plant.acceleration_damping * acc + (1 - plant.acceleration_damping) * u / plant.inertia
         v += acc * plant.dt
         vs.append(v)

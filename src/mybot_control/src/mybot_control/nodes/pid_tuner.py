@@ -77,7 +77,7 @@ def plot(path, title, goals, metrics_by_name, plant):
             line, = ax.plot(t, m.trajectory[j], label="goal %g" % g)
             ax.axhline(g, color=line.get_color(), lw=0.6, ls=":")
         ax.set_title(name)
-        ax.set_ylabel("speed")
+        ax.set_ylabel("speed [m/s]")
         ax.grid(alpha=0.3)
     axes[0, 0].legend(loc="lower right", fontsize="small", ncol=len(goals))
     axes[-1, 0].set_xlabel("time [s]")
