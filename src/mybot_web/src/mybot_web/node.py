@@ -99,7 +99,8 @@ class RosBackend:
                          NumberTopic(cfg.swerve_speed_topic.format(module=m)))
                         for m in cfg.swerve_modules]
         self.subs = [
-            rospy.Subscriber("map", OccupancyGrid, self._on_map, queue_size=1),
+            # Raw: the cells go to the page as bytes (see views.parse_occupancy_grid).
+            rospy.Subscriber("map", rospy.AnyMsg, self._on_map, queue_size=1),
             rospy.Subscriber("scan", LaserScan, self._on_scan, queue_size=1),
             rospy.Subscriber("plan", Path, self._on_plan, queue_size=1),
         ]
@@ -255,16 +256,21 @@ class RosBackend:
             self.frame = None
         return None
 
-    def _on_map(self, msg):
-        info = msg.info
-        o = info.origin
+    def _on_map(self, raw):
+        kind = raw._connection_header.get("type")
+        try:
+            if kind != OccupancyGrid._type:
+                raise ValueError("type %s; expected %s" % (kind, OccupancyGrid._type))
+            grid = views.parse_occupancy_grid(raw._buff)
+        except ValueError as e:
+            rospy.logerr_throttle(10.0, "%s: %s" % (rospy.resolve_name("map"), e))
+            return
+        o = grid.origin  # x y z qx qy qz qw
         payload = {
-            "type": "map", "frame": msg.header.frame_id, "width": info.width,
-            "height": info.height, "resolution": info.resolution,
-            "origin": [o.position.x, o.position.y,
-                       views.yaw_from_quaternion(o.orientation.x, o.orientation.y,
-                                                 o.orientation.z, o.orientation.w)],
-            "data": views.encode_grid(msg.data),
+            "type": "map", "frame": grid.frame_id, "width": grid.width, "height": grid.height,
+            "resolution": grid.resolution,
+            "origin": [o[0], o[1], views.yaw_from_quaternion(o[3], o[4], o[5], o[6])],
+            "data": views.encode_grid(grid.data),
         }
         with self._lock:
             self._map_version += 1

@@ -64,3 +64,30 @@ def test_cpu_meter():
 def test_parse_proc_stat_rejects_garbage():
     with pytest.raises(ValueError):
         views.parse_proc_stat("intr 1 2 3")
+
+
+def test_parse_occupancy_grid_matches_rospy():
+    from io import BytesIO
+
+    from nav_msgs.msg import OccupancyGrid
+
+    m = OccupancyGrid()
+    m.header.seq, m.header.frame_id = 7, "map"
+    m.info.resolution, m.info.width, m.info.height = 0.05, 3, 2
+    m.info.origin.position.x, m.info.origin.position.y = -1.5, 2.0
+    m.info.origin.orientation.z, m.info.origin.orientation.w = math.sin(0.2), math.cos(0.2)
+    m.data = [-1, 0, 100, 50, 0, -1]
+    buf = BytesIO()
+    m.serialize(buf)
+    raw = buf.getvalue()
+    g = views.parse_occupancy_grid(raw)
+    assert (g.frame_id, g.width, g.height) == ("map", 3, 2)
+    assert g.resolution == pytest.approx(0.05)
+    assert g.origin[:2] == (-1.5, 2.0)
+    assert views.yaw_from_quaternion(*g.origin[3:]) == pytest.approx(0.4)
+    assert list(g.data) == [255, 0, 100, 50, 0, 255]
+    assert views.encode_grid(g.data) == views.encode_grid(m.data)
+    with pytest.raises(ValueError):
+        views.parse_occupancy_grid(raw[:-1])  # truncated cells
+    with pytest.raises(ValueError):
+        views.parse_occupancy_grid(raw[:20])  # truncated header
