@@ -198,6 +198,30 @@ def simulate(plant, gains, goal, tolerance=0.02, i_clamp=(None, None), record=Fa
                    np.stack(traj, axis=-1) if record else None)
 
 
+def simulate_scalar(plant, p, i, d, goal):
+    """One step response, loop by loop in plain Python: a readable transcription of the
+    plant and of the C++ Pid::compute, used to cross-check `simulate` and as the
+    un-vectorised baseline of the benchmark (how the thesis ran its study)."""
+    v = acc = i_term = 0.0
+    v_prev = None
+    vs = [v]
+    for _ in range(plant.steps):
+        e = goal - v
+        rate = 0.0 if v_prev is None else (v - v_prev) / plant.dt
+        v_prev = v
+        d_term = -d * rate
+        cand = i_term + i * e * plant.dt
+        unsat_with = p * e + cand + d_term
+        if not ((unsat_with > plant.max_torque and cand > i_term)
+                or (unsat_with < -plant.max_torque and cand < i_term)):
+            i_term = cand
+        u = max(-plant.max_torque, min(plant.max_torque, p * e + i_term + d_term))
+        acc = plant.acceleration_damping * acc + (1 - plant.acceleration_damping) * u / plant.inertia
+        v += acc * plant.dt
+        vs.append(v)
+    return np.array(vs)
+
+
 def cost(m, goal, plant, c):
     g = np.where(np.asarray(goal) == 0, 1.0, np.abs(goal))
     conv = np.where(np.isinf(m.convergence), c.not_converged_penalty * plant.horizon, m.convergence)
@@ -231,7 +255,7 @@ def brute_force(plant, c, goals, low=0.01, high=200.0, n=30, chunk=None):
 
 
 def gradient_descent(plant, c, goals, start=None, iterations=40, step=0.25, h=0.05, min_step=1e-3,
-                     floor=1e-3, rtol=1e-4):
+                     floor=1e-3, rtol=1e-3):
     """Descent on the weighted cost in log-gain space.
 
     The gradient comes from central differences (6 runs in one batch), the step

@@ -12,34 +12,11 @@ PLANT = pt.Plant()
 COST = pt.Cost()
 
 
-def reference_step(plant, p, i, d, goal):
-    """Scalar, loop-by-loop transcription of the plant and of the C++ Pid::compute
-    (derivative on measurement, conditional integration) for cross-checking."""
-    v = acc = i_term = 0.0
-    v_prev = None
-    vs = [v]
-    for _ in range(plant.steps):
-        e = goal - v
-        rate = 0.0 if v_prev is None else (v - v_prev) / plant.dt
-        v_prev = v
-        d_term = -d * rate
-        cand = i_term + i * e * plant.dt
-        unsat_with = p * e + cand + d_term
-        pushes = (unsat_with > plant.max_torque and cand > i_term) or (unsat_with < -plant.max_torque and cand < i_term)
-        if not pushes:
-            i_term = cand
-        u = max(-plant.max_torque, min(plant.max_torque, p * e + i_term + d_term))
-        acc = plant.acceleration_damping * acc + (1 - plant.acceleration_damping) * u / plant.inertia
-        v += acc * plant.dt
-        vs.append(v)
-    return np.array(vs)
-
-
 def test_vectorised_simulation_matches_scalar_reference():
     gains = [(1.0, 0.5, 0.05), (8.0, 0.0, 0.4), (30.0, 20.0, 1.0)]
     m = pt.simulate(PLANT, tuple(np.array(g) for g in zip(*gains)), np.array([2.0, 6.0, 10.0]), record=True)
     for k, (g, goal) in enumerate(zip(gains, [2.0, 6.0, 10.0])):
-        assert m.trajectory[k] == pytest.approx(reference_step(PLANT, *g, goal), abs=1e-12)
+        assert m.trajectory[k] == pytest.approx(pt.simulate_scalar(PLANT, *g, goal), abs=1e-12)
 
 
 def test_metrics_on_hand_made_response():
