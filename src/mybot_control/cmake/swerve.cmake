@@ -1,0 +1,32 @@
+# Swerve drive part of mybot_control (included at the end of CMakeLists.txt).
+# Pure library: kinematics, odometry, module servo loops (no ROS types).
+add_library(mybot_swerve_lib
+  src/lib/swerve_kinematics.cpp
+  src/lib/swerve_odometry.cpp
+  src/lib/swerve_module.cpp)
+target_link_libraries(mybot_swerve_lib mybot_control_lib)
+
+# ROS-side helpers of the swerve nodes (geometry from parameters / URDF).
+add_library(mybot_swerve_ros src/lib/swerve_ros.cpp)
+target_link_libraries(mybot_swerve_ros mybot_swerve_lib mybot_control_ros ${catkin_LIBRARIES})
+
+foreach(node swerve_controller swerve_module swerve_odom)
+  add_executable(${node} src/nodes/${node}.cpp)
+  target_link_libraries(${node} mybot_swerve_ros mybot_swerve_lib mybot_control_ros mybot_control_lib ${catkin_LIBRARIES})
+  add_dependencies(${node} ${PROJECT_NAME}_generate_messages_cpp)
+  install(TARGETS ${node} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+endforeach()
+install(TARGETS mybot_swerve_lib mybot_swerve_ros
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_swerve_lib test/swerve/test_swerve_lib.cpp)
+  target_link_libraries(test_swerve_lib mybot_swerve_lib gtest_main)
+
+  find_package(rostest REQUIRED)
+  set(MYBOT_SWERVE_ROSTESTS)
+  foreach(t ${MYBOT_SWERVE_ROSTESTS})
+    add_rostest(test/swerve/${t}.test DEPENDENCIES swerve_controller swerve_module swerve_odom)
+  endforeach()
+endif()
