@@ -46,7 +46,7 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(loopback_wheels ${catkin_LIBRARIES})
 
   # rostests (test/rostest/*.py drive the nodes against the loopback or the simulator).
-  set(MYBOT_CONTROL_ROSTESTS)
+  set(MYBOT_CONTROL_ROSTESTS diffdrive_chain diffdrive_limits diffdrive_frames bad_config twist_mux)
   foreach(t ${MYBOT_CONTROL_ROSTESTS})
     add_rostest(test/rostest/${t}.test DEPENDENCIES loopback_wheels diffdrive_controller wheel_controller
       diffdrive_odom twist_mux)

@@ -42,12 +42,13 @@ public:
 
   const SpeedLimits& limits() const { return limits_; }
 
-  // Limit `v` given the two previous outputs v0 (last) and v1 (before last) and the period dt.
+  // Limit `v` given the two previous outputs v0 (last) and v1 (before last) and the period dt
+  // (dt_prev: the period between v1 and v0, when it differs; <= 0 means equal to dt).
   // Returns the factor v_out / v_in (1 when v_in == 0).
-  double limit(double& v, double v0, double v1, double dt) const;
+  double limit(double& v, double v0, double v1, double dt, double dt_prev = 0.0) const;
   double limitVelocity(double& v) const;
   double limitAcceleration(double& v, double v0, double dt) const;
-  double limitJerk(double& v, double v0, double v1, double dt) const;
+  double limitJerk(double& v, double v0, double v1, double dt, double dt_prev = 0.0) const;
 
 private:
   SpeedLimits limits_;
@@ -70,6 +71,7 @@ public:
 private:
   SpeedLimiter vx_, vy_, wz_;
   Twist2D last_, before_last_;
+  double last_dt_ = 0.0;
 };
 
 // Factor in (0, 1] by which all speeds must be scaled so that none exceeds max_speed in

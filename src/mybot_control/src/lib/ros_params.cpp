@@ -250,6 +250,9 @@ WheelGeometry loadWheelGeometry(const ParamReader& p, const std::string& left_jo
 int runNode(int argc, char** argv, const std::string& name, void (*body)())
 {
   ros::init(argc, argv, name);
+  // Outlives the node's handles: when the last NodeHandle goes (as when the constructor
+  // throws), roscpp shuts down and would swallow the fatal message below.
+  ros::NodeHandle keep_alive;
   try
   {
     body();

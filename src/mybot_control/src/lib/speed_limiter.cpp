@@ -42,10 +42,13 @@ std::string SpeedLimits::validate(const std::string& prefix) const
   return "";
 }
 
-double SpeedLimiter::limit(double& v, double v0, double v1, double dt) const
+double SpeedLimiter::limit(double& v, double v0, double v1, double dt, double dt_prev) const
 {
   const double requested = v;
-  limitJerk(v, v0, v1, dt);
+  // Aim at the reachable target: the jerk-limited ramp then lands on the velocity limit
+  // instead of being cut off by it (which would be an unbounded jerk).
+  limitVelocity(v);
+  limitJerk(v, v0, v1, dt, dt_prev);
   limitAcceleration(v, v0, dt);
   limitVelocity(v);
   return requested != 0.0 ? v / requested : 1.0;
@@ -82,15 +85,26 @@ double SpeedLimiter::limitAcceleration(double& v, double v0, double dt) const
   return requested != 0.0 ? v / requested : 1.0;
 }
 
-double SpeedLimiter::limitJerk(double& v, double v0, double v1, double dt) const
+double SpeedLimiter::limitJerk(double& v, double v0, double v1, double dt, double dt_prev) const
 {
   const double requested = v;
   if (limits_.has_jerk_limits && dt > 0.0)
   {
-    // Change of the per-step velocity increment: jerk * dt^2.
-    const double dv = v - v0, dv0 = v0 - v1;
-    const double dt2 = dt * dt;
-    v = v0 + dv0 + std::clamp(dv - dv0, limits_.min_jerk * dt2, limits_.max_jerk * dt2);
+    // The acceleration may change by at most jerk * dt from the previous step's (taken over
+    // its own period, so uneven steps are handled). With equal periods this is upstream's
+    // bound on the change of the per-step increment (without its extra factor 2).
+    const double a0 = (v0 - v1) / (dt_prev > 0.0 ? dt_prev : dt);
+    // Approach the target no faster than the acceleration can be ramped back to zero at the
+    // jerk limit on arrival: with steps a = n*j*dt, n*j*dt, (n-1)*j*dt, ... the remaining
+    // change covered is j*dt^2*n*(n+1)/2, so no overshoot at a stop or a limit.
+    const double dv = v - v0;
+    const double j_out = dv > 0.0 ? -limits_.min_jerk : limits_.max_jerk;
+    const double jdt2 = j_out * dt * dt;
+    const double n = 0.5 * (std::sqrt(1.0 + 8.0 * std::abs(dv) / jdt2) - 1.0);
+    const double a_cap = n * j_out * dt;
+    const double a_wanted = std::clamp(dv / dt, -a_cap, a_cap);
+    const double a = std::clamp(a_wanted, a0 + limits_.min_jerk * dt, a0 + limits_.max_jerk * dt);
+    v = v0 + a * dt;
   }
   return requested != 0.0 ? v / requested : 1.0;
 }
@@ -105,13 +119,14 @@ Twist2D TwistLimiter::limit(const Twist2D& command, double dt)
   Twist2D out = command;
   if (dt > 0.0)
   {
-    vx_.limit(out.vx, last_.vx, before_last_.vx, dt);
-    vy_.limit(out.vy, last_.vy, before_last_.vy, dt);
-    wz_.limit(out.wz, last_.wz, before_last_.wz, dt);
+    vx_.limit(out.vx, last_.vx, before_last_.vx, dt, last_dt_);
+    vy_.limit(out.vy, last_.vy, before_last_.vy, dt, last_dt_);
+    wz_.limit(out.wz, last_.wz, before_last_.wz, dt, last_dt_);
+    last_dt_ = dt;
   }
   else
   {
-    out = last_;
+    return last_;
   }
   before_last_ = last_;
   last_ = out;
@@ -122,6 +137,7 @@ void TwistLimiter::reset(const Twist2D& current)
 {
   last_ = current;
   before_last_ = current;
+  last_dt_ = 0.0;
 }
 
 double desaturationFactor(const std::vector<double>& speeds, double max_speed)

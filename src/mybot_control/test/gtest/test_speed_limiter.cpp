@@ -111,6 +111,34 @@ TEST(SpeedLimiter, JerkLimits)
   EXPECT_NEAR(h.front(), 5.0 * dt * dt, 1e-12);
 }
 
+TEST(SpeedLimiter, JerkLimitedRampLandsWithoutOvershoot)
+{
+  // Up to the velocity limit and back to a stop: jerk bounded everywhere (including where the
+  // velocity limit and the target are reached), no overshoot, exact final values.
+  SpeedLimits l = linearLimits();
+  l.has_deceleration_limits = true;
+  l.max_deceleration = 2.0;
+  const SpeedLimiter lim(l);
+  const double dt = 0.02;
+  double v0 = 0.0, v1 = 0.0, a_prev = 0.0;
+  std::vector<double> h;
+  for (int k = 0; k < 250; ++k)
+  {
+    double v = k < 150 ? 10.0 : 0.0;
+    lim.limit(v, v0, v1, dt);
+    const double a = (v - v0) / dt;
+    EXPECT_LE(std::abs(a - a_prev), l.max_jerk * dt + 1e-9) << "step " << k;
+    EXPECT_LE(v, 1.0 + 1e-12);
+    EXPECT_GE(v, -1e-12);
+    h.push_back(v);
+    a_prev = a;
+    v1 = v0;
+    v0 = v;
+  }
+  EXPECT_DOUBLE_EQ(h[149], 1.0);
+  EXPECT_NEAR(h.back(), 0.0, 1e-12);
+}
+
 TEST(SpeedLimiter, AngularLimits)
 {
   // Upstream angular case: max_velocity 2 rad/s, max_acceleration 2 rad/s^2.
@@ -178,4 +206,21 @@ TEST(Desaturation, KeepsCurvature)
   EXPECT_EQ(desaturate(slow, 0.8), 1.0);
   EXPECT_EQ(desaturationFactor({3.0, -6.0, 1.0, 2.0}, 0.0), 1.0);  // disabled
   EXPECT_NEAR(desaturationFactor({3.0, -6.0, 1.0, 2.0}, 2.0), 1.0 / 3.0, 1e-12);
+}
+
+TEST(SpeedLimiter, JerkWithUnevenPeriods)
+{
+  // Previous step: 0 -> 0.01 over 10 ms (a0 = 1 m/s^2). Next step of 30 ms may raise the
+  // acceleration by at most jerk * dt = 5 * 0.03 = 0.15 m/s^2.
+  SpeedLimits l;
+  l.has_jerk_limits = true;
+  l.max_jerk = 5.0;
+  l.min_jerk = -5.0;
+  const SpeedLimiter lim(l);
+  double v = 10.0;
+  lim.limit(v, 0.01, 0.0, 0.03, 0.01);
+  EXPECT_NEAR(v, 0.01 + 1.15 * 0.03, 1e-12);
+  v = -10.0;  // and lower it by at most as much
+  lim.limit(v, 0.01, 0.0, 0.03, 0.01);
+  EXPECT_NEAR(v, 0.01 + 0.85 * 0.03, 1e-12);
 }

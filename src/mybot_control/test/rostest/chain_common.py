@@ -1,0 +1,93 @@
+"""Helpers shared by the diff-drive rostests: publish cmd_vel, follow odom, wait on conditions
+(ROS time, so the loopback's accelerated /clock and the simulator both work)."""
+import math
+import threading
+
+import rospy
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from std_srvs.srv import Trigger
+
+
+def yaw_of(q):
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def wrap(a):
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+class Chain:
+    def __init__(self, cmd_topic='cmd_vel', odom_topic='odom'):
+        self.lock = threading.Lock()
+        self.odom = None
+        self.odom_count = 0
+        self.pub = rospy.Publisher(cmd_topic, Twist, queue_size=10)
+        rospy.Subscriber(odom_topic, Odometry, self._on_odom, queue_size=50)
+
+    def _on_odom(self, msg):
+        with self.lock:
+            self.odom = msg
+            self.odom_count += 1
+
+    def wait_for(self, condition, timeout, what):
+        """Wait (ROS time) until condition() is true; fail with `what` on timeout."""
+        deadline = rospy.get_time() + timeout
+        wall_deadline = rospy.Time.now()  # noqa: F841 (keeps the intent: ROS time only)
+        while not rospy.is_shutdown():
+            if condition():
+                return
+            if rospy.get_time() > deadline:
+                raise AssertionError('timed out waiting for ' + what)
+            rospy.sleep(0.01)
+        raise AssertionError('shut down while waiting for ' + what)
+
+    def wait_ready(self):
+        # Wall-clock bound only for the start-up (clock may not run yet).
+        import time
+        t0 = time.time()
+        while self.odom is None and time.time() - t0 < 60.0 and not rospy.is_shutdown():
+            time.sleep(0.05)
+        assert self.odom is not None, 'no odom received'
+
+    def pose(self):
+        with self.lock:
+            o = self.odom
+        p = o.pose.pose
+        return p.position.x, p.position.y, yaw_of(p.orientation)
+
+    def speed(self):
+        with self.lock:
+            t = self.odom.twist.twist
+        return t.linear.x, t.angular.z
+
+    def drive(self, vx, wz, duration, rate=20.0):
+        """Publish (vx, wz) at `rate` for `duration` s of ROS time, then a zero twist."""
+        msg = Twist()
+        msg.linear.x = vx
+        msg.angular.z = wz
+        end = rospy.get_time() + duration
+        r = rospy.Rate(rate)
+        while rospy.get_time() < end and not rospy.is_shutdown():
+            self.pub.publish(msg)
+            r.sleep()
+        self.pub.publish(Twist())
+
+    def wait_stopped(self, timeout=5.0):
+        """Wait until odom reports standstill for several consecutive messages."""
+        count = [0]
+        last = [self.odom_count]
+
+        def still():
+            if self.odom_count != last[0]:
+                last[0] = self.odom_count
+                vx, wz = self.speed()
+                count[0] = count[0] + 1 if abs(vx) < 1e-4 and abs(wz) < 1e-4 else 0
+            return count[0] >= 10
+        self.wait_for(still, timeout, 'the robot to stop')
+
+    def reset_odom(self, service='diffdrive_odom/reset_odometry'):
+        rospy.wait_for_service(service, timeout=30.0)
+        assert rospy.ServiceProxy(service, Trigger)().success
+        n = self.odom_count
+        self.wait_for(lambda: self.odom_count > n + 2, 5.0, 'odom after reset')
