@@ -46,8 +46,8 @@ class AbsolutePosition:
     def __init__(self):
         self.rate = common.get("rate", 0.0, params.number, low=0)
         self.last = None
-        self.pub = rospy.Publisher("robot/position/absolute", PointStamped, queue_size=10)
-        rospy.Subscriber("ground_truth/odom", Odometry, self.on_odom, queue_size=10)
+        self.pub = rospy.Publisher("robot/position/absolute", PointStamped, queue_size=50)
+        rospy.Subscriber("ground_truth/odom", Odometry, self.on_odom, queue_size=50)
 
     def on_odom(self, msg):
         t = msg.header.stamp.to_sec()
