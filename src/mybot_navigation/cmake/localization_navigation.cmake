@@ -1,0 +1,44 @@
+# AMCL localization and goal navigation (issue 8). Included from CMakeLists.txt after catkin_package().
+# Components are looked up one by one so the package's catkin_* variables stay untouched.
+find_package(actionlib REQUIRED)
+find_package(actionlib_msgs REQUIRED)
+find_package(move_base_msgs REQUIRED)
+find_package(visualization_msgs REQUIRED)
+
+set(MYBOT_NAV_ROS_INCLUDES ${actionlib_INCLUDE_DIRS} ${actionlib_msgs_INCLUDE_DIRS} ${move_base_msgs_INCLUDE_DIRS}
+  ${visualization_msgs_INCLUDE_DIRS})
+
+# Pure libraries: no ROS types.
+add_library(mybot_localization_lib
+  src/costmap_distance.cpp
+  src/amcl_models.cpp
+  src/amcl_filter.cpp
+  src/amcl.cpp)
+target_include_directories(mybot_localization_lib PUBLIC include ${catkin_INCLUDE_DIRS})
+target_link_libraries(mybot_localization_lib mybot_navigation)
+
+add_library(mybot_nav_lib
+  src/costmap.cpp
+  src/planner.cpp
+  src/local_planner.cpp
+  src/navigation.cpp)
+target_include_directories(mybot_nav_lib PUBLIC include ${catkin_INCLUDE_DIRS})
+target_link_libraries(mybot_nav_lib mybot_localization_lib)
+
+install(TARGETS mybot_localization_lib mybot_nav_lib
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_amcl
+    test/amcl/test_amcl_models.cpp
+    test/amcl/test_amcl_filter.cpp
+    test/gtest_main.cpp)
+  target_link_libraries(test_amcl mybot_localization_lib)
+  catkin_add_gtest(test_nav
+    test/nav/test_costmap_planner.cpp
+    test/nav/test_local_planner.cpp
+    test/gtest_main.cpp)
+  target_link_libraries(test_nav mybot_nav_lib)
+endif()

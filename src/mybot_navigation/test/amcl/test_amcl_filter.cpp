@@ -1,0 +1,255 @@
+// Particle filter (KLD resampling, clustering, recovery) and AMCL end to end on synthetic drives.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mybot_navigation/amcl.h"
+#include "mybot_navigation/ray_cast.h"
+#include "mybot_navigation/synthetic_world.h"
+
+using namespace mybot_navigation;
+
+namespace
+{
+
+LaserScanData toScan(const std::vector<float>& ranges, const LaserSpec& laser)
+{
+  LaserScanData s;
+  s.range_max = laser.range_max;
+  for (size_t i = 0; i < ranges.size(); ++i)
+    s.readings.push_back({std::isfinite(ranges[i]) ? ranges[i] : laser.range_max,
+                          laser.angle_min + laser.angleIncrement() * i});
+  return s;
+}
+
+double poseError(const Pose2D& a, const Pose2D& b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+AmclParams trackingParams(const Pose2D& start)
+{
+  AmclParams p;
+  p.odom_model = OdomModelType::DiffCorrected;
+  p.odom_noise = {0.05, 0.05, 0.05, 0.05, 0.05};
+  p.filter.min_particles = 200;
+  p.filter.max_particles = 2000;
+  p.update_min_d = 0.1;
+  p.update_min_a = 0.2;
+  p.laser.max_beams = 60;
+  p.laser.sigma_hit = 0.1;
+  p.initial_pose = start;
+  p.initial_cov_xx = p.initial_cov_yy = 0.1 * 0.1;
+  p.initial_cov_aa = 0.1 * 0.1;
+  p.seed = 42;
+  return p;
+}
+
+const std::vector<Point2D> kOfficeLoop{{1.5, 1.5}, {5.0, 1.0}, {5.0, 4.2}, {8.0, 4.2}, {8.0, 6.5},
+                                       {4.0, 6.0}, {3.0, 4.0}, {1.5, 1.5}};
+
+}  // namespace
+
+TEST(ParticleFilter, KldLimitFollowsAmclFormula)
+{
+  FilterParams fp;  // kld_err 0.01, kld_z 0.99, 100..5000
+  ParticleFilter pf(fp);
+  EXPECT_EQ(pf.resampleLimit(1), 5000);  // one bin: amcl returns max
+  EXPECT_EQ(pf.resampleLimit(2), 100);   // 97 clamped to min_particles
+  EXPECT_EQ(pf.resampleLimit(10), 651);  // ceil(9 / 0.02 * (1 - 2/81 + 0.99 sqrt(2/81))^3)
+  EXPECT_EQ(pf.resampleLimit(1000), 5000);
+  for (int k = 3; k < 60; ++k)
+    EXPECT_LE(pf.resampleLimit(k - 1), pf.resampleLimit(k));
+}
+
+TEST(ParticleFilter, ResampleSizeAdaptsToSpread)
+{
+  FilterParams fp;
+  fp.min_particles = 100;
+  fp.max_particles = 5000;
+  ParticleFilter pf(fp, 3);
+  // Centred in an x/y bin, straddling two heading bins: k = 2 -> min_particles (amcl gives
+  // max_particles for k = 1).
+  pf.initGaussian({1.25, 1.25, 0}, 0.01 * 0.01, 0.01 * 0.01, 0.01 * 0.01);
+  pf.resample(nullptr);
+  EXPECT_LE(pf.particles().size(), 110u);
+  EXPECT_GE(pf.particles().size(), 100u);
+
+  pf.initGaussian({1, 1, 0}, 5.0 * 5.0, 5.0 * 5.0, 3.0);
+  pf.resample(nullptr);
+  EXPECT_GT(pf.particles().size(), 3000u);  // spread over many bins
+}
+
+TEST(ParticleFilter, EstimatePicksHeaviestClusterAndWrapsHeading)
+{
+  ParticleFilter pf(FilterParams(), 1);
+  auto& ps = pf.particles();
+  for (int i = 0; i < 100; ++i)
+  {
+    const double a = (i % 2 ? 1 : -1) * (M_PI - 0.01 * (i % 5));
+    ps.push_back({{2.0 + 0.001 * (i % 7), 3.0, a}, 0.007});  // heavy cluster around heading pi
+    ps.push_back({{-4.0, 8.0, 0.0}, 0.003});                   // light cluster elsewhere
+  }
+  const PoseEstimate e = pf.estimate();
+  EXPECT_EQ(e.clusters, 2);
+  EXPECT_NEAR(e.mean.x, 2.003, 0.01);
+  EXPECT_NEAR(e.mean.y, 3.0, 1e-9);
+  EXPECT_NEAR(std::abs(e.mean.theta), M_PI, 0.03);
+  EXPECT_NEAR(e.weight, 0.7, 1e-9);
+  EXPECT_GT(e.cov[0], 1.0);  // the whole set is spread between both clusters
+}
+
+TEST(ParticleFilter, CorrectTracksSlowAndFastAverages)
+{
+  FilterParams fp;
+  fp.alpha_slow = 0.001;
+  fp.alpha_fast = 0.1;
+  ParticleFilter pf(fp, 1);
+  pf.initGaussian({0, 0, 0}, 1, 1, 1);
+  ASSERT_TRUE(pf.correct([](const Pose2D&) { return 10.0; }));
+  EXPECT_NEAR(pf.wSlow(), 10.0 / pf.particles().size(), 1e-12);
+  // A sudden drop in likelihood moves w_fast well below w_slow: recovery particles will be added.
+  pf.correct([](const Pose2D&) { return 0.1; });
+  EXPECT_LT(pf.wFast(), pf.wSlow());
+  int random = 0;
+  pf.resample([&random](Rng&) {
+    ++random;
+    return Pose2D{100, 100, 0};
+  });
+  EXPECT_GT(random, 0);
+  EXPECT_EQ(pf.wSlow(), 0.0);  // reset after recovery
+  EXPECT_FALSE(pf.correct([](const Pose2D&) { return 0.0; }));  // all weights vanished
+}
+
+TEST(Amcl, ValidateNamesTheBadParameter)
+{
+  AmclParams p;
+  EXPECT_EQ(validate(p), "");
+  p.filter.max_particles = 10;
+  EXPECT_NE(validate(p).find("max_particles"), std::string::npos);
+  p = AmclParams();
+  p.resample_interval = 0;
+  EXPECT_NE(validate(p).find("resample_interval"), std::string::npos);
+  p = AmclParams();
+  p.laser.sigma_hit = 0;
+  EXPECT_NE(validate(p).find("laser_sigma_hit"), std::string::npos);
+}
+
+TEST(Amcl, UpdatesOnlyAfterEnoughMotionOrWhenRequested)
+{
+  const GridMap world = officeWorld(0.05);
+  const LaserSpec laser;
+  AmclParams p = trackingParams({3.0, 3.0, 0.0});
+  Amcl amcl(p);
+  amcl.setMap(world);
+  const LaserScanData scan = toScan(simulateScan(world, {3, 3, 0}, laser.angle_min, laser.angleIncrement(),
+                                                 laser.beams, laser.range_max),
+                                    laser);
+  EXPECT_TRUE(amcl.processScan({0, 0, 0}, scan));      // first scan always updates
+  EXPECT_FALSE(amcl.processScan({0.05, 0, 0}, scan));  // below update_min_d
+  EXPECT_FALSE(amcl.processScan({0.05, 0.05, 0.1}, scan));
+  amcl.requestNoMotionUpdate();
+  EXPECT_TRUE(amcl.processScan({0.05, 0.05, 0.1}, scan));
+  EXPECT_TRUE(amcl.processScan({0.05, 0.05, 0.35}, scan));  // rotation beyond update_min_a
+  EXPECT_EQ(amcl.updates(), 3);
+  EXPECT_EQ(amcl.resamples(), 1);  // resample_interval 2
+}
+
+TEST(Amcl, TracksANoisyOdometryLoopWithinFiveCentimetres)
+{
+  const GridMap world = officeWorld(0.02);
+  const GridMap map = officeWorld(0.05);
+  LaserSpec laser;
+  OdometryNoise noise;
+  noise.alpha_trans = 0.05;
+  noise.alpha_rot = 0.05;
+  noise.drift_rot = 0.02;
+  DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 9);
+  DriveSample s;
+  ASSERT_TRUE(drive.next(s));
+  Amcl amcl(trackingParams(s.truth));
+  amcl.setMap(map);
+  double sq = 0, sq_a = 0, odom_sq = 0;
+  int n = 0;
+  do
+  {
+    if (!amcl.processScan(s.odom, toScan(s.ranges, laser)))
+      continue;
+    const Pose2D est = compose(amcl.mapToOdom(), s.odom);
+    sq += std::pow(poseError(est, s.truth), 2);
+    sq_a += std::pow(normalizeAngle(est.theta - s.truth.theta), 2);
+    odom_sq += std::pow(poseError(s.odom, s.truth), 2);
+    ++n;
+  } while (drive.next(s));
+  ASSERT_GT(n, 50);
+  const double rms = std::sqrt(sq / n), rms_a = std::sqrt(sq_a / n);
+  RecordProperty("rms_m", std::to_string(rms));
+  EXPECT_LT(rms, 0.05);
+  EXPECT_LT(rms_a, 2.0 * M_PI / 180.0);
+  EXPECT_LT(rms, 0.5 * std::sqrt(odom_sq / n));  // localization beats dead reckoning
+}
+
+TEST(Amcl, GlobalLocalizationConverges)
+{
+  const GridMap world = officeWorld(0.02);
+  const GridMap map = officeWorld(0.05);
+  LaserSpec laser;
+  DriveSimulator drive(world, kOfficeLoop, laser, OdometryNoise(), 0.5, 1.0, 4);
+  AmclParams p = trackingParams({});
+  p.filter.max_particles = 5000;
+  p.filter.min_particles = 300;
+  p.laser.sigma_hit = 0.2;
+  Amcl amcl(p);
+  amcl.setMap(map);
+  amcl.globalLocalization();
+  DriveSample s;
+  double err = 1e9;
+  while (drive.next(s))
+    if (amcl.processScan(s.odom, toScan(s.ranges, laser)))
+      err = poseError(compose(amcl.mapToOdom(), s.odom), s.truth);
+  EXPECT_LT(err, 0.1);
+}
+
+TEST(Amcl, RecoversFromKidnapping)
+{
+  const GridMap world = officeWorld(0.02);
+  const GridMap map = officeWorld(0.05);
+  LaserSpec laser;
+  // Track along the first drive, then carry the robot to the other room: the second drive's
+  // scans arrive with odometry that continues smoothly from the first.
+  DriveSimulator before(world, {{1.5, 1.5}, {5.0, 1.0}, {5.0, 3.0}}, laser, OdometryNoise(), 0.5, 1.0, 4);
+  DriveSimulator after(world,
+                       {{9.0, 5.5}, {10.0, 3.0}, {8.0, 1.0}, {7.0, 3.0}, {8.0, 6.0}, {9.5, 6.5}, {10.0, 3.0},
+                        {8.0, 1.0}, {7.0, 3.0}, {8.0, 6.0}},
+                       laser,
+                       OdometryNoise(), 0.5, 1.0, 5);
+  DriveSample s;
+  ASSERT_TRUE(before.next(s));
+  AmclParams p = trackingParams(s.truth);
+  p.filter.alpha_slow = 0.001;
+  p.filter.alpha_fast = 0.1;
+  p.filter.max_particles = 5000;
+  p.laser.sigma_hit = 0.2;
+  Amcl amcl(p);
+  amcl.setMap(map);
+  double err = 1e9;
+  Pose2D odom_end;
+  do
+  {
+    if (amcl.processScan(s.odom, toScan(s.ranges, laser)))
+      err = poseError(compose(amcl.mapToOdom(), s.odom), s.truth);
+    odom_end = s.odom;
+  } while (before.next(s));
+  ASSERT_LT(err, 0.1);
+  ASSERT_TRUE(after.next(s));
+  const Pose2D after_start = s.odom;
+  bool lost = false;
+  do
+  {
+    const Pose2D odom = compose(odom_end, between(after_start, s.odom));
+    if (amcl.processScan(odom, toScan(s.ranges, laser)))
+    {
+      err = poseError(compose(amcl.mapToOdom(), odom), s.truth);
+      lost = lost || err > 1.0;
+    }
+  } while (after.next(s));
+  EXPECT_TRUE(lost);
+  EXPECT_LT(err, 0.15);
+}

@@ -1,0 +1,360 @@
+// DWA local planner and the move_base state machine, closed loop on a kinematic robot with a
+// simulated laser in a synthetic world.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "mybot_navigation/amcl_models.h"
+#include "mybot_navigation/local_planner.h"
+#include "mybot_navigation/navigation.h"
+#include "mybot_navigation/ray_cast.h"
+#include "mybot_navigation/synthetic_world.h"
+
+using namespace mybot_navigation;
+
+namespace
+{
+
+LocalPlannerParams diffParams()
+{
+  LocalPlannerParams p;
+  p.max_vel_x = 0.5;
+  p.min_vel_x = -0.1;
+  p.max_vel_trans = 0.5;
+  p.min_vel_trans = 0.05;
+  p.max_vel_theta = 1.5;
+  p.min_vel_theta = 0.3;
+  p.acc_lim_x = 1.5;
+  p.acc_lim_theta = 3.0;
+  p.vx_samples = 8;
+  p.vth_samples = 20;
+  p.sim_time = 1.5;
+  p.controller_frequency = 10.0;
+  p.xy_goal_tolerance = 0.1;
+  p.yaw_goal_tolerance = 0.1;
+  return p;
+}
+
+LocalPlannerParams holonomicParams()
+{
+  LocalPlannerParams p = diffParams();
+  p.holonomic_robot = true;
+  p.max_vel_y = 0.4;
+  p.min_vel_y = -0.4;
+  p.acc_lim_y = 1.5;
+  p.vy_samples = 9;
+  p.vx_samples = 9;
+  p.vth_samples = 11;
+  return p;
+}
+
+CostmapParams costmapParams(bool rolling, bool rectangle)
+{
+  CostmapParams p;
+  if (rectangle)
+    p.footprint = {{0.3, 0.25}, {0.3, -0.25}, {-0.3, -0.25}, {-0.3, 0.25}};
+  else
+    p.robot_radius = 0.2;
+  p.inflation_radius = 0.5;
+  p.cost_scaling_factor = 5.0;
+  p.rolling_window = rolling;
+  p.width = p.height = 4.0;
+  return p;
+}
+
+Costmap staticCostmap(const GridMap& world, bool rectangle = false)
+{
+  Costmap cm(costmapParams(false, rectangle));
+  cm.setStaticMap(world);
+  return cm;
+}
+
+std::vector<Pose2D> straightPlan(const Pose2D& start, double step, int n)
+{
+  std::vector<Pose2D> plan;
+  for (int i = 0; i <= n; ++i)
+    plan.push_back({start.x + step * i * std::cos(start.theta), start.y + step * i * std::sin(start.theta), start.theta});
+  return plan;
+}
+
+// Global and local costmaps on one world, a planner, a controller and the navigator.
+struct NavStack
+{
+  NavStack(const GridMap& w, const LocalPlannerParams& lp, bool rectangle, const NavigatorParams& np = NavigatorParams())
+    : world(w)
+    , global(costmapParams(false, rectangle))
+    , local(costmapParams(true, rectangle))
+    , controller(lp)
+    , nav(np, global, local, planner, controller)
+  {
+    global.setStaticMap(world);
+    local.setStaticMap(world);
+  }
+  GridMap world;
+  Costmap global, local;
+  GlobalPlanner planner;
+  LocalPlanner controller;
+  Navigator nav;
+};
+
+struct ClosedLoopResult
+{
+  NavState state = NavState::Idle;
+  double time = 0.0;
+  double distance = 0.0;
+  double min_clearance = 1e9;  // world-truth distance from the robot centre to obstacles
+  double max_abs_vy = 0.0;
+  Pose2D final_pose;
+  std::string message;
+};
+
+// Integrates the commanded velocity perfectly (the controller sees the true pose) and feeds
+// simulated 360-degree scans to both costmaps.
+ClosedLoopResult runToGoal(NavStack& st, Pose2D pose, const Pose2D& goal, double timeout, double cancel_at = -1.0)
+{
+  const GridMap& world = st.world;
+  Costmap &global = st.global, &local = st.local;
+  Navigator& nav = st.nav;
+  ClosedLoopResult res;
+  const double dt = 0.1;
+  Velocity2D vel;
+  double t = 0.0;
+  std::string err = nav.setGoal(goal, t, pose);
+  res.message = err;
+  if (!err.empty())
+  {
+    res.state = nav.state();
+    return res;
+  }
+  LikelihoodField clearance([] {
+    LaserModelParams lp;
+    lp.likelihood_max_dist = 5.0;
+    return lp;
+  }());
+  clearance.setMap(world);
+  for (; t < timeout; t += dt)
+  {
+    if (cancel_at >= 0 && t >= cancel_at && nav.state() != NavState::Idle)
+      nav.cancel();
+    const int beams = 180;
+    const double inc = 2 * M_PI / beams;
+    const std::vector<float> r = simulateScan(world, pose, -M_PI, inc, beams, 5.0);
+    std::vector<Point2D> hits, ends;
+    for (int i = 0; i < beams; ++i)
+    {
+      const double a = pose.theta - M_PI + inc * i;
+      if (std::isfinite(r[i]))
+        hits.push_back({pose.x + r[i] * std::cos(a), pose.y + r[i] * std::sin(a)});
+      else
+        ends.push_back({pose.x + 5.0 * std::cos(a), pose.y + 5.0 * std::sin(a)});
+    }
+    local.updateOrigin(pose.x, pose.y);
+    global.updateWithScan({pose.x, pose.y}, hits, ends);
+    local.updateWithScan({pose.x, pose.y}, hits, ends);
+    global.updateCosts();
+    local.updateCosts();
+    const NavOutput out = nav.step(t, pose, vel);
+    if (std::getenv("NAV_DEBUG") && out.local.status == LocalStatus::NoValidTrajectory)
+      for (int y = 0; y < local.height(); ++y)
+        for (int x = 0; x < local.width(); ++x)
+        {
+          const Point2D w = local.mapToWorld(x, y);
+          if (local.cost(x, y) == costs::kLethal && std::hypot(w.x - pose.x, w.y - pose.y) < 0.5)
+            std::printf("lethal %.3f,%.3f obstacle=%d\n", w.x, w.y, local.isObstacle(x, y));
+        }
+    if (std::getenv("NAV_DEBUG"))
+      std::printf("t=%.1f pose=%.2f,%.2f,%.2f state=%s cmd=%.2f,%.2f,%.2f local=%d valid=%d/%d %s\n", t, pose.x,
+                  pose.y, pose.theta, toString(out.state), out.cmd.vx, out.cmd.vy, out.cmd.wz,
+                  static_cast<int>(out.local.status), out.local.valid_samples, out.local.samples, out.message.c_str());
+    res.state = out.state;
+    res.message = out.message;
+    if (out.state == NavState::Succeeded || out.state == NavState::Aborted ||
+        (cancel_at >= 0 && out.state == NavState::Idle))
+    {
+      vel = out.cmd;
+      break;
+    }
+    vel = out.cmd;
+    res.max_abs_vy = std::max(res.max_abs_vy, std::abs(vel.vy));
+    const Pose2D before = pose;
+    pose = compose(pose, {(vel.vx * dt), (vel.vy * dt), vel.wz * dt});
+    res.distance += std::hypot(pose.x - before.x, pose.y - before.y);
+    res.min_clearance = std::min(res.min_clearance, clearance.distance(pose.x, pose.y));
+  }
+  res.time = t;
+  res.final_pose = pose;
+  return res;
+}
+
+}  // namespace
+
+TEST(LocalPlanner, ValidateNamesTheParameter)
+{
+  LocalPlannerParams p;
+  EXPECT_EQ(validate(p), "");
+  p.max_vel_theta = 0;
+  EXPECT_NE(validate(p).find("max_vel_theta"), std::string::npos);
+  p = LocalPlannerParams();
+  p.controller_frequency = 0;
+  EXPECT_NE(validate(p).find("controller_frequency"), std::string::npos);
+}
+
+TEST(LocalPlanner, SimulateIntegratesHolonomicMotion)
+{
+  LocalPlannerParams p;
+  p.sim_time = 1.0;
+  LocalPlanner lp(p);
+  const auto t = lp.simulate({0, 0, M_PI / 2}, {0.5, 0.2, 0.0});
+  EXPECT_NEAR(t.back().x, -0.2, 1e-9);
+  EXPECT_NEAR(t.back().y, 0.5, 1e-9);
+  const auto r = lp.simulate({0, 0, 0}, {0.0, 0.0, 1.0});
+  EXPECT_NEAR(r.back().theta, 1.0, 1e-9);
+  EXPECT_GE(r.size(), 11u);  // angular_sim_granularity 0.1 rad
+}
+
+TEST(LocalPlanner, DiffDriveFollowsAStraightPathForward)
+{
+  const GridMap world = makeWorld(8.0, 4.0, 0.05, {});
+  const Costmap cm = staticCostmap(world);
+  LocalPlanner lp(diffParams());
+  lp.setPlan(straightPlan({1.0, 2.0, 0.0}, 0.05, 100));
+  const LocalResult r = lp.computeVelocity(cm, {1.0, 2.0, 0.0}, {0.3, 0, 0});
+  ASSERT_EQ(r.status, LocalStatus::Moving);
+  EXPECT_GT(r.cmd.vx, 0.3);
+  EXPECT_NEAR(r.cmd.wz, 0.0, 0.2);
+  EXPECT_EQ(r.cmd.vy, 0.0);  // never strafes
+  EXPECT_GT(r.valid_samples, 0);
+}
+
+TEST(LocalPlanner, RotatesInPlaceWhenThePathIsBehind)
+{
+  const GridMap world = makeWorld(8.0, 4.0, 0.05, {});
+  const Costmap cm = staticCostmap(world);
+  LocalPlanner lp(diffParams());
+  lp.setPlan(straightPlan({4.0, 2.0, M_PI}, 0.05, 60));
+  const LocalResult r = lp.computeVelocity(cm, {4.0, 2.0, 0.0}, {});
+  ASSERT_EQ(r.status, LocalStatus::Moving);
+  EXPECT_EQ(r.cmd.vx, 0.0);
+  EXPECT_GE(std::abs(r.cmd.wz), 0.3);
+}
+
+TEST(LocalPlanner, StopsThenRotatesAtTheGoalAndReportsReached)
+{
+  const GridMap world = makeWorld(8.0, 4.0, 0.05, {});
+  const Costmap cm = staticCostmap(world);
+  LocalPlanner lp(diffParams());
+  lp.setPlan({{3.0, 2.0, 0.0}, {3.05, 2.0, 1.0}});
+  // Still moving inside the tolerance: brake first.
+  LocalResult r = lp.computeVelocity(cm, {3.0, 2.0, 0.0}, {0.4, 0, 0});
+  EXPECT_EQ(r.status, LocalStatus::RotatingToGoal);
+  EXPECT_LT(r.cmd.vx, 0.4);
+  EXPECT_EQ(r.cmd.wz, 0.0);
+  // Stopped: turn towards +1 rad.
+  r = lp.computeVelocity(cm, {3.0, 2.0, 0.0}, {});
+  EXPECT_EQ(r.status, LocalStatus::RotatingToGoal);
+  EXPECT_GT(r.cmd.wz, 0.0);
+  r = lp.computeVelocity(cm, {3.0, 2.0, 0.95}, {});
+  EXPECT_EQ(r.status, LocalStatus::GoalReached);
+  EXPECT_EQ(r.cmd.wz, 0.0);
+}
+
+TEST(LocalPlanner, RejectsTrajectoriesIntoObstacles)
+{
+  const GridMap world = makeWorld(8.0, 4.0, 0.05, {{2.0, 0.0, 2.2, 4.0}});
+  const Costmap cm = staticCostmap(world);
+  LocalPlanner lp(diffParams());
+  lp.setPlan(straightPlan({1.5, 2.0, 0.0}, 0.05, 60));
+  // Facing the wall 0.3 m away: only slow trajectories that stop short of it are admissible.
+  const LocalResult r = lp.computeVelocity(cm, {1.7, 2.0, 0.0}, {0.0, 0, 0});
+  EXPECT_LT(r.cmd.vx, 0.1);
+  for (const Pose2D& p : r.trajectory)
+    EXPECT_GE(cm.footprintCost(p), 0.0);
+}
+
+TEST(LocalPlanner, HolonomicRobotStrafesToASidewaysGoal)
+{
+  const GridMap world = makeWorld(8.0, 4.0, 0.05, {});
+  const Costmap cm = staticCostmap(world, true);
+  LocalPlanner lp(holonomicParams());
+  std::vector<Pose2D> plan = straightPlan({4.0, 1.5, M_PI / 2}, 0.05, 20);
+  for (Pose2D& p : plan)
+    p.theta = 0.0;  // keep the heading: the goal is to the robot's left
+  lp.setPlan(plan);
+  const LocalResult r = lp.computeVelocity(cm, {4.0, 1.5, 0.0}, {});
+  ASSERT_EQ(r.status, LocalStatus::Moving);
+  EXPECT_GT(r.cmd.vy, 0.1);
+}
+
+TEST(Navigator, DiffDriveReachesGoalsInTheOffice)
+{
+  NavStack st(officeWorld(0.05), diffParams(), false, [] {
+    NavigatorParams np;
+    np.planner_frequency = 1.0;
+    return np;
+  }());
+  Pose2D pose{1.5, 1.5, 0.0};
+  const std::vector<Pose2D> goals{{5.0, 3.0, M_PI / 2}, {9.0, 6.0, 0.0}, {3.0, 8.8, -M_PI / 2}, {1.5, 1.5, M_PI}};
+  for (const Pose2D& goal : goals)
+  {
+    const ClosedLoopResult r = runToGoal(st, pose, goal, 120.0);
+    ASSERT_EQ(r.state, NavState::Succeeded) << "goal " << goal.x << "," << goal.y << ": " << r.message << " at "
+                                            << r.final_pose.x << "," << r.final_pose.y << " t=" << r.time;
+    EXPECT_LT(std::hypot(r.final_pose.x - goal.x, r.final_pose.y - goal.y), 0.1 + 0.05);
+    EXPECT_LT(std::abs(normalizeAngle(r.final_pose.theta - goal.theta)), 0.1 + 0.05);
+    EXPECT_GT(r.min_clearance, 0.2);  // the robot's radius: never touched a wall
+    EXPECT_EQ(r.max_abs_vy, 0.0);
+    pose = r.final_pose;
+  }
+}
+
+TEST(Navigator, HolonomicRobotUsesSidewaysMotion)
+{
+  NavStack st(officeWorld(0.05), holonomicParams(), true);
+  // Goal 1.5 m to the robot's left with the same heading.
+  const ClosedLoopResult r = runToGoal(st, {3.0, 2.5, 0.0}, {3.0, 4.0, 0.0}, 60.0);
+  ASSERT_EQ(r.state, NavState::Succeeded) << r.message << " at " << r.final_pose.x << "," << r.final_pose.y
+                                          << "," << r.final_pose.theta << " t=" << r.time;
+  EXPECT_GT(r.max_abs_vy, 0.2);
+  EXPECT_LT(r.distance, 1.5 * 1.25);
+}
+
+TEST(Navigator, GoalInObstacleOrOffMapAbortsWithAReason)
+{
+  NavStack st(officeWorld(0.05), diffParams(), false);
+  std::string reason = st.nav.setGoal({2.0, 7.5, 0.0}, 0.0, {1.5, 1.5, 0.0});  // inside the table
+  EXPECT_EQ(st.nav.state(), NavState::Aborted);
+  EXPECT_NE(reason.find("obstacle"), std::string::npos);
+  reason = st.nav.setGoal({30.0, 2.0, 0.0}, 0.0, {1.5, 1.5, 0.0});
+  EXPECT_EQ(st.nav.state(), NavState::Aborted);
+  EXPECT_NE(reason.find("outside the map"), std::string::npos);
+  EXPECT_EQ(st.nav.step(0.1, {1.5, 1.5, 0.0}, {}).cmd.vx, 0.0);
+}
+
+TEST(Navigator, UnreachableGoalRunsRecoveriesThenAborts)
+{
+  // A closed box around the goal: the plan fails, recoveries run, then abort with a reason.
+  NavStack st(makeWorld(8.0, 6.0, 0.05, {{5.0, 2.0, 7.0, 2.1}, {5.0, 4.0, 7.0, 4.1}, {5.0, 2.0, 5.1, 4.1},
+                                                   {6.9, 2.0, 7.0, 4.1}}), diffParams(), false, [] {
+    NavigatorParams np;
+    np.planner_patience = 2.0;
+    return np;
+  }());
+  const ClosedLoopResult r = runToGoal(st, {2.0, 3.0, 0.0}, {6.0, 3.0, 0.0}, 120.0);
+  EXPECT_EQ(r.state, NavState::Aborted);
+  EXPECT_NE(r.message.find("valid plan"), std::string::npos);
+  EXPECT_EQ(st.nav.recoveriesRun(), 4);
+}
+
+TEST(Navigator, CancelStopsTheRobot)
+{
+  NavStack st(officeWorld(0.05), diffParams(), false);
+  const ClosedLoopResult r = runToGoal(st, {1.5, 1.5, 0.0}, {5.0, 1.5, 0.0}, 30.0, 2.0);
+  EXPECT_EQ(r.state, NavState::Idle);
+  EXPECT_LT(r.time, 2.5);
+  EXPECT_GT(r.distance, 0.1);
+  const NavOutput out = st.nav.step(10.0, r.final_pose, {});
+  EXPECT_EQ(out.cmd.vx, 0.0);
+  EXPECT_EQ(out.cmd.wz, 0.0);
+}
