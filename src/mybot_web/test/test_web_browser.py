@@ -10,9 +10,7 @@ test results directory.
 """
 import math
 import os
-import shutil
 import sys
-import tempfile
 import threading
 import unittest
 
@@ -23,11 +21,11 @@ import rostest
 from geometry_msgs.msg import Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseResult
 from nav_msgs.msg import OccupancyGrid, Odometry
-from selenium import webdriver
-from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
 from std_msgs.msg import Bool
+
+from chromium import Chromium
 
 PKG = "mybot_web"
 STOPPED = 0.02  # m/s
@@ -148,18 +146,6 @@ def results_dir():
     return os.path.join(rospkg.get_test_results_dir(), PKG)
 
 
-def start_browser(profile_dir):
-    opts = webdriver.ChromeOptions()
-    opts.binary_location = shutil.which("chromium") or "/usr/bin/chromium"
-    for a in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-              "--disable-background-networking", "--disable-component-update", "--disable-sync",
-              "--user-data-dir=" + profile_dir, "--window-size=1280,800"):
-        opts.add_argument(a)
-    opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    service = Service(shutil.which("chromedriver") or "/usr/bin/chromedriver")
-    return webdriver.Chrome(service=service, options=opts)
-
-
 class TestWebBrowser(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -168,17 +154,14 @@ class TestWebBrowser(unittest.TestCase):
         wait_for(lambda: cls.world.odom is not None, 30.0, "ground_truth/odom")
         wait_for(lambda: rospy.has_param("/web_controller/url"), 30.0, "/web_controller/url")
         cls.url = rospy.get_param("/web_controller/url")
-        cls.profile = tempfile.mkdtemp(prefix="mybot-web-chromium-")
         cls.artifacts = results_dir()
         os.makedirs(cls.artifacts, exist_ok=True)
-        cls.browser = start_browser(cls.profile)
+        cls.chromium = Chromium()
+        cls.browser = cls.chromium.driver
 
     @classmethod
     def tearDownClass(cls):
-        try:
-            cls.browser.quit()
-        finally:
-            shutil.rmtree(cls.profile, ignore_errors=True)
+        cls.chromium.quit()
 
     def js(self, script):
         return self.browser.execute_script(script)

@@ -461,7 +461,8 @@ function drawGrid(px) {
 }
 
 // ---------------------------------------------------------------- side panel
-const fmt = (v, digits, unit) => (v === null || v === undefined ? "–" : `${v.toFixed(digits)} ${unit}`);
+const fmt = (v, digits, unit) => (v === null || v === undefined ? "–"
+  : `${v.toFixed(digits)}${unit === "°" ? "" : " "}${unit}`);
 const moduleCanvases = new Map();
 
 function buildModules(names) {
