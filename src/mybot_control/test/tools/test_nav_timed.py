@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Timed moves in simulated time: the test publishes /clock and stamps what it receives with it."""
 import math
+import subprocess
 import threading
 import time
 import unittest
@@ -92,6 +93,12 @@ class SimClockTest(unittest.TestCase):
         moving, duration = self.moving_span(msgs)
         self.assertTrue(all(m[1:] == (0.3, 0.0, 0.2) for m in moving))
         self.assertAlmostEqual(duration, 1.5, delta=0.05)
+
+    def test_unknown_mode_names_parameter(self):
+        p = subprocess.run(["rosrun", "mybot_control", "nav_timed", "__name:=nav_bad", "_mode:=spiral"],
+                           capture_output=True, text=True, timeout=TIMEOUT)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("~mode", p.stdout + p.stderr)
 
 
 if __name__ == "__main__":

@@ -126,6 +126,12 @@ class TeleopJoyTest(unittest.TestCase):
         self.assertEqual(p.returncode, 2)
         self.assertIn("~deadzone", p.stdout + p.stderr)
 
+    def test_bad_axis_map_names_parameter(self):
+        p = subprocess.run(["rosrun", "mybot_control", "teleop_joy", "__name:=teleop_joy_bad",
+                            "_axis_linear:={x: 1, y: 3}"], capture_output=True, text=True, timeout=TIMEOUT)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("~scale_linear", p.stdout + p.stderr)
+
 
 if __name__ == "__main__":
     rospy.init_node("test_teleop_joy")
