@@ -481,11 +481,14 @@ void PhysicsWorld::step() {
         case Robot::Mode::NONE:
           j.motor->setMaxAppliedImpulse(0);
           break;
-        case Robot::Mode::VELOCITY:
-          j.motor->setVelocityTarget(j.target, 1.0);
+        case Robot::Mode::VELOCITY: {
+          // A motor cannot exceed the URDF <limit velocity> (when given).
+          double vmax = j.spec->velocity > 0 ? j.spec->velocity : 1e9;
+          j.motor->setVelocityTarget(std::max(-vmax, std::min(vmax, j.target)), 1.0);
           j.motor->setPositionTarget(0, 0);
           j.motor->setMaxAppliedImpulse(j.max_effort * dt);
           break;
+        }
         case Robot::Mode::POSITION:
           // Critically damped-ish servo: converge over ~10 steps, effort-limited.
           j.motor->setPositionTarget(j.target, 0.1);

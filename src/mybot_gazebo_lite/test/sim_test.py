@@ -1,0 +1,361 @@
+#!/usr/bin/env python3
+"""Simulator-in-the-loop tests for gazebo_lite (run by rostest; ~suite selects the cases).
+
+Everything is measured in sim time against the simulator's ground truth; waits are
+conditions with timeouts, never fixed delays.
+"""
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+import tf2_ros
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import JointState, LaserScan
+from std_srvs.srv import Empty
+
+from mybot_gazebo_lite.srv import GetModelState
+
+WALL_TIMEOUT = 60.0
+
+
+def yaw_of(q):
+    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+
+
+def wrap(a):
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+class Robot:
+    """Latest ground truth / odom of one (possibly namespaced) robot and a cmd_vel publisher."""
+
+    def __init__(self, ns=''):
+        p = ns.strip('/') + '/' if ns else ''
+        self.lock = threading.Lock()
+        self.gt = None
+        self.odom = None
+        self.scan = None
+        self.joints = None
+        self.history = None
+        self.cmd = rospy.Publisher('/' + p + 'cmd_vel', Twist, queue_size=1)
+        rospy.Subscriber('/' + p + 'ground_truth/odom', Odometry, self._gt)
+        rospy.Subscriber('/' + p + 'odom', Odometry, self._odom)
+        rospy.Subscriber('/' + p + 'scan', LaserScan, self._scan)
+        rospy.Subscriber('/' + p + 'joint_states', JointState, self._js)
+
+    def _gt(self, m):
+        with self.lock:
+            self.gt = m
+            if self.history is not None:
+                self.history.append(m)
+
+    def _odom(self, m):
+        with self.lock:
+            self.odom = m
+
+    def _scan(self, m):
+        with self.lock:
+            self.scan = m
+
+    def _js(self, m):
+        with self.lock:
+            self.joints = m
+
+    def wait(self, cond, what, timeout=WALL_TIMEOUT):
+        end = time.time() + timeout
+        while time.time() < end and not rospy.is_shutdown():
+            with self.lock:
+                if cond():
+                    return
+            time.sleep(0.002)
+        raise AssertionError('timed out waiting for ' + what)
+
+    def ready(self):
+        self.wait(lambda: self.gt is not None, 'ground truth')
+        self.wait(lambda: self.cmd.get_num_connections() > 0, 'cmd_vel subscriber')
+
+    def now(self):
+        with self.lock:
+            return self.gt.header.stamp.to_sec()
+
+    def pose(self):
+        with self.lock:
+            p = self.gt.pose.pose
+            return p.position.x, p.position.y, yaw_of(p.orientation)
+
+    def drive(self, v, w, duration):
+        """Publishes (v, w) every 20 ms of sim time for `duration` sim seconds, then stops."""
+        t_end = self.now() + duration
+        tw = Twist()
+        tw.linear.x, tw.angular.z = v, w
+        next_pub = 0.0
+        while self.now() < t_end:
+            if self.now() >= next_pub:
+                self.cmd.publish(tw)
+                next_pub = self.now() + 0.02
+            time.sleep(0.0005)
+            if rospy.is_shutdown():
+                raise AssertionError('shutdown')
+        self.cmd.publish(Twist())
+
+    def record(self, v, w, duration):
+        """Drives for `duration` plus a margin and returns the ground-truth samples.
+
+        At real_time_factor 0 the sim runs ahead of this process, so windows are
+        measured on the recorded trajectory from the motion onset, not from when
+        the command was sent."""
+        with self.lock:
+            self.history = []
+        self.drive(v, w, duration + 0.5)
+        self.settle(0.3)
+        with self.lock:
+            h, self.history = self.history, None
+        return h
+
+    @staticmethod
+    def window(history, duration, moving):
+        onset = next(i for i, m in enumerate(history) if moving(m))
+        t0 = history[max(onset - 1, 0)].header.stamp.to_sec()
+        end = min(history, key=lambda m: abs(m.header.stamp.to_sec() - (t0 + duration)))
+        return history[max(onset - 1, 0)], end, history[max(onset - 1, 0):history.index(end) + 1]
+
+    def settle(self, seconds=0.5):
+        t = self.now() + seconds
+        self.wait(lambda: self.gt.header.stamp.to_sec() >= t, 'sim time to pass')
+
+
+class DriveTests(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.r = Robot()
+        cls.r.ready()
+
+    def setUp(self):
+        rospy.wait_for_service('/gazebo/reset_world', 30)
+        rospy.ServiceProxy('/gazebo/reset_world', Empty)()
+        self.r.settle(0.5)
+
+    def test_straight_line_two_metres(self):
+        h = self.r.record(0.5, 0.0, 4.0)
+        a, b, _ = Robot.window(h, 4.0, lambda m: abs(m.twist.twist.linear.x) > 1e-3)
+        pa, pb = a.pose.pose.position, b.pose.pose.position
+        d = math.hypot(pb.x - pa.x, pb.y - pa.y)
+        self.assertAlmostEqual(d, 2.0, delta=0.04, msg='moved %.4f m' % d)
+
+    def test_turn_in_place_returns_to_heading(self):
+        h = self.r.record(0.0, 0.5, 2 * math.pi / 0.5)
+        a, b, seg = Robot.window(h, 2 * math.pi / 0.5, lambda m: abs(m.twist.twist.angular.z) > 1e-3)
+        turned = 0.0
+        for m0, m1 in zip(seg, seg[1:]):
+            turned += wrap(yaw_of(m1.pose.pose.orientation) - yaw_of(m0.pose.pose.orientation))
+        self.assertLess(abs(math.degrees(turned - 2 * math.pi)), 2.0, 'turned %.2f deg' % math.degrees(turned))
+        pa, pb = a.pose.pose.position, b.pose.pose.position
+        self.assertLess(math.hypot(pb.x - pa.x, pb.y - pa.y), 0.05)
+
+    def test_odom_agrees_with_ground_truth_on_square(self):
+        travelled = 0.0
+        for _ in range(4):
+            x0, y0, _ = self.r.pose()
+            self.r.drive(0.4, 0.0, 5.0)
+            x1, y1, _ = self.r.pose()
+            travelled += math.hypot(x1 - x0, y1 - y0)
+            self.r.drive(0.0, 0.5, (math.pi / 2) / 0.5)
+        self.r.settle(0.2)
+        with self.r.lock:
+            o = self.r.odom.pose.pose.position
+            g = self.r.gt.pose.pose.position
+        err = math.hypot(o.x - g.x, o.y - g.y)
+        self.assertGreater(travelled, 7.0)
+        self.assertLess(err, 0.01 * travelled, 'odom error %.4f m after %.2f m' % (err, travelled))
+
+    def test_nan_commands_are_ignored(self):
+        x0, y0, _ = self.r.pose()
+        tw = Twist()
+        tw.linear.x = float('nan')
+        tw.angular.z = float('inf')
+        t_end = self.r.now() + 1.0
+        while self.r.now() < t_end:
+            self.r.cmd.publish(tw)
+            time.sleep(0.005)
+        x1, y1, th1 = self.r.pose()
+        self.assertLess(math.hypot(x1 - x0, y1 - y0), 0.001)
+        self.assertTrue(all(math.isfinite(v) for v in (x1, y1, th1)))
+
+    def test_command_timeout_stops_robot(self):
+        tw = Twist()
+        tw.linear.x = 0.5
+        self.r.cmd.publish(tw)  # one command, then silence
+        self.r.settle(2.0)
+        with self.r.lock:
+            v = self.r.gt.twist.twist.linear
+        self.assertLess(math.hypot(v.x, v.y), 0.01)
+
+    def test_reset_world_restores_spawn_pose(self):
+        self.r.drive(0.5, 0.3, 2.0)
+        x, y, _ = self.r.pose()
+        self.assertGreater(math.hypot(x, y), 0.5)
+        rospy.ServiceProxy('/gazebo/reset_world', Empty)()
+        self.r.settle(0.2)
+        x, y, th = self.r.pose()
+        self.assertLess(math.hypot(x, y), 0.005)
+        self.assertLess(abs(th), 0.01)
+        st = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)(model_name='mybot')
+        self.assertTrue(st.success)
+        self.assertAlmostEqual(st.pose.position.x, x, delta=0.01)
+
+
+class RestTests(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.r = Robot()
+        cls.r.ready()
+
+    def test_rest_ten_minutes(self):
+        self.r.settle(2.0)
+        x0, y0, _ = self.r.pose()
+        self.r.settle(600.0)
+        x1, y1, _ = self.r.pose()
+        self.assertLess(math.hypot(x1 - x0, y1 - y0), 0.001)
+
+
+class WallTests(unittest.TestCase):
+    """Spawned at the origin of mybot.world facing +x; the east wall's face is at x = 5.0."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.r = Robot()
+        cls.r.ready()
+
+    def test_laser_range_to_wall(self):
+        self.r.settle(0.5)
+        self.r.wait(lambda: self.r.scan is not None, 'scan')
+        with self.r.lock:
+            scan = self.r.scan
+        x, y, th = self.r.pose()
+        buf = tf2_ros.Buffer()
+        tf2_ros.TransformListener(buf)
+        tf = buf.lookup_transform('base_footprint', 'hokuyo', rospy.Time(0), rospy.Duration(30))
+        hokuyo_x = tf.transform.translation.x
+        stddev = 0.01
+        mid = len(scan.ranges) // 2
+        angle = scan.angle_min + mid * scan.angle_increment
+        truth = (5.0 - (x + hokuyo_x)) / math.cos(th + angle)
+        errs = [scan.ranges[i] - truth for i in (mid,)]
+        self.assertLess(abs(errs[0]), 3 * stddev + 0.005, 'range %.4f vs %.4f' % (scan.ranges[mid], truth))
+        self.assertEqual(len(scan.ranges), 720)
+        self.assertAlmostEqual(scan.angle_increment, math.pi / 719, places=5)
+        # Inside the closed room every beam hits something within range.
+        self.assertTrue(all(scan.range_min <= r <= scan.range_max for r in scan.ranges))
+
+    def test_zz_drive_into_wall_stops_at_wall(self):
+        self.r.drive(100.0, 0.0, 6.0)  # absurd: limited by wheelTorque, stopped by the wall
+        self.r.settle(1.0)
+        x, y, th = self.r.pose()
+        with self.r.lock:
+            z = self.r.gt.pose.pose.position.z
+            v = self.r.gt.twist.twist.linear
+        self.assertTrue(all(math.isfinite(a) for a in (x, y, th, z)))
+        # Chassis front is 0.2 m ahead of base_footprint; the wall face at 5.0.
+        self.assertLess(x, 5.0 - 0.15)
+        self.assertGreater(x, 4.0)
+        self.assertLess(abs(z), 0.1)
+        self.assertLess(math.hypot(v.x, v.y), 0.05)
+
+
+class MultiRobotTests(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.r1 = Robot('robot1')
+        cls.r2 = Robot('robot2')
+        cls.r1.ready()
+        cls.r2.ready()
+
+    def test_no_crosstalk(self):
+        a0 = self.r1.pose()
+        b0 = self.r2.pose()
+        self.assertAlmostEqual(a0[0], -1.0, delta=0.01)
+        self.assertAlmostEqual(b0[0], 1.0, delta=0.01)
+        self.r1.drive(-0.5, 0.0, 2.0)  # robot1 backs away from robot2
+        a1 = self.r1.pose()
+        b1 = self.r2.pose()
+        self.assertAlmostEqual(a1[0] - a0[0], -1.0, delta=0.05)
+        self.assertLess(math.hypot(b1[0] - b0[0], b1[1] - b0[1]), 0.001)
+        with self.r1.lock:
+            self.assertEqual(self.r1.odom.child_frame_id, 'robot1/base_footprint')
+        self.r2.wait(lambda: self.r2.scan is not None, 'robot2 scan')
+        with self.r2.lock:
+            self.assertEqual(self.r2.scan.header.frame_id, 'robot2/hokuyo')
+            # robot2 faces robot1 (yaw pi): its centre beam sees robot1, not the far wall.
+            mid = self.r2.scan.ranges[len(self.r2.scan.ranges) // 2]
+        self.assertLess(mid, 3.5)
+
+
+class MalformedInputTests(unittest.TestCase):
+    """Bad files make the tools exit non-zero naming the file and the element."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp()
+
+    def write(self, name, text):
+        p = os.path.join(self.tmp, name)
+        with open(p, 'w') as f:
+            f.write(text)
+        return p
+
+    def run_tool(self, args):
+        p = subprocess.run(['rosrun', 'mybot_gazebo_lite'] + args, stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, timeout=60, universal_newlines=True)
+        return p.returncode, p.stdout
+
+    def test_bad_sdf_world(self):
+        path = self.write('bad.world', '<sdf version="1.6"><world name="w"><model name="m"><static>true</static>'
+                          '<link name="l"><collision name="c"><geometry><box><size>1 x 1</size></box>'
+                          '</geometry></collision></link></model></world></sdf>')
+        rc, out = self.run_tool(['gazebo_lite', '__name:=bad_world_sim', '_world:=' + path])
+        self.assertNotEqual(rc, 0)
+        self.assertIn(path, out)
+        self.assertIn("<model name='m'>", out)
+        self.assertIn('<size>', out)
+
+    def test_bad_yaml_world(self):
+        path = self.write('bad.yaml', 'image: nothing.pgm\nresolution: -1\norigin: [0, 0, 0]\n')
+        rc, out = self.run_tool(['gazebo_lite', '__name:=bad_yaml_sim', '_world:=' + path])
+        self.assertNotEqual(rc, 0)
+        self.assertIn(path, out)
+        self.assertIn("'resolution'", out)
+
+    def test_bad_urdf(self):
+        path = self.write('bad.urdf', '<robot name="r"><link name="a"><inertial><mass value="abc"/>'
+                          '<inertia ixx="1" iyy="1" izz="1"/></inertial></link></robot>')
+        rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'bad', '-timeout', '30'])
+        self.assertNotEqual(rc, 0)
+        self.assertIn(path, out)
+        self.assertIn("link 'a'", out)
+        self.assertIn('mass', out)
+
+    def test_bad_plugin_parameter(self):
+        path = self.write('badplugin.urdf', '<robot name="r"><link name="a"><inertial><mass value="1"/>'
+                          '<inertia ixx="1" iyy="1" izz="1"/></inertial></link>'
+                          '<gazebo><plugin name="gt" filename="libgazebo_ros_p3d.so"><topicName>gt</topicName>'
+                          '<updateRate>fast</updateRate><bodyName>a</bodyName></plugin></gazebo></robot>')
+        rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'badp', '-timeout', '30'])
+        self.assertNotEqual(rc, 0)
+        self.assertIn('<updateRate>', out)
+        self.assertIn('libgazebo_ros_p3d.so', out)
+
+
+SUITES = {'drive': DriveTests, 'rest': RestTests, 'wall': WallTests, 'multi': MultiRobotTests, 'malformed': MalformedInputTests}
+
+if __name__ == '__main__':
+    rospy.init_node('sim_test', anonymous=True)
+    suite = rospy.get_param('~suite')
+    rostest.rosrun('mybot_gazebo_lite', 'sim_' + suite, SUITES[suite], sys.argv)
