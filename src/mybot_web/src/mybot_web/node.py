@@ -7,6 +7,7 @@ the zeroing twist are published under it so a stale command can never overtake a
 import logging
 import math
 import os
+import socket
 import sys
 import threading
 import time
@@ -315,7 +316,10 @@ class RosBackend:
         with self._lock:
             if self.arbiter.owner is not None:
                 self.arbiter.release(self.arbiter.owner)
-            self.cmd_pub.publish(Twist())
+                try:
+                    self.cmd_pub.publish(Twist())
+                except rospy.ROSException:
+                    pass  # already closed by rospy; the mux's timeout stops the robot
         self._goal_worker.shutdown(wait=False)
 
 
@@ -339,7 +343,10 @@ def main(argv=None):
                        cfg.host, cfg.port, e)
         backend.shutdown()
         return 1
-    host = "[%s]" % cfg.host if ":" in cfg.host else cfg.host
+    host = cfg.host
+    if host in ("0.0.0.0", "::"):
+        host = socket.gethostname()  # all interfaces: show a name others can reach
+    host = "[%s]" % host if ":" in host else host
     url = "http://%s:%d/" % (host, port)
     rospy.set_param("~url", url)
     if token is None:
@@ -347,12 +354,13 @@ def main(argv=None):
     else:
         rospy.loginfo("web_controller: open %s?token=%s%s", url, token,
                       " (generated token; set ~token to choose one)" if generated else "")
+    # Stop the robot first (while rospy can still publish), then the server.
+    rospy.on_shutdown(backend.shutdown)
     rospy.on_shutdown(lambda: loop.add_callback(loop.stop))
     if rospy.is_shutdown():
         return 0
     loop.start()
     server.stop()
-    backend.shutdown()
     return 0
 
 
