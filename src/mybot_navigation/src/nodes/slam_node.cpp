@@ -93,10 +93,14 @@ public:
                                                                                      10, nh_);
     scan_filter_->registerCallback(&SlamNode::scanCallback, this);
     scan_filter_->registerFailureCallback(
-        [this](const sensor_msgs::LaserScan::ConstPtr& scan, tf2_ros::filter_failure_reasons::FilterFailureReason) {
-          ROS_WARN_THROTTLE(5.0, "slam: dropping scan at %.3f: no transform %s -> %s at its stamp (is odometry "
-                                 "running?)",
-                            scan->header.stamp.toSec(), scan->header.frame_id.c_str(), odom_frame_.c_str());
+        [this](const sensor_msgs::LaserScan::ConstPtr& scan, tf2_ros::filter_failure_reasons::FilterFailureReason r) {
+          const char* why = r == tf2_ros::filter_failure_reasons::OutTheBack ?
+                                "older than the tf cache" :
+                                (r == tf2_ros::filter_failure_reasons::EmptyFrameID ?
+                                     "empty frame_id" :
+                                     "transform not available in time or scan queue full (SLAM behind the sensor)");
+          ROS_WARN_THROTTLE(5.0, "slam: dropping scan at %.3f (%s -> %s): %s", scan->header.stamp.toSec(),
+                            scan->header.frame_id.c_str(), odom_frame_.c_str(), why);
         });
     if (transform_publish_period_ > 0.0)
       tf_timer_ = nh_.createTimer(ros::Duration(transform_publish_period_), &SlamNode::publishTransform, this);
@@ -252,6 +256,9 @@ private:
     geometry_msgs::TransformStamped t;
     // Future-dated like gmapping so consumers can interpolate up to the next publication.
     t.header.stamp = ros::Time::now() + ros::Duration(transform_publish_period_);
+    if (t.header.stamp <= last_tf_stamp_)
+      return;  // the sim clock has not advanced since the last publication (tf2 rejects repeats)
+    last_tf_stamp_ = t.header.stamp;
     t.header.frame_id = map_frame_;
     t.child_frame_id = odom_frame_;
     t.transform = toTransform(m2o);
@@ -278,6 +285,7 @@ private:
   bool published_ = false;
   uint64_t published_version_ = 0;
   double last_map_publish_ = 0.0;
+  ros::Time last_tf_stamp_;
 };
 
 int main(int argc, char** argv)

@@ -1,6 +1,7 @@
-// SLAM benchmark on synthetic data: a scripted ~200 m drive through the 50 x 50 m factory world
-// with a 720-beam, 40 Hz laser and noisy odometry. Prints one Markdown section (medians of runs).
-//   slam_bench [--runs N] [--quick]
+// SLAM benchmark on synthetic sensor data: a scripted drive through a ground-truth map (default: a
+// synthetic 50 x 50 m factory; or any map_server map, e.g. the simulator's factory.world rendered
+// by world_to_map) with a 720-beam 40 Hz laser and noisy odometry. Prints one Markdown table row;
+// bench/bench_slam assembles the section.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -9,7 +10,11 @@
 #include <string>
 #include <vector>
 
+#include <sstream>
+#include <stdexcept>
+
 #include "mybot_navigation/evaluation.h"
+#include "mybot_navigation/map_io.h"
 #include "mybot_navigation/synthetic_world.h"
 
 using namespace mybot_navigation;
@@ -32,16 +37,13 @@ double median(std::vector<double> v)
 const std::vector<Point2D> kRoute{{2, 3},   {23, 3},  {23, 10}, {2, 10},  {2, 17},  {23, 17}, {23, 24}, {47, 24},
                                   {47, 17}, {27, 17}, {27, 24}, {23, 24}, {23, 31}, {23, 3},  {2, 3}};
 
-Row runOnce(const GridMap& world, bool loop_closure, unsigned seed, bool quick)
+Row runOnce(const GridMap& world, const std::vector<Point2D>& route, bool loop_closure, unsigned seed)
 {
   LaserSpec laser;
   OdometryNoise noise;
   noise.alpha_trans = 0.05;
   noise.alpha_rot = 0.05;
   noise.drift_rot = 0.01;
-  std::vector<Point2D> route = kRoute;
-  if (quick)
-    route.resize(5);
   DriveSimulator drive(world, route, laser, noise, 0.5, 1.0, seed);
   SlamParams p;
   p.linear_update = 0.25;
@@ -65,56 +67,92 @@ Row runOnce(const GridMap& world, bool loop_closure, unsigned seed, bool quick)
   r.slam_mb = slam.memoryBytes() / 1e6;
   return r;
 }
+
+std::vector<Point2D> parseRoute(const std::string& text)
+{
+  // "x,y x,y ..." in map coordinates.
+  std::vector<Point2D> route;
+  std::istringstream ss(text);
+  std::string tok;
+  while (ss >> tok)
+  {
+    const auto comma = tok.find(',');
+    if (comma == std::string::npos)
+      throw std::runtime_error("bad route point '" + tok + "' (expected x,y)");
+    route.push_back({std::stod(tok.substr(0, comma)), std::stod(tok.substr(comma + 1))});
+  }
+  if (route.size() < 2)
+    throw std::runtime_error("a route needs at least two points");
+  return route;
+}
 }  // namespace
 
 int main(int argc, char** argv)
 {
   int runs = 3;
-  bool quick = false;
+  bool closure = true, quick = false;
+  std::string map_file, route_text, label = "synthetic 50 x 50 m factory";
   for (int i = 1; i < argc; ++i)
   {
-    if (!std::strcmp(argv[i], "--runs") && i + 1 < argc)
+    const std::string a = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (a == "--runs" && has_value)
       runs = std::max(1, std::atoi(argv[++i]));
-    else if (!std::strcmp(argv[i], "--quick"))
+    else if (a == "--closure" && has_value)
+      closure = std::atoi(argv[++i]) != 0;
+    else if (a == "--map" && has_value)
+      map_file = argv[++i];
+    else if (a == "--route" && has_value)
+      route_text = argv[++i];
+    else if (a == "--label" && has_value)
+      label = argv[++i];
+    else if (a == "--quick")
       quick = true;
-  }
-  const GridMap world = factoryWorld(0.05);
-  std::printf("### SLAM (synthetic factory world)\n\n");
-  std::printf("Scripted %s drive through a synthetic 50 x 50 m factory (shelf rows, pillars, partition), laser "
-              "720 beams / 40 Hz / 30 m / sd 1 cm, odometry noise 5%% + 0.01 rad/m heading drift, "
-              "linearUpdate = angularUpdate = 0.25; medians of %d runs (seeds differ). Real-time factor = simulated "
-              "time / SLAM CPU time on one core (ray casting of the synthetic laser excluded). Synthetic data, not the "
-              "simulator.\n\n",
-              quick ? "short" : "~200 m", runs);
-  std::printf("| variant | occ. precision | occ. recall | ATE RMS (m) | RPE 1 m (m / rad) | odometry ATE (m) | "
-              "real-time x | keyframes | closures | SLAM data (MB) |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
-  for (bool closure : {true, false})
-  {
-    std::vector<Row> rows;
-    for (int i = 0; i < runs; ++i)
-      rows.push_back(runOnce(world, closure, 100 + static_cast<unsigned>(i), quick));
-    auto med = [&](double Row::*f) {
-      std::vector<double> v;
-      for (const Row& r : rows)
-        v.push_back(r.*f);
-      return median(v);
-    };
-    std::vector<double> kf, cl;
-    for (const Row& r : rows)
+    else
     {
-      kf.push_back(r.keyframes);
-      cl.push_back(r.closures);
+      std::fprintf(stderr, "usage: slam_bench [--map TRUTH.yaml --route \"x,y x,y ...\"] [--label L] [--closure 0|1] "
+                           "[--runs N] [--quick]\nprints one Markdown table row (medians over runs)\n");
+      return 2;
     }
-    std::printf("| %s | %.3f | %.3f | %.3f | %.3f / %.4f | %.2f | %.0f | %.0f | %.0f | %.1f |\n",
-                closure ? "graph SLAM (loop closure on)" : "scan-to-map only (closure off)", med(&Row::precision),
-                med(&Row::recall), med(&Row::ate), med(&Row::rpe_t), med(&Row::rpe_r), med(&Row::odom_ate),
-                med(&Row::rtf), median(kf), median(cl), med(&Row::slam_mb));
+  }
+  GridMap world;
+  std::vector<Point2D> route = kRoute;
+  try
+  {
+    world = map_file.empty() ? factoryWorld(0.05) : loadMap(map_file);
+    if (!route_text.empty())
+      route = parseRoute(route_text);
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "slam_bench: %s\n", e.what());
+    return 1;
+  }
+  if (quick)
+    route.resize(std::min<size_t>(route.size(), 3));
+  std::vector<Row> rows;
+  double length = 0.0;
+  for (size_t i = 1; i < route.size(); ++i)
+    length += std::hypot(route[i].x - route[i - 1].x, route[i].y - route[i - 1].y);
+  for (int i = 0; i < runs; ++i)
+    rows.push_back(runOnce(world, route, closure, 100 + static_cast<unsigned>(i)));
+  auto med = [&](double Row::*f) {
+    std::vector<double> v;
+    for (const Row& r : rows)
+      v.push_back(r.*f);
+    return median(v);
+  };
+  std::vector<double> kf, cl;
+  for (const Row& r : rows)
+  {
+    kf.push_back(r.keyframes);
+    cl.push_back(r.closures);
   }
   rusage ru;
   getrusage(RUSAGE_SELF, &ru);
-  std::printf("\nPeak resident memory of the whole benchmark process (truth world + SLAM): %.0f MB (target < 300 MB for "
-              "a 50 x 50 m map).\n",
+  std::printf("| %s, %.0f m | %s | %.3f | %.3f | %.3f | %.3f / %.4f | %.2f | %.0f | %.0f | %.0f | %.0f |\n", label.c_str(),
+              length, closure ? "on" : "off", med(&Row::precision), med(&Row::recall), med(&Row::ate),
+              med(&Row::rpe_t), med(&Row::rpe_r), med(&Row::odom_ate), med(&Row::rtf), median(kf), median(cl),
               ru.ru_maxrss / 1024.0);
   return 0;
 }
