@@ -38,7 +38,7 @@ class SpeedLimiter
 {
 public:
   SpeedLimiter() = default;
-  explicit SpeedLimiter(const SpeedLimits& limits) : limits_(limits) {}
+  SpeedLimiter(const SpeedLimits& limits) : limits_(limits) {}  // NOLINT: implicit on purpose (arrays of limiters)
 
   const SpeedLimits& limits() const { return limits_; }
 
