@@ -83,7 +83,13 @@ def _main(name, default_mode):
         node = Node(default_mode)
 
         def on_signal(*_):
+            # Stop the robot now: with use_sim_time and a stopped /clock the loop's sleep
+            # would never return to do it.
             node.stop = True
+            if not rospy.is_shutdown():
+                node.publish(timed_moves.ZERO)
+                common.linger()
+                rospy.signal_shutdown("interrupted")
         signal.signal(signal.SIGINT, on_signal)
         signal.signal(signal.SIGTERM, on_signal)
         code = node.run()
