@@ -143,3 +143,15 @@ def test_tuner_cli_bad_input(tmp_path, capsys, argv, name):
     assert pid_tuner.main(argv + ["--out-dir", str(tmp_path), "--no-plots"]) == 2
     err = capsys.readouterr().err
     assert "parameter '%s'" % name in err
+
+
+def test_committed_gains_files_load():
+    import glob
+    import os
+    files = glob.glob(os.path.join(os.path.dirname(__file__), "..", "..", "config", "pid_gains*.yaml"))
+    assert files
+    for f in files:
+        with open(f) as fh:
+            g, s, extras = pt.load_gains(yaml.safe_load(fh))
+        assert g.p > 0 and extras["output_min"] < extras["output_max"]
+        assert s is None or s.keys == sorted(s.keys)
