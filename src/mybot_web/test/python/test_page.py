@@ -89,7 +89,7 @@ class ServerThread:
         self.thread.join(10.0)
 
 
-def wait_for(predicate, what, timeout=10.0):
+def wait_for(predicate, what, timeout=30.0):
     # Wall clock is right here: there is no ROS time, only a browser and a server.
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
