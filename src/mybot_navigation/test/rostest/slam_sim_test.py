@@ -5,7 +5,8 @@ world rendered by mybot_gazebo_lite's world_to_map.
 
 ~mode: accuracy      -> occupied precision/recall >= ~min_precision/~min_recall, ATE < ~max_ate
        loop_closure  -> map of `dynamic_map` (loop closure on) scores better than `open/dynamic_map`
-~drive: plugin (cmd_vel) | joints (wheel velocity commands; odometry from diffdrive_odom)"""
+~drive: plugin (cmd_vel) | joints (wheel velocity commands)
+~base_frame: frame whose map pose is recorded (base_footprint)"""
 import math
 import os
 import shutil
@@ -41,6 +42,7 @@ class SlamSimTest(unittest.TestCase):
         self.world = rospy.get_param("~world")
         self.waypoints = rospy.get_param("~waypoints")
         self.speed = rospy.get_param("~speed", 0.4)
+        self.base_frame = rospy.get_param("~base_frame", "base_footprint")
         self.truth = None
         self.tf = tf2_ros.Buffer(cache_time=rospy.Duration(600))
         self.listener = tf2_ros.TransformListener(self.tf)
@@ -79,7 +81,7 @@ class SlamSimTest(unittest.TestCase):
     def record(self):
         stamp = self.truth[0]
         try:
-            t = self.tf.lookup_transform("map", "base_footprint", stamp, rospy.Duration(0.2))
+            t = self.tf.lookup_transform("map", self.base_frame, stamp, rospy.Duration(0.2))
         except (tf2_ros.LookupException, tf2_ros.ExtrapolationException, tf2_ros.ConnectivityException):
             return
         q = t.transform.rotation
@@ -134,7 +136,7 @@ class SlamSimTest(unittest.TestCase):
         subprocess.run(["rosrun", "mybot_gazebo_lite", "world_to_map", self.world, os.path.join(self.tmp, "truth"),
                         "--resolution", "0.05", "--height", "%.3f" % tf.transform.translation.z],
                        check=True, timeout=60)
-        self.wait(lambda: self.tf.can_transform("map", "base_footprint", rospy.Time(0)), 30, "tf map -> base_footprint")
+        self.wait(lambda: self.tf.can_transform("map", self.base_frame, rospy.Time(0)), 30, "tf map -> " + self.base_frame)
         self.drive_route()
         self.assertGreater(len(self.samples), 20)
         # Let the last scans be processed before reading the map.
@@ -146,6 +148,7 @@ class SlamSimTest(unittest.TestCase):
             self.assertLess(closed["ate_rmse_m"], rospy.get_param("~max_ate", 0.05))
         else:
             open_loop = self.score(self.fetch_map("open/dynamic_map"), "open", False)
+            rospy.loginfo("slam_sim_test: closed %s, open %s", closed, open_loop)
             self.assertGreater(closed["precision"], open_loop["precision"])
             self.assertGreaterEqual(closed["recall"], open_loop["recall"] - 0.01)
 
