@@ -3,7 +3,8 @@
 add_library(mybot_swerve_lib
   src/lib/swerve_kinematics.cpp
   src/lib/swerve_odometry.cpp
-  src/lib/swerve_module.cpp)
+  src/lib/swerve_module.cpp
+  src/lib/swerve_limiter.cpp)
 target_link_libraries(mybot_swerve_lib mybot_control_lib)
 
 # ROS-side helpers of the swerve nodes (geometry from parameters / URDF).
@@ -25,7 +26,7 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_swerve_lib mybot_swerve_lib gtest_main)
 
   find_package(rostest REQUIRED)
-  set(MYBOT_SWERVE_ROSTESTS)
+  set(MYBOT_SWERVE_ROSTESTS swerve_bad_config swerve_sim_motion swerve_sim_modules swerve_sim_pose swerve_sim_odometry)
   foreach(t ${MYBOT_SWERVE_ROSTESTS})
     add_rostest(test/swerve/${t}.test DEPENDENCIES swerve_controller swerve_module swerve_odom)
   endforeach()

@@ -3,6 +3,8 @@
 // parameter). Kept out of the pure library on purpose.
 #pragma once
 
+#include <geometry_msgs/Quaternion.h>
+
 #include <string>
 #include <vector>
 
@@ -31,6 +33,9 @@ SwerveGeometry loadSwerveGeometry(const ParamReader& params, bool need_offsets, 
 // Module offsets (x, y) of the given pivot joints in the URDF's root frame. Throws ParamError
 // naming a missing joint.
 std::vector<Vec2> moduleOffsetsFromUrdf(const std::string& urdf_xml, const std::vector<std::string>& pivot_joints);
+
+// Yaw (rad) of an orientation (e.g. sensor_msgs/Imu's); NaN in, NaN out.
+double yawOf(const geometry_msgs::Quaternion& q);
 
 // Index of each name in a JointState-like name list (cached; -1 when absent).
 class JointIndex

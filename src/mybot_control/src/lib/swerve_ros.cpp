@@ -126,6 +126,11 @@ SwerveGeometry loadSwerveGeometry(const ParamReader& p, bool need_offsets, bool 
   return g;
 }
 
+double yawOf(const geometry_msgs::Quaternion& q)
+{
+  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+}
+
 bool JointIndex::update(const std::vector<std::string>& names, std::size_t positions_size)
 {
   for (std::size_t k = 0; k < names_.size(); ++k)

@@ -1,6 +1,6 @@
 // cmd_vel (vx, vy, wz) -> per-module requested pivot angle and wheel speed
 // (swerve_<m>/rqst_pivot_angle, swerve_<m>/rqst_wheel_speed), through the twist limiter,
-// twist discretisation, inverse kinematics, desaturation and module-state optimisation
+// inverse kinematics, desaturation and module-state optimisation
 // against the measured pivot angles (swerve_<m>/pivot_angle). The wheels wait (speed 0)
 // while any module is more than angle_error_threshold from its requested angle.
 #include <geometry_msgs/Twist.h>
@@ -14,7 +14,7 @@
 #include <memory>
 
 #include "mybot_control/ros_params.hpp"
-#include "mybot_control/speed_limiter.hpp"
+#include "mybot_control/swerve_limiter.hpp"
 #include "mybot_control/step_scheduler.hpp"
 #include "mybot_control/swerve_kinematics.hpp"
 #include "mybot_control/swerve_ros.hpp"
@@ -43,7 +43,7 @@ public:
       const auto c = p.numbers("center_of_rotation", 2);
       center_ = {c[0], c[1]};
     }
-    limiter_ = TwistLimiter(loadSpeedLimits(p, "linear/x/"), loadSpeedLimits(p, "linear/y/"),
+    limiter_ = SwerveTwistLimiter(loadSpeedLimits(p, "linear/x/"), loadSpeedLimits(p, "linear/y/"),
                             loadSpeedLimits(p, "angular/z/"));
     period_ = 1.0 / rate;
     scheduler_ = StepScheduler(period_);
@@ -87,8 +87,7 @@ public:
 private:
   void onImu(const sensor_msgs::Imu& msg)
   {
-    const auto& q = msg.orientation;
-    const double yaw = std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+    const double yaw = yawOf(msg.orientation);
     if (std::isfinite(yaw))
     {
       yaw_ = yaw;
@@ -133,9 +132,15 @@ private:
       twist = Twist2D{};
       limiter_.reset();
     }
-    Twist2D body = field_relative_ ? fromFieldRelative(twist, yaw_) : twist;
-    if (discretize_)
-      body = discretize(body, period_);
+    // A body-frame cmd_vel is already the constant twist held over the period (an exact arc);
+    // a field-relative one is not (the robot turns during the period), hence discretize.
+    Twist2D body = twist;
+    if (field_relative_)
+    {
+      body = fromFieldRelative(twist, yaw_);
+      if (discretize_)
+        body = discretize(body, period_);
+    }
     auto states = kin_->toModuleStates(body, center_);
     const double k = desaturateModuleSpeeds(states, max_wheel_speed_);
     if (k < 1.0)
@@ -185,7 +190,7 @@ private:
   ros::NodeHandle nh_, pnh_;
   SwerveGeometry geometry_;
   std::unique_ptr<SwerveKinematics> kin_;
-  TwistLimiter limiter_;
+  SwerveTwistLimiter limiter_;
   StepScheduler scheduler_{0.02};
   double period_ = 0.02, cmd_vel_timeout_ = 0.5, max_wheel_speed_ = 0.0, angle_error_threshold_ = 0.1;
   bool discretize_ = true, field_relative_ = false, publish_cmd_ = false, have_cmd_ = false, have_yaw_ = false,

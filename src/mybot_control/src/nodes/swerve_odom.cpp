@@ -84,8 +84,7 @@ public:
 private:
   void onImu(const sensor_msgs::Imu& msg)
   {
-    const auto& q = msg.orientation;
-    const double yaw = std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+    const double yaw = yawOf(msg.orientation);
     if (std::isfinite(yaw))
       yaw_ = yaw;
   }
