@@ -15,7 +15,6 @@ import threading
 import unittest
 
 import actionlib
-import rospkg
 import rospy
 import rostest
 from geometry_msgs.msg import Twist
@@ -26,6 +25,7 @@ from selenium.webdriver.common.by import By
 from std_msgs.msg import Bool
 
 from chromium import Chromium
+from ros_helpers import now, results_dir, wait_for
 
 PKG = "mybot_web"
 STOPPED = 0.02  # m/s
@@ -119,31 +119,6 @@ class World:
     def x(self):
         with self.lock:
             return self.odom.pose.pose.position.x
-
-
-def now():
-    return rospy.get_rostime().to_sec()
-
-
-def wait_for(predicate, timeout, what):
-    """Poll predicate until true or `timeout` s of ROS time pass; returns the ROS time it held."""
-    deadline = now() + timeout
-    while not rospy.is_shutdown():
-        if predicate():
-            return now()
-        if now() > deadline:
-            raise AssertionError("timed out after %.1f s (ROS time) waiting for %s" % (timeout, what))
-        rospy.sleep(0.01)
-    raise AssertionError("shut down while waiting for %s" % what)
-
-
-def results_dir():
-    """Where rostest writes this test's XML (it passes --gtest_output=xml:<file>; catkin test
-    points it into the build's test_results), so the screenshot lands beside the results."""
-    for arg in sys.argv:
-        if arg.startswith("--gtest_output=xml:"):
-            return os.path.dirname(os.path.abspath(arg.split(":", 1)[1]))
-    return os.path.join(rospkg.get_test_results_dir(), PKG)
 
 
 class TestWebBrowser(unittest.TestCase):
