@@ -24,6 +24,13 @@ def wait_for(predicate, timeout, what):
     raise AssertionError("shut down while waiting for %s" % what)
 
 
+def wait_for_value(fn, timeout, what):
+    """Like wait_for, for a function returning None until it has a value; returns the value."""
+    seen = []
+    wait_for(lambda: seen.append(fn()) or seen[-1] is not None, timeout, what)
+    return seen[-1]
+
+
 def results_dir():
     """Where rostest writes this test's XML (it passes --gtest_output=xml:<file>; catkin test
     points it into the build's test_results), so the screenshot lands beside the results."""

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Browser test with navigation: the page shows the map in the map frame, a click on it 1 m
-ahead of the robot sends a move_base goal (switching to autonomous), and the simulated robot
-reaches it (ground truth). Screenshot under the test results."""
+ahead of the robot sends a move_base goal (switching to autonomous), the planned path is drawn,
+and the simulated robot reaches the goal (ground truth). Screenshot under the test results."""
 import math
 import os
 import sys
@@ -16,7 +16,7 @@ from selenium.webdriver.common.by import By
 from std_msgs.msg import Bool
 
 from chromium import Chromium
-from ros_helpers import PKG, results_dir, wait_for
+from ros_helpers import PKG, results_dir, wait_for, wait_for_value
 
 GOAL = (1.0, 0.0)  # map frame (= world: the robot starts at the origin, AMCL initial pose 0)
 REACHED = 0.3  # m: the planner's goal tolerance plus localisation error
@@ -66,6 +66,10 @@ class TestWebNavigation(unittest.TestCase):
         dx, dy = (GOAL[0] - cx) * scale, -(GOAL[1] - cy) * scale
         ActionChains(b).move_to_element_with_offset(b.find_element(By.ID, "map"), dx, dy).click().perform()
         wait_for(lambda: self.nav_lock is False, 10.0, "the goal to switch to autonomous")
+        # The global plan (move_base/GlobalPlanner/plan) is drawn, ending near the goal.
+        end = wait_for_value(lambda: js("const p = window.mybotWeb.state.path;"
+                                        " return p.length >= 4 ? p.slice(-2) : null"), 20.0, "the planned path")
+        self.assertLess(math.hypot(end[0] - GOAL[0], end[1] - GOAL[1]), 0.1, "plan ends at %s" % end)
         wait_for(lambda: "SUCCEEDED" in b.find_element(By.ID, "goal").text, 90.0,
                  "the page to report the goal succeeded")
         self.assertLess(self.distance_to_goal(), REACHED, "the robot stopped %.2f m from the goal"
