@@ -9,10 +9,8 @@ goal at the clicked point; closing the page stops the robot. A screenshot is sav
 test results directory.
 """
 import math
-import os
 import sys
 import threading
-import unittest
 
 import actionlib
 import rospy
@@ -24,10 +22,8 @@ from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
 from std_msgs.msg import Bool
 
-from chromium import Chromium
-from ros_helpers import now, results_dir, wait_for
+from ros_helpers import PKG, BrowserTest, now, wait_for
 
-PKG = "mybot_web"
 STOPPED = 0.02  # m/s
 # The issue's requirement: letting go or losing the page stops the robot within 0.5 s.
 STOP_WITHIN = 0.5
@@ -121,25 +117,12 @@ class World:
             return self.odom.pose.pose.position.x
 
 
-class TestWebBrowser(unittest.TestCase):
+class TestWebBrowser(BrowserTest):
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_web_browser")
+        super().setUpClass()
         cls.world = World()
-        wait_for(lambda: cls.world.odom is not None, 30.0, "ground_truth/odom")
-        wait_for(lambda: rospy.has_param("/web_controller/url"), 30.0, "/web_controller/url")
-        cls.url = rospy.get_param("/web_controller/url")
-        cls.artifacts = results_dir()
-        os.makedirs(cls.artifacts, exist_ok=True)
-        cls.chromium = Chromium()
-        cls.browser = cls.chromium.driver
-
-    @classmethod
-    def tearDownClass(cls):
-        cls.chromium.quit()
-
-    def js(self, script):
-        return self.browser.execute_script(script)
+        wait_for(lambda: cls.world.odom is not None, 30.0, "ground_truth/odom (history)")
 
     def hold_forward(self):
         stick = self.browser.find_element(By.ID, "stick")
@@ -158,16 +141,9 @@ class TestWebBrowser(unittest.TestCase):
         rospy.loginfo("%s: stopped %.3f s after", why, t1 - t0)
         self.assertLessEqual(t1 - t0, limit, "%s: the robot took %.2f s to stop" % (why, t1 - t0))
 
-    def save_screenshot(self, name):
-        path = os.path.join(self.artifacts, name)
-        self.assertTrue(self.browser.save_screenshot(path), "screenshot %s not written" % path)
-        rospy.loginfo("screenshot: %s", path)
-
     def test_drive_from_the_page(self):
         w, b = self.world, self.browser
-        b.get(self.url)
-        wait_for(lambda: self.js("return document.getElementById('status').dataset.state") == "connected",
-                 20.0, "the page to connect")
+        self.open_page()
         wait_for(lambda: self.js("return !!(window.mybotWeb.state && window.mybotWeb.state.pose)"),
                  20.0, "the page to show the robot's pose")
         # The map arrives deflated and base64-encoded and is decoded by the page.
