@@ -78,7 +78,7 @@ class SimNode {
     while (ros::ok()) {
       queue->callAvailable();
       if (paused_) {
-        publishClock(false);
+        publishClock(true);  // ~200 Hz wall, so late subscribers still learn the time
         queue->callAvailable(ros::WallDuration(0.005));
         anchor();
         continue;
