@@ -5,8 +5,8 @@ robot through the web page, the web controller and the twist mux; ground truth j
 Phases (one browser, in order): manual mode blocks navigation; holding the joystick forward
 moves the robot forward; letting go stops it; autonomous mode lets navigation through; a
 silent page (its sends swallowed) is stopped by the dead man; a map click sends a move_base
-goal at the clicked point; closing the page stops the robot. A screenshot is saved under the
-test results directory.
+goal at the clicked point and Cancel cancels it; closing the page stops the robot. A
+screenshot is saved under the test results directory.
 """
 import math
 import sys
@@ -47,7 +47,7 @@ class World:
         self.nav_timer = rospy.Timer(rospy.Duration(0.1), self._nav_tick)
         self.map_pub = rospy.Publisher("map", OccupancyGrid, queue_size=1, latch=True)
         self.map_pub.publish(self.small_map())
-        # Stand-in navigation: accepts goals and succeeds at once.
+        # Stand-in navigation: keeps a goal active until it is cancelled.
         self.server = actionlib.SimpleActionServer("move_base", MoveBaseAction, self._execute, False)
         self.server.start()
 
@@ -110,7 +110,13 @@ class World:
 
     def _execute(self, goal):
         self.goals.append(goal)
-        self.server.set_succeeded(MoveBaseResult())
+        deadline = now() + 60.0
+        while not rospy.is_shutdown() and now() < deadline:
+            if self.server.is_preempt_requested():
+                self.server.set_preempted(MoveBaseResult())
+                return
+            rospy.sleep(0.02)
+        self.server.set_aborted(MoveBaseResult())
 
     def x(self):
         with self.lock:
@@ -209,8 +215,11 @@ class TestWebBrowser(BrowserTest):
         self.assertAlmostEqual(p.pose.position.y, view[1] + 60 / view[2], delta=0.02)
         self.assertEqual(p.header.frame_id, self.js("return window.mybotWeb.state.frame"))
         wait_for(lambda: w.nav_lock is False, 5.0, "a goal to switch to autonomous")
-        wait_for(lambda: "SUCCEEDED" in b.find_element(By.ID, "goal").text, 10.0,
-                 "the page to show the goal succeeded")
+        wait_for(lambda: "ACTIVE" in b.find_element(By.ID, "goal").text, 10.0,
+                 "the page to show the goal active")
+        b.find_element(By.ID, "cancel").click()
+        wait_for(lambda: "PREEMPTED" in b.find_element(By.ID, "goal").text, 10.0,
+                 "the page to show the goal cancelled")
 
         # Closing the page while driving stops the robot.
         self.hold_forward()
