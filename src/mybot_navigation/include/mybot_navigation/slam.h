@@ -29,6 +29,8 @@ struct SlamParams
   double search_window_linear = 0.3;   // m
   double search_window_angular = 0.35; // rad
   double min_match_score = 0.35;       // below: keep the odometry prediction
+  double match_translation_weight = 2.0;  // motion prior (score per m^2 away from the prediction)
+  double match_rotation_weight = 0.1;     // (score per rad^2)
   double match_point_spacing = 0.1;    // m, voxel filter of the points used for matching
   double sigma_xy = 0.02;              // m, sequential edge uncertainty
   double sigma_theta = 0.01;           // rad

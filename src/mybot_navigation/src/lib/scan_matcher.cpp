@@ -189,11 +189,20 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
     }
   }
   const double inv_n = 1.0 / static_cast<double>(points.size());
+  // Smallest |offset| over [d, d + size - 1] cells, in metres: keeps the penalised score of a
+  // block an upper bound of its children's.
+  auto nearest = [res](int d, int size) {
+    if (d <= 0 && d + size - 1 >= 0)
+      return 0.0;
+    return res * std::min(std::abs(d), std::abs(d + size - 1));
+  };
   auto score = [&](int level, int k, int dx, int dy) {
     double s = 0.0;
     for (const auto& c : scans[static_cast<size_t>(k)])
       s += field.value(level, c.first + dx, c.second + dy);
-    return s * inv_n;
+    const int size = 1 << level;
+    const double ex = nearest(dx, size), ey = nearest(dy, size), et = (k - n_angles) * angle_step;
+    return s * inv_n - request.translation_weight * (ex * ex + ey * ey) - request.rotation_weight * et * et;
   };
 
   std::vector<Candidate> tops;
@@ -243,8 +252,8 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
               normalizeAngle(request.initial.theta + (best.angle - n_angles) * angle_step)};
   if (request.refine)
   {
-    const Pose2D refined = refinePose(field, points, pose, 10, res);
-    if (scorePose(field, points, refined) >= best.score * 0.98)
+    const Pose2D refined = refinePose(field, points, pose, 10, res, &request.initial, request.translation_weight);
+    if (scorePose(field, points, refined) >= scorePose(field, points, pose) * 0.98)
       pose = refined;
   }
   result.ok = true;
@@ -270,8 +279,9 @@ double translationConstraintRatio(const MatchField& field, const std::vector<Poi
 }
 
 Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& start, int iterations,
-                  double max_step)
+                  double max_step, const Pose2D* prior, double translation_weight)
 {
+  const double w = prior ? translation_weight * static_cast<double>(points.size()) : 0.0;
   Pose2D pose = start;
   for (int it = 0; it < iterations; ++it)
   {
@@ -288,6 +298,13 @@ Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, c
       Eigen::Vector3d J(-fx, -fy, -(fx * (-s * p.x - c * p.y) + fy * (c * p.x - s * p.y)));
       H += J * J.transpose();
       g += J * r;
+    }
+    if (w > 0.0)
+    {
+      H(0, 0) += w;
+      H(1, 1) += w;
+      g.x() += w * (pose.x - prior->x);
+      g.y() += w * (pose.y - prior->y);
     }
     H.diagonal() += Eigen::Vector3d(1e-3, 1e-3, 1e-3) * (H.trace() / 3.0 + 1e-9);  // LM damping
     const Eigen::Vector3d delta = -H.ldlt().solve(g);

@@ -121,6 +121,8 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   req.linear_window = params_.search_window_linear;
   req.angular_window = params_.search_window_angular;
   req.min_score = params_.min_match_score;
+  req.translation_weight = params_.match_translation_weight;
+  req.rotation_weight = params_.match_rotation_weight;
   const MatchResult res = matchScan(local_field_, kf.match_points, req);
   stats_.last_match_score = res.ok ? res.score : scorePose(local_field_, kf.match_points, predicted);
   PoseGraphEdge edge;
