@@ -51,4 +51,9 @@ if(CATKIN_ENABLE_TESTING)
     add_rostest(test/rostest/${t}.test DEPENDENCIES loopback_wheels diffdrive_controller wheel_controller
       diffdrive_odom twist_mux)
   endforeach()
+  # In the simulator (mybot, joint-command mode) against ground truth.
+  foreach(args "mode:=square" "mode:=step" "mode:=weak\;pid_on:=true" "mode:=weak\;pid_on:=false")
+    add_rostest(test/rostest/sim_chain.test ARGS ${args} DEPENDENCIES diffdrive_controller wheel_controller
+      diffdrive_odom twist_mux)
+  endforeach()
 endif()

@@ -4,6 +4,7 @@
 // Parameter names follow control_toolbox (p, i, d, i_clamp_min/max) plus output_min/max.
 #pragma once
 
+#include <deque>
 #include <limits>
 #include <string>
 #include <vector>
@@ -31,6 +32,11 @@ struct PidConfig
   double output_max = std::numeric_limits<double>::infinity();
   double d_filter_tau = 0.0;  // s, time constant of the derivative low-pass; 0 = unfiltered
   bool angle_wrap = false;    // error and measurement steps wrapped to (-pi, pi]
+  // Control steps by which the measurement lags the command (transport delay, encoder
+  // differencing). The feedback error compares the measurement with the setpoint of that
+  // many steps ago, so a plant that follows the feed-forward is not "corrected" while its
+  // response is still in flight -- which otherwise overshoots a fast velocity servo.
+  int setpoint_delay = 0;
   std::vector<PidScheduleEntry> schedule;  // nearest key wins; empty = fixed gains
 
   // Empty when valid, else one message naming the offending field (prefix + field).
@@ -49,6 +55,10 @@ public:
   // One control step of period dt (s). dt <= 0 or non-finite inputs return the last output
   // without changing the state.
   double compute(double setpoint, double measurement, double dt);
+  // Two-degree-of-freedom form: feed-forward on `setpoint`, feedback on `reference -
+  // measurement`, where the caller supplies the setpoint the measurement can reflect (e.g.
+  // the one in force when the measurement was taken, minus the plant's response time).
+  double compute(double setpoint, double reference, double measurement, double dt);
   void reset();
 
   // Introspection of the last step.
@@ -63,6 +73,7 @@ private:
   const PidScheduleEntry gainsFor(double abs_error) const;
 
   PidConfig config_;
+  std::deque<double> setpoints_;  // the last setpoint_delay setpoints
   bool have_previous_ = false;
   double previous_measurement_ = 0.0;
   double d_filtered_ = 0.0;  // filtered d(measurement)/dt

@@ -22,6 +22,8 @@ std::string PidConfig::validate(const std::string& prefix) const
     return bad("i_clamp_min", "and i_clamp_max must bracket 0");
   if (std::isnan(output_min) || std::isnan(output_max) || output_min >= output_max)
     return bad("output_min", "must be below output_max");
+  if (setpoint_delay < 0 || setpoint_delay > 100)
+    return bad("setpoint_delay", "must be an integer number of steps in [0, 100]");
   if (!(d_filter_tau >= 0.0) || !std::isfinite(d_filter_tau))
     return bad("d_filter_tau", "must be >= 0 s");
   for (std::size_t k = 0; k < schedule.size(); ++k)
@@ -49,10 +51,25 @@ const PidScheduleEntry Pid::gainsFor(double abs_error) const
 
 double Pid::compute(double setpoint, double measurement, double dt)
 {
-  if (!(dt > 0.0) || !std::isfinite(dt) || !std::isfinite(setpoint) || !std::isfinite(measurement))
+  return compute(setpoint, setpoint, measurement, dt);
+}
+
+double Pid::compute(double setpoint, double reference, double measurement, double dt)
+{
+  if (!(dt > 0.0) || !std::isfinite(dt) || !std::isfinite(setpoint) || !std::isfinite(reference) ||
+      !std::isfinite(measurement))
     return output_;
 
-  error_ = setpoint - measurement;
+  // Feedback reference: the setpoint the measurement can already reflect.
+  if (config_.setpoint_delay > 0)
+  {
+    const double delayed = setpoints_.empty() ? measurement : setpoints_.front();
+    setpoints_.push_back(reference);
+    reference = delayed;
+    if (static_cast<int>(setpoints_.size()) > config_.setpoint_delay)
+      setpoints_.pop_front();
+  }
+  error_ = reference - measurement;
   if (config_.angle_wrap)
     error_ = wrapAngle(error_);
   const PidScheduleEntry g = gainsFor(std::abs(error_));
@@ -101,6 +118,7 @@ double Pid::compute(double setpoint, double measurement, double dt)
 
 void Pid::reset()
 {
+  setpoints_.clear();
   have_previous_ = false;
   previous_measurement_ = 0.0;
   d_filtered_ = 0.0;

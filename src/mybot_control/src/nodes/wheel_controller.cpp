@@ -8,6 +8,7 @@
 #include <std_msgs/Float64.h>
 
 #include <array>
+#include <deque>
 
 #include "mybot_control/odometry.hpp"
 #include "mybot_control/pid.hpp"
@@ -31,6 +32,8 @@ struct Wheel
   int joint_index = -1;  // cached index into joint_states.name
   Pid pid;
   StepScheduler scheduler{0.02};
+  std::deque<std::pair<double, double>> target_history;  // (ROS time, rad/s) commanded
+  double encoder_time = 0.0;                               // stamp of the last encoder reading
   ros::Publisher target_pub, control_pub, motor_pub, enc_pub, tangent_enc_pub, joint_cmd_pub;
   ros::Subscriber target_sub;
 };
@@ -60,6 +63,7 @@ public:
     timeout_ = p.positive("timeout", 0.5);
     encoder_timeout_ = p.positive("encoder_timeout", 0.5);
     pid_on_ = p.boolean("pid_on", true);
+    response_time_ = p.nonNegative("response_time", 0.0);
     const std::string interface = p.string("command_interface", "motor");
     if (interface != "motor" && interface != "joints")
       p.fail("command_interface", "must be 'motor' (GoPiGo driver) or 'joints' (simulator joint commands), got '" +
@@ -136,6 +140,7 @@ private:
       if (!w.encoder.update(msg.position[w.joint_index], stamp.toSec()) || !w.encoder.valid())
         continue;
       w.encoder_stamp = ros::Time::now();
+      w.encoder_time = stamp.toSec();
       publish(w.enc_pub, w.encoder.velocity());
       publish(w.tangent_enc_pub, w.encoder.velocity() * w.radius);
     }
@@ -168,15 +173,19 @@ private:
       else if (!w.encoder.valid() || (now - w.encoder_stamp).toSec() > encoder_timeout_)
       {
         // Closed loop without a measurement is blind: stop rather than guess.
-        ROS_WARN_THROTTLE(2.0, "wheel_controller: pid_on but no recent joint_states for joint '%s'; motor stopped",
+        if (target != 0.0)
+          ROS_WARN_THROTTLE(2.0, "wheel_controller: pid_on but no recent joint_states for joint '%s'; motor stopped",
                           w.joint.c_str());
         w.pid.reset();
       }
       else
       {
-        motor = w.pid.compute(target, w.encoder.velocity(), dt);
+        motor = w.pid.compute(target, referenceFor(w, now.toSec(), target), w.encoder.velocity(), dt);
         publish(w.control_pub, motor);
       }
+      w.target_history.emplace_back(now.toSec(), target);
+      while (w.target_history.size() > 2 && w.target_history[1].first < now.toSec() - 2.0)
+        w.target_history.pop_front();
       publish(w.motor_pub, motor);
       if (joint_commands_)
       {
@@ -187,9 +196,28 @@ private:
     }
   }
 
+  // The target the encoder reading can reflect: the one commanded response_time before the
+  // reading was taken (its stamp, not its arrival: late joint_states on a busy machine then
+  // do not look like a slow wheel and wind the integral up).
+  double referenceFor(const Wheel& w, double now, double target) const
+  {
+    if (response_time_ <= 0.0 || w.target_history.empty())
+      return target;
+    const double t = std::min(now, w.encoder_time) - response_time_;
+    double reference = w.target_history.front().second;
+    for (const auto& [stamp, value] : w.target_history)
+    {
+      if (stamp > t)
+        break;
+      reference = value;
+    }
+    return reference;
+  }
+
   ros::NodeHandle nh_, pnh_;
   std::array<Wheel, 2> wheels_;
   double period_ = 0.02, timeout_ = 0.5, encoder_timeout_ = 0.5;
+  double response_time_ = 0.0;
   bool pid_on_ = true, joint_commands_ = false;
   ros::Subscriber joint_sub_;
   ros::Timer timer_;

@@ -216,3 +216,45 @@ TEST(Pid, ValidateNamesTheField)
   EXPECT_NE(n.validate().find("p must"), std::string::npos);
   EXPECT_EQ(PidConfig{}.validate(), "");
 }
+
+TEST(Pid, SetpointDelayMatchesAServoThatRespondsNextStep)
+{
+  // Plant: the command becomes the measured speed one step later (ideal velocity servo seen
+  // through a sampled encoder). Feed-forward alone tracks it; with the setpoint delayed to
+  // match, the feedback sees no error and adds no overshoot, yet still rejects a weak motor.
+  PidConfig c;
+  c.p = 0.3;
+  c.i = 20.0;
+  c.f = 1.0;
+  c.setpoint_delay = 1;
+  for (double gain : {1.0, 0.8})
+  {
+    Pid pid(c);
+    double measured = 0.0, peak = 0.0;
+    for (int k = 0; k < 100; ++k)
+    {
+      const double u = pid.compute(5.0, measured, 0.02);
+      measured = gain * u;
+      peak = std::max(peak, measured);
+    }
+    EXPECT_NEAR(measured, 5.0, 1e-3) << "gain " << gain;
+    EXPECT_LE(peak, 5.0 * 1.01) << "gain " << gain;
+  }
+  // Without the delay the same gains overshoot the ideal servo.
+  c.setpoint_delay = 0;
+  Pid plain(c);
+  const double first = plain.compute(5.0, 0.0, 0.02);
+  EXPECT_GT(first, 5.0 * 1.2);
+}
+
+TEST(Pid, TwoDegreeOfFreedomReference)
+{
+  PidConfig c;
+  c.p = 1.0;
+  c.f = 1.0;
+  Pid pid(c);
+  // Feed-forward follows the new setpoint, feedback only the reference the measurement
+  // can reflect (here still the old one, which it matches): no correction yet.
+  EXPECT_DOUBLE_EQ(pid.compute(5.0, 0.0, 0.0, 0.02), 5.0);
+  EXPECT_DOUBLE_EQ(pid.compute(5.0, 5.0, 4.0, 0.02), 6.0);
+}
