@@ -114,6 +114,9 @@ struct WorldLink {
   btTransform pose = btTransform::getIdentity();  // relative to model
   double mass = 1.0;
   std::vector<Shape> shapes;
+  // <visual><material> diffuse (or ambient) RGB in [0, 1], for the cameras.
+  bool has_color = false;
+  float color[3] = {0.7f, 0.7f, 0.7f};
 };
 
 struct WorldModel {

@@ -36,6 +36,17 @@ class RayCaster2D {
   double cast(double x, double y, double dx, double dy, double max_range) const;
   size_t numSegments() const { return segs_.size(); }
 
+  // One crossing of the ray with a segment (index into the slice's allSegments()
+  // order) or a circle boundary (index into its circles).
+  struct Crossing {
+    double t;
+    int index;
+    bool circle;
+  };
+  // Every crossing within max_range, each once, in no particular order (the cameras
+  // need entry and exit of every solid, not just the first hit).
+  void castAll(double x, double y, double dx, double dy, double max_range, std::vector<Crossing>& out) const;
+
  private:
   struct Cell {
     std::vector<int> segs, circles;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 namespace mybot_gazebo_lite {
 
@@ -52,6 +53,29 @@ void sliceEdges(const std::vector<std::pair<btVector3, btVector3>>& edges, doubl
   }
   auto hull = convexHull(pts);
   if (hull.size() >= 3) out.polygons.push_back(hull);
+}
+
+// Distance along the unit ray to segment s, or -1 when it misses.
+double raySegment(const Segment2& s, double x, double y, double dx, double dy) {
+  double ex = s.x1 - s.x0, ey = s.y1 - s.y0;
+  double den = dx * ey - dy * ex;
+  if (std::abs(den) < 1e-15) return -1;
+  double wx = s.x0 - x, wy = s.y0 - y;
+  double t = (wx * ey - wy * ex) / den;
+  double u = (wx * dy - wy * dx) / den;
+  return (t >= 0 && u >= 0 && u <= 1) ? t : -1;
+}
+
+// Both crossings of the unit ray's line with circle c (t0 <= t1), false when it misses.
+bool rayCircle(const Circle2& c, double x, double y, double dx, double dy, double& t0, double& t1) {
+  double ox = x - c.cx, oy = y - c.cy;
+  double b = ox * dx + oy * dy;
+  double disc = b * b - (ox * ox + oy * oy - c.r * c.r);
+  if (disc < 0) return false;
+  double sq = std::sqrt(disc);
+  t0 = -b - sq;
+  t1 = -b + sq;
+  return true;
 }
 }  // namespace
 
@@ -234,30 +258,45 @@ double RayCaster2D::cast(double x, double y, double dx, double dy, double max_ra
   walk(x, y, dx, dy, max_range, [&](int c, double, double texit) {
     const Cell& cell = cells_[c];
     for (int i : cell.segs) {
-      const Segment2& s = segs_[i];
-      double ex = s.x1 - s.x0, ey = s.y1 - s.y0;
-      double den = dx * ey - dy * ex;
-      if (std::abs(den) < 1e-15) continue;
-      double wx = s.x0 - x, wy = s.y0 - y;
-      double t = (wx * ey - wy * ex) / den;
-      double u = (wx * dy - wy * dx) / den;
-      if (t >= 0 && u >= 0 && u <= 1 && t < best) best = t;
+      double t = raySegment(segs_[i], x, y, dx, dy);
+      if (t >= 0 && t < best) best = t;
     }
     for (int i : cell.circles) {
-      const Circle2& ci = circles_[i];
-      double ox = x - ci.cx, oy = y - ci.cy;
-      double b = ox * dx + oy * dy;
-      double cc = ox * ox + oy * oy - ci.r * ci.r;
-      double disc = b * b - cc;
-      if (disc < 0) continue;
-      double sq = std::sqrt(disc);
-      double t = -b - sq;
-      if (t < 0) t = -b + sq;  // inside the circle: the far wall
+      double t0, t1;
+      if (!rayCircle(circles_[i], x, y, dx, dy, t0, t1)) continue;
+      double t = t0 >= 0 ? t0 : t1;  // inside the circle: the far wall
       if (t >= 0 && t < best) best = t;
     }
     return best <= texit;  // nothing in later cells can be nearer
   });
   return best <= max_range ? best : kInf;
+}
+
+void RayCaster2D::castAll(double x, double y, double dx, double dy, double max_range, std::vector<Crossing>& out) const {
+  out.clear();
+  walk(x, y, dx, dy, max_range, [&](int c, double, double) {
+    const Cell& cell = cells_[c];
+    for (int i : cell.segs) {
+      double t = raySegment(segs_[i], x, y, dx, dy);
+      if (t >= 0 && t <= max_range) out.push_back({t, i, false});
+    }
+    for (int i : cell.circles) {
+      double t0, t1;
+      if (!rayCircle(circles_[i], x, y, dx, dy, t0, t1)) continue;
+      for (double t : {t0, t1})
+        if (t >= 0 && t <= max_range) out.push_back({t, i, true});
+    }
+    return false;
+  });
+  // A primitive spanning several cells is met once per cell.
+  std::sort(out.begin(), out.end(), [](const Crossing& a, const Crossing& b) {
+    return std::tie(a.circle, a.index, a.t) < std::tie(b.circle, b.index, b.t);
+  });
+  out.erase(std::unique(out.begin(), out.end(),
+                        [](const Crossing& a, const Crossing& b) {
+                          return a.circle == b.circle && a.index == b.index && std::abs(a.t - b.t) < 1e-9;
+                        }),
+            out.end());
 }
 
 void rasterizeSlice(const Slice2D& slice, double x0, double y0, double res, int w, int h, std::vector<uint8_t>& grid) {

@@ -6,6 +6,7 @@
 #include <tinyxml2.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -147,6 +148,20 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
             s.mu2 = c.number(ode, "mu2", cw + " <friction><ode>", false, s.mu1);
           }
       link.shapes.push_back(s);
+    }
+    for (const XMLElement* vis = l->FirstChildElement("visual"); vis && !link.has_color;
+         vis = vis->NextSiblingElement("visual")) {
+      const XMLElement* mat = vis->FirstChildElement("material");
+      if (!mat) continue;
+      const XMLElement* col = mat->FirstChildElement("diffuse");
+      if (!col) col = mat->FirstChildElement("ambient");
+      if (!col || !col->GetText()) continue;
+      std::string vw = lw + " <visual><material><" + col->Name() + ">";
+      std::istringstream ss(col->GetText());
+      double rgb[3];
+      if (!(ss >> rgb[0] >> rgb[1] >> rgb[2])) c.fail(vw, std::string("expected 'r g b [a]', got '") + col->GetText() + "'");
+      for (int i = 0; i < 3; ++i) link.color[i] = static_cast<float>(std::clamp(rgb[i], 0.0, 1.0));
+      link.has_color = true;
     }
     model.links.push_back(std::move(link));
   }

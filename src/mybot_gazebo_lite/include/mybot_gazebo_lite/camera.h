@@ -1,0 +1,87 @@
+// Column renderer for the simulated cameras. The static world is treated as
+// 2.5D: every static shape is a vertical prism (its cross-section at mid-height,
+// extruded over its z-extent). One 2D ray per image column gives every prism
+// the column crosses; each pixel of the column then takes the nearest prism
+// face (side, top or bottom) its 3D ray meets, else the floor, else the sky.
+// Exact for upright boxes and cylinders; spheres render as cylinders.
+#pragma once
+
+#include "mybot_gazebo_lite/model.h"
+#include "mybot_gazebo_lite/raycast2d.h"
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace mybot_gazebo_lite {
+
+// Pinhole intrinsics as gazebo_ros_camera_utils computes them (pixels).
+struct CameraIntrinsics {
+  int width = 0, height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+};
+
+// focal = width / (2 tan(hfov / 2)) and (cx, cy) = ((w + 1) / 2, (h + 1) / 2),
+// each unless given non-zero (the plugin's <focalLength>, <Cx>, <Cy>).
+CameraIntrinsics gazeboIntrinsics(int width, int height, double hfov, double focal = 0, double cx = 0, double cy = 0);
+
+// A level camera: optical axis along yaw in the world's horizontal plane.
+struct CameraPose {
+  double x = 0, y = 0, z = 0, yaw = 0;
+};
+
+class PrismScene {
+ public:
+  struct Prism {
+    double zmin, zmax;
+    float color[3];
+  };
+  explicit PrismScene(const WorldSpec& world, double cell = 0.5);
+  const std::vector<Prism>& prisms() const { return prisms_; }
+  bool ground() const { return ground_; }
+
+  // The prism entered/exited by a horizontal ray, with the entry's 2D normal.
+  struct ColumnHit {
+    int prism;
+    double t_in, t_out;  // along the unit 2D direction
+    double nx, ny;
+  };
+  // Hits sorted by t_in; scratch is reused between calls.
+  void column(double x, double y, double dx, double dy, double max_range, std::vector<ColumnHit>& out) const;
+
+ private:
+  std::vector<Prism> prisms_;
+  std::vector<Segment2> segments_;
+  std::vector<Circle2> circles_;
+  std::vector<int> seg_prism_, circle_prism_;
+  std::unique_ptr<RayCaster2D> caster_;
+  bool ground_ = false;
+  mutable std::vector<RayCaster2D::Crossing> crossings_;
+};
+
+struct RenderSettings {
+  double near = 0.1, far = 100.0;  // <clip>
+};
+
+// rgb: width*height*3 bytes (R, G, B, row-major, row 0 at the top) or nullptr;
+// depth: width*height floats, distance along the optical axis in metres, +inf
+// where nothing lies within [near, far] (the sky), or nullptr.
+// Pixel (u, v) looks along ((u - cx) / fx, (v - cy) / fy, 1) in the optical
+// frame (x right, y down, z forward), so the image agrees with its CameraInfo.
+void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const CameraPose& pose, const RenderSettings& s,
+                  uint8_t* rgb, float* depth);
+
+// Cheap Gaussian noise for images: a table of N(0, 1) samples read from a
+// random start with a random odd stride, so a 640x480 frame costs no Box-Muller.
+class NoiseTable {
+ public:
+  explicit NoiseTable(uint32_t seed, size_t size = 1 << 18);
+  void addToBytes(uint8_t* data, size_t n, double mean, double stddev);  // stddev in units of 255
+  void addToFloats(float* data, size_t n, double mean, double stddev);   // only finite values
+ private:
+  size_t start(size_t* stride);
+  std::vector<float> table_;
+  uint64_t state_;
+};
+
+}  // namespace mybot_gazebo_lite
