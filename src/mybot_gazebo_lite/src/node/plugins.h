@@ -1,6 +1,7 @@
 // ROS-side emulations of the gazebo_ros plugins a URDF names in <gazebo>.
 #pragma once
 
+#include "mybot_gazebo_lite/camera.h"
 #include "mybot_gazebo_lite/model.h"
 #include "mybot_gazebo_lite/physics.h"
 #include "mybot_gazebo_lite/raycast2d.h"
@@ -20,10 +21,12 @@ class StaticSliceCache {
  public:
   explicit StaticSliceCache(const WorldSpec& w) : world_(w) {}
   const RayCaster2D& at(double z);
+  const PrismScene& prisms();  // the cameras' 2.5D view, built on first use
 
  private:
   const WorldSpec& world_;
   std::map<long, std::unique_ptr<RayCaster2D>> cache_;
+  std::unique_ptr<PrismScene> prisms_;
 };
 
 struct PluginContext {

@@ -1,0 +1,89 @@
+#!/usr/bin/env python3
+"""Cameras in the loop (camera.test): mybot's 800x800 camera and a depth-camera cube.
+
+Rates are measured on the message stamps (sim time); waits are conditions with timeouts.
+"""
+import math
+import threading
+import time
+import unittest
+
+import numpy as np
+import rospy
+import rostest
+from sensor_msgs.msg import CameraInfo, Image
+
+from mybot_gazebo_lite.srv import GetModelState
+
+WALL_TIMEOUT = 60.0
+
+
+class Collector:
+    def __init__(self, topic, cls):
+        self.lock = threading.Lock()
+        self.msgs = []
+        self.sub = rospy.Subscriber(topic, cls, self._cb, queue_size=50, buff_size=1 << 24)
+
+    def _cb(self, m):
+        with self.lock:
+            self.msgs.append(m)
+
+    def wait(self, cond, what, timeout=WALL_TIMEOUT):
+        end = time.time() + timeout
+        while time.time() < end and not rospy.is_shutdown():
+            with self.lock:
+                if cond(self.msgs):
+                    return list(self.msgs)
+            time.sleep(0.01)
+        raise AssertionError('timed out waiting for ' + what)
+
+
+class CameraTests(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('camera_test')
+        cls.image = Collector('/mybot/camera1/image_raw', Image)
+        cls.info = Collector('/mybot/camera1/camera_info', CameraInfo)
+        cls.depth = Collector('/depth_cam/depth/image_raw', Image)
+
+    def test_image_and_info_sizes_rate(self):
+        first = self.image.wait(lambda m: len(m) > 0, 'a camera image')[0]
+        t0 = first.header.stamp.to_sec()
+        msgs = self.image.wait(lambda m: m[-1].header.stamp.to_sec() >= t0 + 2.0, '2 sim-seconds of images')
+        stamps = [m.header.stamp.to_sec() for m in msgs if t0 <= m.header.stamp.to_sec() <= t0 + 2.0]
+        rate = (len(stamps) - 1) / (stamps[-1] - stamps[0])
+        self.assertAlmostEqual(rate, 30.0, delta=3.0)
+        m = msgs[-1]
+        self.assertEqual((m.width, m.height, m.encoding, m.step), (800, 800, 'rgb8', 2400))
+        self.assertEqual(len(m.data), 800 * 800 * 3)
+        self.assertEqual(m.header.frame_id, 'camera')
+        img = np.frombuffer(m.data, dtype=np.uint8).reshape(800, 800, 3).astype(int)
+        sky, wall = img[20:40, 380:420].mean(axis=(0, 1)), img[370:390, 380:420].mean(axis=(0, 1))
+        self.assertGreater(sky[2], sky[0] + 20)  # bluish sky at the top
+        self.assertLess(abs(wall[0] - wall[2]), 10)  # grey wall straight ahead
+
+        info = self.info.wait(lambda m: len(m) > 0, 'camera_info')[-1]
+        f = 800 / (2 * math.tan(1.3962634 / 2))
+        self.assertEqual((info.width, info.height, info.header.frame_id), (800, 800, 'camera'))
+        np.testing.assert_allclose(info.K, [f, 0, 400.5, 0, f, 400.5, 0, 0, 1], rtol=1e-9)
+        np.testing.assert_allclose(info.P, [f, 0, 400.5, -f * 0.07, 0, f, 400.5, 0, 0, 0, 1, 0], rtol=1e-9)
+        self.assertEqual(info.distortion_model, 'plumb_bob')
+        self.assertEqual(len(info.D), 5)
+
+    def test_depth_to_wall_matches_ground_truth(self):
+        msgs = self.depth.wait(lambda m: len(m) >= 3, 'depth images')
+        m = msgs[-1]
+        self.assertEqual((m.width, m.height, m.encoding, m.step), (160, 120, '32FC1', 640))
+        d = np.frombuffer(m.data, dtype=np.float32).reshape(120, 160)
+        st = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)(model_name='depth_cam')
+        self.assertTrue(st.success)
+        # The cube faces +y; its camera sits 5 cm ahead of its centre; the wall face is at y = 5.
+        truth = 5.0 - (st.pose.position.y + 0.05)
+        centre = d[30:60, 70:90]  # the wall spans rows 18..65 (camera 10 cm above the floor)
+        self.assertAlmostEqual(float(np.median(centre)), truth, delta=0.005)
+        self.assertLess(abs(float(np.std(centre)) - 0.005), 0.002)  # the configured noise
+        self.assertTrue(np.isnan(d[0:5, :]).all())  # sky: no reading
+
+
+if __name__ == '__main__':
+    rostest.rosrun('mybot_gazebo_lite', 'sim_camera', CameraTests)
