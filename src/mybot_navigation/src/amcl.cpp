@@ -111,10 +111,10 @@ bool Amcl::processScan(const Pose2D& odom_pose, const LaserScanData& scan)
     const double da = normalizeAngle(odom_pose.theta - last_odom_.theta);
     const bool moved = std::abs(dx) > params_.update_min_d || std::abs(dy) > params_.update_min_d ||
                        std::abs(da) > params_.update_min_a;
-    if (moved)
-      filter_.predict(motion_, last_odom_, odom_pose);
     if (moved || force_update_)
     {
+      // A forced update still carries whatever motion happened since the last one.
+      filter_.predict(motion_, last_odom_, odom_pose);
       last_odom_ = odom_pose;
       update = true;
     }

@@ -116,15 +116,22 @@ void LikelihoodField::setMap(const GridMap& map)
   for (size_t i = 0; i < n; ++i)
     seed[i] = map.data[i] >= params_.occupied_threshold ? 1 : 0;
   dist_ = distanceTransform(seed, info_.width, info_.height);
+  // Inside obstacles use the depth below the surface: amcl's field is 0 everywhere inside, so
+  // with solid (thick) obstacles end points may sink into walls unpunished, which biases the
+  // pose towards them.
+  std::vector<uint8_t> outside(n);
+  for (size_t i = 0; i < n; ++i)
+    outside[i] = !seed[i];
+  const std::vector<float> depth = distanceTransform(outside, info_.width, info_.height);
   gauss_.resize(n);
   const double max_d = params_.likelihood_max_dist;
   const double denom = 2.0 * params_.sigma_hit * params_.sigma_hit;
   for (size_t i = 0; i < n; ++i)
   {
     // Centre-to-centre distance minus half a cell approximates the distance to the obstacle's
-    // face; amcl's plain cell distance biases poses by half a cell towards one-sided walls.
-    const double centres = static_cast<double>(dist_[i]) * info_.resolution;
-    const double d = std::min(seed[i] ? 0.0 : std::max(0.0, centres - 0.5 * info_.resolution), max_d);
+    // surface (amcl's plain cell distance biases poses by half a cell).
+    const double centres = static_cast<double>(seed[i] ? depth[i] : dist_[i]) * info_.resolution;
+    const double d = std::min(std::max(0.0, centres - 0.5 * info_.resolution), max_d);
     dist_[i] = static_cast<float>(d);
     gauss_[i] = static_cast<float>(std::exp(-d * d / denom));
   }
