@@ -232,8 +232,8 @@ WheelGeometry loadWheelGeometry(const ParamReader& p, const std::string& left_jo
   {
     std::string key, xml;
     if (!p.nh().searchParam("robot_description", key) || !p.nh().getParam(key, xml))
-      throw ParamError("parameters " + p.full("wheel_separation") + "/wheel_radius not set and no robot_description "
-                       "to read them from");
+      throw ParamError("parameter " + p.full(need_separation && !have_sep ? "wheel_separation" : "wheel_radius") +
+                       " not set and no robot_description to read it from");
     g = wheelGeometryFromUrdf(xml, left_joint, right_joint);
   }
   if (have_sep)
