@@ -133,8 +133,17 @@ void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const Came
   const auto& prisms = scene.prisms();
   std::vector<PrismScene::ColumnHit> hits;
   // Per-row vertical slope of the pixel ray: z = zc + m * depth.
-  std::vector<double> slope(h);
-  for (int v = 0; v < h; ++v) slope[v] = -(v - k.cy) / k.fy;
+  // Floor depth, haze and sky colour depend on the row only.
+  std::vector<double> slope(h), floor_d(h), fog(h), sky(3 * h);
+  for (int v = 0; v < h; ++v) {
+    const double m = slope[v] = -(v - k.cy) / k.fy;
+    floor_d[v] = (scene.ground() && m < 0 && zc > 0) ? zc / -m : kInf;
+    fog[v] = 1 - std::exp(-floor_d[v] / 30.0);  // checker fades into haze: no aliasing at the horizon
+    const double e = std::clamp(m * 2, 0.0, 1.0);  // sky: pale at the horizon, blue above
+    sky[3 * v] = 0.75 - 0.3 * e;
+    sky[3 * v + 1] = 0.85 - 0.2 * e;
+    sky[3 * v + 2] = 0.95 - 0.05 * e;
+  }
   for (int u = 0; u < w; ++u) {
     const double a = (u - k.cx) / k.fx;
     const double kn = std::sqrt(1 + a * a);  // 2D ray length per unit of depth
@@ -142,7 +151,7 @@ void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const Came
     scene.column(pose.x, pose.y, dx, dy, s.far * kn, hits);
     for (int v = 0; v < h; ++v) {
       const double m = slope[v];
-      const double d_floor = (scene.ground() && m < 0 && zc > 0) ? zc / -m : kInf;
+      const double d_floor = floor_d[v];
       double d = kInf, shade = 0;
       const PrismScene::Prism* hit = nullptr;
       for (const auto& c : hits) {
@@ -179,13 +188,9 @@ void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const Came
       } else if (floor) {
         const double px = pose.x + dx * d * kn, py = pose.y + dy * d * kn;
         const double g = ((static_cast<long>(std::floor(px)) + static_cast<long>(std::floor(py))) & 1) ? 0.55 : 0.42;
-        const double fog = 1 - std::exp(-d / 30.0);  // checker fades into haze: no aliasing at the horizon
-        for (double& ci : c) ci = g * (1 - fog) + 0.7 * fog;
+        for (double& ci : c) ci = g * (1 - fog[v]) + 0.7 * fog[v];
       } else {
-        const double e = std::clamp(m * 2, 0.0, 1.0);  // sky: pale at the horizon, blue above
-        c[0] = 0.75 - 0.3 * e;
-        c[1] = 0.85 - 0.2 * e;
-        c[2] = 0.95 - 0.05 * e;
+        std::copy(&sky[3 * v], &sky[3 * v] + 3, c);
       }
       for (int i = 0; i < 3; ++i) rgb[idx * 3 + i] = toByte(c[i]);
     }
