@@ -57,4 +57,10 @@ if(CATKIN_ENABLE_TESTING)
   find_package(rostest REQUIRED)
   add_rostest(test/nav/nav_mybot.test)
   add_rostest(test/nav/nav_errors.test)
+  add_rostest(test/nav/amcl_global.test)
+  add_rostest(test/nav/amcl_kidnap.test)
 endif()
+
+# Benchmark (bench/bench_nav at the workspace root runs it).
+add_executable(bench_nav_lib bench/bench_nav.cpp)
+target_link_libraries(bench_nav_lib mybot_nav_lib)
