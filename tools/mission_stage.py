@@ -18,6 +18,7 @@ import sys
 import time
 
 import actionlib
+import rosgraph
 import numpy as np
 import rospy
 import tf2_ros
@@ -214,6 +215,16 @@ def main():
     ap.add_argument("--startup-timeout", type=float, default=120.0)
     args = ap.parse_args()
 
+    # rospy reads /use_sim_time once, in init_node: wait until the launch has set it.
+    master = rosgraph.Master("/demo_" + args.stage)
+    deadline = time.monotonic() + args.startup_timeout
+    while time.monotonic() < deadline:
+        try:
+            if master.hasParam("/use_sim_time"):
+                break
+        except Exception:  # master not up yet
+            pass
+        time.sleep(0.1)
     rospy.init_node("demo_" + args.stage, disable_signals=True)
     result = {"stage": args.stage, "name": args.name, "ok": False}
     wall0 = time.monotonic()
