@@ -59,6 +59,7 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/nav/nav_errors.test)
   add_rostest(test/nav/amcl_global.test)
   add_rostest(test/nav/amcl_kidnap.test)
+  add_rostest(test/nav/nav_factory.test)
 endif()
 
 # Benchmark (bench/bench_nav at the workspace root runs it).
