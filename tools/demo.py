@@ -242,8 +242,11 @@ def plot(robot, out, truth_yaml, map_yaml, traj_map, traj_nav, goals_map, fronti
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(16, 7))
-    for ax, (title, traj) in zip(axes, (("mapping (exploration)", traj_map), ("navigation on the saved map", traj_nav))):
+    panels = [("mapping (exploration)", traj_map)]
+    if traj_nav is not None:
+        panels.append(("navigation on the saved map", traj_nav))
+    fig, axes = plt.subplots(1, len(panels), figsize=(8 * len(panels) + 1, 7), squeeze=False)
+    for ax, (title, traj) in zip(axes[0], panels):
         grid, meta = load_map(map_yaml)
         res, (ox, oy) = meta["resolution"], meta["origin"][:2]
         img = np.where(grid == 100, 0.0, np.where(grid == 0, 1.0, 0.75))
@@ -268,8 +271,9 @@ def plot(robot, out, truth_yaml, map_yaml, traj_map, traj_nav, goals_map, fronti
     fig.savefig(os.path.join(out, robot + "_map.png"), dpi=110)
     plt.close(fig)
 
-    fig, axes = plt.subplots(2, 1, figsize=(12, 7), sharex=False)
-    for ax, (title, traj) in zip(axes, (("mapping", traj_map), ("navigation", traj_nav))):
+    panels = [("mapping", traj_map)] + ([("navigation", traj_nav)] if traj_nav is not None else [])
+    fig, axes = plt.subplots(len(panels), 1, figsize=(12, 3.5 * len(panels) + 0.5), squeeze=False)
+    for ax, (title, traj) in zip(axes[:, 0], panels):
         if traj is None or not len(traj):
             continue
         t = traj[:, 0] - traj[0, 0]
