@@ -3,22 +3,26 @@
 
 Run as root from the test (test/python/test_two_machines.py) with the workspace
 environment sourced:  scenario.py <host-ns> <pi-ns> <host-veth> <host-ip> <pi-ip>
-This process runs inside the host namespace: it starts the ROS master there and
-acts as the host-side controller (publishes the wheel commands the wheel
-controller would and watches joint_states); the driver runs in the pi namespace
-with ROS_MASTER_URI/ROS_IP pointing across the link. Steps:
-  1. a command on the host moves the simulated motors on the pi;
-  2. `ip link set <host-veth> down`: the pi's driver stops the motors within 0.6 s;
+This process runs inside the host namespace: it starts the ROS master there and the
+host half of the split (nav_behaviors.launch: twist_mux, diffdrive_controller,
+diffdrive_odom); the pi namespace runs gopigo_interface.launch (driver with simulated
+motors + wheel_controller) with ROS_MASTER_URI/ROS_IP pointing across the link, plus a
+recorder of the driver's applied motor commands (this script with --record), so the
+stop is timed on the pi itself, not through the cut link. Steps:
+  1. a cmd_vel on the host moves the simulated motors on the pi, and the host's
+     odometry advances;
+  2. `ip link set <host-veth> down`: the pi stops the motors within 0.6 s and they
+     stay still during the outage;
   3. `ip link set <host-veth> up`: control resumes.
 Exit 0 when every check passes; a message per failure otherwise.
 """
 import os
-import re
 import signal
 import subprocess
 import sys
 import tempfile
 import time
+
 
 PORT = 11311
 
@@ -58,7 +62,35 @@ def wait_for(pred, timeout, what):
     return False
 
 
+def record(path):
+    """Pi side: log (stamp, positions, velocities, applied motor commands) of sim_truth."""
+    import rospy
+    from sensor_msgs.msg import JointState
+    out = open(path, "w")
+
+    def on_truth(m):
+        out.write("%.4f %s\n" % (m.header.stamp.to_sec(), " ".join(
+            "%.6f" % x for x in tuple(m.position) + tuple(m.velocity) + tuple(m.effort))))
+        out.flush()
+    rospy.init_node("pi_recorder")
+    rospy.Subscriber("gopigo_driver/sim_truth", JointState, on_truth, queue_size=50)
+    rospy.spin()
+    return 0
+
+
+def read_record(path):
+    rows = []
+    with open(path) as f:
+        for line in f:
+            v = [float(x) for x in line.split()]
+            if len(v) == 7:
+                rows.append((v[0], v[1:3], v[3:5], v[5:7]))  # stamp, pos, vel, command
+    return rows
+
+
 def main():
+    if sys.argv[1] == "--record":
+        return record(sys.argv[2])
     host_ns, pi_ns, host_veth, host_ip, pi_ip = sys.argv[1:6]
     tmp = tempfile.mkdtemp(prefix="gopigo_netns_")
     base = dict(os.environ, ROS_LOG_DIR=tmp, ROS_HOME=tmp, PYTHONUNBUFFERED="1")
@@ -67,45 +99,68 @@ def main():
     host_env = dict(base, ROS_MASTER_URI=master, ROS_IP=host_ip)
     pi_env = dict(base, ROS_MASTER_URI=master, ROS_IP=pi_ip)
     failures = []
-    core = driver = None
+    core = host = pi = recorder = None
     try:
         core = start(["roscore", "-p", str(PORT)], host_env, os.path.join(tmp, "roscore.log"))
         os.environ.update(host_env)
         import rosgraph
         if not wait_for(lambda: rosgraph.is_master_online(master), 30, "the master"):
             return 1
-        driver_log = os.path.join(tmp, "driver.log")
-        driver = start(["rosrun", "gopigo_bringup", "gopigo_driver", "_gopigo_on:=false",
-                        "_cmd_timeout:=0.5", "_rate:=20"], pi_env, driver_log, netns=pi_ns)
+        # The host launch loads the shared config first; the pi's launch loads it again
+        # with its own <param> overrides on top.
+        host = start(["roslaunch", "gopigo_bringup", "nav_behaviors.launch", "output:=screen"],
+                     host_env, os.path.join(tmp, "host.log"))
 
         import rospy
+        from geometry_msgs.msg import Twist
+        from nav_msgs.msg import Odometry
         from sensor_msgs.msg import JointState
-        from std_msgs.msg import Float32
-        rospy.init_node("host_controller", disable_signals=True)
+        rospy.init_node("host_operator", disable_signals=True)
+        odom = []  # (receive wall time, x)
+        rospy.Subscriber("odom", Odometry, lambda m: odom.append((time.time(), m.pose.pose.position.x)))
+        pi = start(["roslaunch", "gopigo_bringup", "gopigo_interface.launch", "output:=screen"],
+                   pi_env, os.path.join(tmp, "pi.log"), netns=pi_ns)
+        record_file = os.path.join(tmp, "pi_motors.txt")
+        recorder = start([sys.executable, os.path.abspath(__file__), "--record", record_file],
+                         pi_env, os.path.join(tmp, "recorder.log"), netns=pi_ns)
+
         states = []  # (receive wall time, stamp, positions, velocities)
         rospy.Subscriber("joint_states", JointState,
                          lambda m: states.append((time.time(), m.header.stamp.to_sec(),
                                                   tuple(m.position), tuple(m.velocity))))
-        lpub = rospy.Publisher("lwheel_angular_vel_motor", Float32, queue_size=1)
-        rpub = rospy.Publisher("rwheel_angular_vel_motor", Float32, queue_size=1)
+        cmd_pub = rospy.Publisher("key_vel", Twist, queue_size=1)
         command = [0.0]
 
         def send(_event):
-            lpub.publish(Float32(command[0]))
-            rpub.publish(Float32(command[0]))
+            t = Twist()
+            t.linear.x = command[0]
+            cmd_pub.publish(t)
         rospy.Timer(rospy.Duration(0.05), send)
 
         if not wait_for(lambda: len(states) > 5, 30, "joint_states from the pi"):
             failures.append("no joint_states from the driver in the pi namespace")
             return 1
-        log("driver on the pi is publishing; commanding 3 rad/s")
-        command[0] = 3.0
+        if not wait_for(lambda: os.path.exists(record_file) and read_record(record_file), 30,
+                        "the pi-side recorder"):
+            failures.append("the recorder in the pi namespace got no sim_truth")
+            return 1
+        if not wait_for(lambda: len(odom) > 5, 30, "odom from diffdrive_odom on the host (it needs the pi's joint_states)"):
+            failures.append("the host's odometry never started")
+            return 1
+        # 0.1 m/s straight = 0.1 / 0.03325 = 3.0 rad/s per wheel
+        log("host and pi up; cmd_vel 0.1 m/s on the host")
+        command[0] = 0.1
         moving = lambda: states and min(states[-1][3]) > 2.5
         if not wait_for(moving, 10, "wheels at 3 rad/s"):
-            failures.append("a command from the host did not move the simulated motors on the pi")
+            failures.append("a cmd_vel on the host did not move the simulated motors on the pi")
             return 1
         log("wheels turning: %s rad/s" % (states[-1][3],))
+        x0 = odom[-1][1]
         time.sleep(1.0)
+        advance = odom[-1][1] - x0
+        log("host odometry advanced %.3f m in 1 s of driving" % advance)
+        if not 0.07 < advance < 0.13:
+            failures.append("host odometry advanced %.3f m in 1 s at 0.1 m/s" % advance)
 
         log("cutting the link: ip link set %s down" % host_veth)
         t_cut = time.time()
@@ -115,50 +170,59 @@ def main():
         subprocess.check_call(["ip", "link", "set", host_veth, "up"])
         log("link restored after %.2f s" % (t_restore - t_cut))
 
-        # The driver logs the stop with its own (ROS = wall) clock.
-        def stop_time():
-            with open(driver_log) as f:
-                for line in f:
-                    m = re.search(r"\[(\d+\.\d+)\]: motors stopped: (.*)", line)
-                    if m and float(m.group(1)) > t_cut:
-                        return float(m.group(1)), m.group(2)
-            return None
-        if not wait_for(lambda: stop_time() is not None, 5, "the driver's stop line"):
-            failures.append("the driver never stopped the motors after the link was cut")
+        # Stop timed on the pi: the first applied motor command of zero after the cut.
+        rows = read_record(record_file)
+        t_stop = next((r[0] for r in rows if r[0] > t_cut and r[3] == [0.0, 0.0]), None)
+        if t_stop is None:
+            failures.append("the pi never stopped the motors after the link was cut")
         else:
-            t_stop, reason = stop_time()
-            log("driver stopped the motors %.3f s after the cut (%s)" % (t_stop - t_cut, reason.strip()))
+            log("pi stopped the motors %.3f s after the cut" % (t_stop - t_cut))
             if t_stop - t_cut > 0.6:
                 failures.append("motors stopped %.3f s after the cut (> 0.6 s)" % (t_stop - t_cut))
+            outage = [r for r in rows if t_stop < r[0] < t_restore - 0.1]
+            driven = [r for r in outage if r[3] != [0.0, 0.0]]
+            if driven:
+                failures.append("motors driven again during the outage: %s at %.2f s after the cut"
+                                % (driven[0][3], driven[0][0] - t_cut))
+            settled = [r for r in outage if r[0] > t_stop + 0.5]  # motor time constant 0.1 s
+            if settled:
+                spread = max(max(r[1][i] for r in settled) - min(r[1][i] for r in settled) for i in (0, 1))
+                log("%d pi samples in the outage; wheel travel once stopped: %.4f rad" % (len(settled), spread))
+                if spread > 0.02:
+                    failures.append("wheels kept turning during the outage (%.3f rad)" % spread)
+            else:
+                failures.append("no pi samples recorded during the outage")
+        with open(os.path.join(tmp, "pi.log")) as f:
+            lost = [l.strip() for l in f if "motors stopped" in l]
+        log("driver: %s" % (lost[-1] if lost else "no stop line"))
 
-        # Control resumes: fresh joint_states (stamped after the restore) show the wheels turning.
+        # Control resumes: fresh joint_states (stamped after the restore) show the wheels turning,
+        # and the host's odometry advances again.
         resumed = lambda: any(s[1] > t_restore and min(s[3]) > 2.5 for s in states[-5:])
         if not wait_for(resumed, 20, "control to resume after the restore"):
             failures.append("control did not resume after the link came back")
         else:
             log("control resumed %.2f s after the restore" % (
                 next(s[1] for s in states if s[1] > t_restore and min(s[3]) > 2.5) - t_restore))
-        # Samples the pi buffered during the outage: the wheels stood still once stopped.
-        outage = [s for s in states if t_cut + 1.0 < s[1] < t_restore - 0.1]
-        if outage:
-            spread = max(max(s[2][i] for s in outage) - min(s[2][i] for s in outage) for i in (0, 1))
-            log("%d joint_states from the outage reached the host; wheel travel in them: %.4f rad"
-                % (len(outage), spread))
-            if spread > 0.02:
-                failures.append("wheels kept turning during the outage (%.3f rad)" % spread)
+            x1 = odom[-1][1]
+            time.sleep(0.5)
+            log("host odometry advanced %.3f m in 0.5 s after the restore" % (odom[-1][1] - x1))
+            if odom[-1][1] - x1 < 0.03:
+                failures.append("host odometry did not advance after the restore")
 
         command[0] = 0.0
         time.sleep(0.3)
     finally:
         for f in failures:
             log("FAIL: " + f)
-        stop(driver)
+        for p in (recorder, pi, host):
+            stop(p)
         stop(core)
         if failures or os.environ.get("GOPIGO_NETNS_VERBOSE"):
-            for name in ("driver.log",):
+            for name in ("pi.log", "host.log"):
                 p = os.path.join(tmp, name)
                 if os.path.exists(p):
-                    log("---- %s ----\n%s" % (name, open(p).read()[-4000:]))
+                    log("---- %s ----\n%s" % (name, open(p).read()[-3000:]))
     if failures:
         return 1
     log("PASS")
