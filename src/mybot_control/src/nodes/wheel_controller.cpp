@@ -170,6 +170,13 @@ private:
       {
         motor = target;
       }
+      else if (target == 0.0)
+      {
+        // A zero target is a stop, as in the tutorial: command zero rather than let the
+        // PID hunt around zero against a motor's dead band.
+        w.pid.reset();
+        publish(w.control_pub, 0.0);
+      }
       else if (!w.encoder.valid() || (now - w.encoder_stamp).toSec() > encoder_timeout_)
       {
         // Closed loop without a measurement is blind: stop rather than guess.
