@@ -215,10 +215,12 @@ class TestWebBrowser(BrowserTest):
         self.assertAlmostEqual(p.pose.position.y, view[1] + 60 / view[2], delta=0.02)
         self.assertEqual(p.header.frame_id, self.js("return window.mybotWeb.state.frame"))
         wait_for(lambda: w.nav_lock is False, 5.0, "a goal to switch to autonomous")
-        wait_for(lambda: "ACTIVE" in b.find_element(By.ID, "goal").text, 10.0,
+        # The status reaches the page through actionlib, the node and a websocket frame:
+        # allow for a loaded machine (10 s was seen to expire once under load).
+        wait_for(lambda: "ACTIVE" in b.find_element(By.ID, "goal").text, 30.0,
                  "the page to show the goal active")
         b.find_element(By.ID, "cancel").click()
-        wait_for(lambda: "PREEMPTED" in b.find_element(By.ID, "goal").text, 10.0,
+        wait_for(lambda: "PREEMPTED" in b.find_element(By.ID, "goal").text, 30.0,
                  "the page to show the goal cancelled")
 
         # Closing the page while driving stops the robot.
