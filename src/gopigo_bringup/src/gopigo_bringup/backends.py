@@ -15,6 +15,7 @@ wheel angles in rad, left and right, in that order.
 * SimBackend     - two SimMotor models driven through the same motor map as
   the v1/v2 board.
 """
+import abc
 import math
 
 from .encoder import DirectionalPulseCounter, EncoderUnwrapper, counts_to_radians
@@ -25,21 +26,21 @@ class BackendError(RuntimeError):
     """The hardware did not answer as expected (read failed, bad reply)."""
 
 
-class Backend:
+class Backend(abc.ABC):
     name = "abstract"
     counts_per_rev = 0
 
+    @abc.abstractmethod
     def write(self, left, right, t):
         """Drive the wheels at left/right rad/s (t: current time, s)."""
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def stop(self, t):
         """Zero power/speed to both motors. Must not raise for a healthy link."""
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def read_positions(self, t):
         """(left, right) unwrapped wheel angles in rad; raises BackendError."""
-        raise NotImplementedError
 
     def battery_voltage(self):
         """Battery voltage in V, or None when it could not be read."""
