@@ -180,16 +180,25 @@ def world_to_map_frame(pose, origin):
     return (c * dx - s * dy, s * dx + c * dy, (pose[2] - oyaw + math.pi) % (2 * math.pi) - math.pi)
 
 
-def pick_goals(truth_yaml, start_xy, n, clearance, seed=7):
-    """Goals spread over the free space of the ground-truth map (world frame):
-    farthest-point sampling among cells with enough clearance that connect to
-    the start, deterministic for a given world."""
+def pick_goals(truth_yaml, map_yaml, map_origin, start_xy, n, clearance, seed=7):
+    """Goals spread over the free space (world frame): cells with enough
+    clearance in the ground truth that the saved map also knows as free (a
+    robot can only plan where it mapped) and that connect to the start;
+    farthest-point sampling, deterministic for a given world and map."""
     from scipy import ndimage
     grid, meta = load_map(truth_yaml)
     res, (ox, oy) = meta["resolution"], meta["origin"][:2]
     free = grid == 0
+    rows, cols = np.indices(grid.shape)
+    mgrid, mmeta = load_map(map_yaml)
+    mres, (mox, moy) = mmeta["resolution"], mmeta["origin"][:2]
+    mx, my, myaw = world_to_map_frame((ox + (cols + 0.5) * res, oy + (rows + 0.5) * res, 0.0), map_origin)
+    mc, mr = np.floor((mx - mox) / mres).astype(int), np.floor((my - moy) / mres).astype(int)
+    inside = (mr >= 0) & (mr < mgrid.shape[0]) & (mc >= 0) & (mc < mgrid.shape[1])
+    mapped = np.zeros_like(free)
+    mapped[inside] = mgrid[mr[inside], mc[inside]] == 0
     clear = ndimage.distance_transform_edt(free) * res
-    ok = clear >= clearance
+    ok = (clear >= clearance) & mapped
     labels, _ = ndimage.label(ok)
     sr, sc = int((start_xy[1] - oy) / res), int((start_xy[0] - ox) / res)
     lab = labels[sr, sc] if 0 <= sr < grid.shape[0] and 0 <= sc < grid.shape[1] else 0
@@ -308,20 +317,26 @@ def frontier_goals_from_log(path):
     return goals
 
 
-def run_robot(robot, args, world, truth_yaml, out):
-    summary = {"robot": robot}
+def run_mapping(robot, args, world, truth_yaml, out, common, summary):
+    """Stage 1: explore with SLAM, save the map, score it. Returns the
+    trajectory (None if the stage failed) and whether the map is good enough."""
     thresholds = {"precision": 0.85, "recall": 0.75}
-    wfile = os.path.join(args.worlds_dir, world["file"])
     mx, my, myaw = world["map_start"]
-    nx, ny, nyaw = world["nav_start"]
-    common = {"robot": robot, "world": wfile, "real_time_factor": args.real_time_factor, "rviz": str(args.gui).lower()}
-
     log("%s: mapping %s: spawn at (%.1f, %.1f), SLAM + navigation + frontier exploration" % (robot, args.world, mx, my))
     stage = Stage(robot + "_mapping", os.path.join(TOOLS, "launch", "mission_mapping.launch"),
                   dict(common, x=mx, y=my, yaw=myaw), out)
     map_prefix = os.path.join(out, robot + "_map")
+    # Explore inside the world's extent: rays through the loading bay's door would
+    # otherwise lead the robot out into the empty plane around the building.
+    grid, meta = load_map(truth_yaml)
+    (ox, oy), res = meta["origin"][:2], meta["resolution"]
+    corners = [world_to_map_frame((x, y, 0.0), (mx, my, myaw))[:2]
+               for x in (ox, ox + grid.shape[1] * res) for y in (oy, oy + grid.shape[0] * res)]
+    boundary = [min(c[0] for c in corners), min(c[1] for c in corners),
+                max(c[0] for c in corners), max(c[1] for c in corners)]
     try:
         stage.run("mapping", "--map-out", map_prefix, "--budget", str(args.explore_budget),
+                  "--boundary", *["%.3f" % v for v in boundary],
                   "--robot-radius", str(ROBOT_RADIUS[robot] + 0.15), "--map-origin", str(mx), str(my), str(myaw),
                   timeout=args.stage_timeout)
     finally:
@@ -330,7 +345,7 @@ def run_robot(robot, args, world, truth_yaml, out):
     summary["mapping"] = mapping
     if not mapping.get("ok"):
         log("%s: mapping FAILED: %s" % (robot, mapping.get("error", "see logs")))
-        return summary, False
+        return None, False
     traj_map = np.load(os.path.join(out, robot + "_mapping_traj.npz"))["traj"]
     summary["map_score"] = score_map(map_prefix + ".yaml", truth_yaml, os.path.join(out, robot + "_mapping_traj.npz"),
                                      os.path.join(out, robot + "_mapping"))
@@ -344,11 +359,30 @@ def run_robot(robot, args, world, truth_yaml, out):
                   and summary["mapping_collisions"] == 0)
     log("%s: mapping %s (needs precision >= %.2f, recall >= %.2f, no collision)" % (
         robot, "succeeded" if mapping_ok else "FAILED", thresholds["precision"], thresholds["recall"]))
-    if not args.navigate:
+    return traj_map, mapping_ok
+
+
+def run_robot(robot, args, world, truth_yaml, out):
+    summary = {"robot": robot}
+    wfile = os.path.join(args.worlds_dir, world["file"])
+    mx, my, myaw = world["map_start"]
+    nx, ny, nyaw = world["nav_start"]
+    common = {"robot": robot, "world": wfile, "real_time_factor": args.real_time_factor, "rviz": str(args.gui).lower()}
+
+    if args.map:
+        map_prefix = os.path.splitext(os.path.abspath(args.map))[0]
+        log("%s: mapping skipped, navigating on %s.yaml (--map)" % (robot, map_prefix))
+        traj_map, mapping_ok = None, True
+    else:
+        traj_map, mapping_ok = run_mapping(robot, args, world, truth_yaml, out, common, summary)
+        map_prefix = os.path.join(out, robot + "_map")
+        if traj_map is None:
+            return summary, False
+    if not args.navigate and not args.map:
         plot(robot, out, truth_yaml, map_prefix + ".yaml", traj_map, None, [],
              frontier_goals_from_log(os.path.join(out, robot + "_mapping_explore.log")))
         return summary, mapping_ok
-    goals_world = pick_goals(truth_yaml, (nx, ny), args.goals, clearance=ROBOT_RADIUS[robot] + 0.35)
+    goals_world = pick_goals(truth_yaml, map_prefix + ".yaml", (mx, my, myaw), (nx, ny), args.goals, clearance=ROBOT_RADIUS[robot] + 0.35)
     goals_map = []
     for i, (gx, gy) in enumerate(goals_world):
         px, py = goals_world[i - 1] if i else (nx, ny)
@@ -357,7 +391,8 @@ def run_robot(robot, args, world, truth_yaml, out):
     init = world_to_map_frame((nx + 0.2, ny - 0.15, nyaw + 0.1), (mx, my, myaw))  # a rough estimate, as a user clicks
     log("%s: navigation: respawn at (%.1f, %.1f), map_server + AMCL + navigation, %d goals" % (robot, nx, ny, len(goals_map)))
     stage = Stage(robot + "_navigation", os.path.join(TOOLS, "launch", "mission_navigation.launch"),
-                  dict(common, x=nx, y=ny, yaw=nyaw, map_file=map_prefix + ".yaml"), out)
+                  dict(common, x=nx, y=ny, yaw=nyaw, map_file=map_prefix + ".yaml",
+                       real_time_factor=args.nav_real_time_factor), out)
     try:
         stage.run("navigation", "--initial-pose", *[str(v) for v in init], "--goals", json.dumps(goals_map),
                   "--map-origin", str(mx), str(my), str(myaw), "--goal-timeout", str(args.goal_timeout),
@@ -428,6 +463,9 @@ def main():
     ap.add_argument("--gui", action="store_true", help="also start rviz (needs a display)")
     ap.add_argument("--real-time-factor", type=float, default=8.0,
                     help="simulator pace (0 = as fast as possible; the stack must keep up on 2 cores)")
+    ap.add_argument("--nav-real-time-factor", type=float, default=4.0,
+                    help="simulator pace of the navigation stage (AMCL + the local planner need more CPU per sim second)")
+    ap.add_argument("--map", help="navigate on this saved map (map_server YAML) instead of exploring first")
     ap.add_argument("--goals", type=int, default=5, help="goals to visit per robot")
     ap.add_argument("--explore-budget", type=float, default=900.0, help="sim seconds of exploration per robot")
     ap.add_argument("--goal-timeout", type=float, default=240.0, help="sim seconds per goal")

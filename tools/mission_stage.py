@@ -128,8 +128,11 @@ def path_length(a):
 def run_mapping(args, rec, result):
     log("exploring (frontiers on the SLAM map, goals through the move_base action)")
     t0 = rospy.Time.now()
-    explore = subprocess.run(["rosrun", "mybot_navigation", "explore",
-                              "_time_budget:=%f" % args.budget, "_robot_radius:=%f" % args.robot_radius],
+    cmd = ["rosrun", "mybot_navigation", "explore",
+           "_time_budget:=%f" % args.budget, "_robot_radius:=%f" % args.robot_radius]
+    if args.boundary:
+        cmd.append("_boundary:=[%s]" % ",".join("%.3f" % v for v in args.boundary))
+    explore = subprocess.run(cmd,
                              stdout=open(args.out + "/" + args.name + "_explore.log", "w"), stderr=subprocess.STDOUT)
     result["explore_exit"] = explore.returncode
     result["explore_sim_s"] = (rospy.Time.now() - t0).to_sec()
@@ -208,6 +211,7 @@ def main():
     ap.add_argument("--map-out", help="mapping: map_saver -f argument")
     ap.add_argument("--budget", type=float, default=900.0, help="mapping: exploration budget, sim s")
     ap.add_argument("--robot-radius", type=float, default=0.25)
+    ap.add_argument("--boundary", type=float, nargs=4, help="mapping: explore only inside xmin ymin xmax ymax (map frame)")
     ap.add_argument("--initial-pose", type=float, nargs=3, help="navigation: AMCL initial pose (map frame)")
     ap.add_argument("--goals", type=json.loads, default=[], help="navigation: JSON list of [x, y, yaw]")
     ap.add_argument("--goal-timeout", type=float, default=180.0)

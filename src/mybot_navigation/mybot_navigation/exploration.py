@@ -76,8 +76,11 @@ def path_lengths(passable, start):
 
 
 def find_frontiers(grid, info, robot_xy, robot_radius=0.2, min_frontier_size=5,
-                   blacklist=(), blacklist_radius=0.5, free_thresh=25):
-    """Frontier clusters reachable from the robot, nearest (by path) first."""
+                   blacklist=(), blacklist_radius=0.5, free_thresh=25, boundary=None):
+    """Frontier clusters reachable from the robot, nearest (by path) first.
+    boundary (xmin, ymin, xmax, ymax), in the map frame, keeps exploration
+    inside an area: laser rays leaving through an open door do not send the
+    robot out to map the car park."""
     grid = np.asarray(grid)
     free = free_mask(grid, free_thresh)
     blocked = ~free  # unknown counts as blocked for clearance: goals stay inside known space
@@ -99,7 +102,14 @@ def find_frontiers(grid, info, robot_xy, robot_radius=0.2, min_frontier_size=5,
         start = tuple(int(v) for v in near)
     dist = path_lengths(passable, start)
 
-    labels, n = ndimage.label(frontier_mask(grid, free_thresh), structure=np.ones((3, 3)))
+    front = frontier_mask(grid, free_thresh)
+    if boundary is not None:
+        xmin, ymin, xmax, ymax = boundary
+        rows, cols = np.indices(grid.shape)
+        x = info.origin_x + (cols + 0.5) * info.resolution
+        y = info.origin_y + (rows + 0.5) * info.resolution
+        front &= (x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax)
+    labels, n = ndimage.label(front, structure=np.ones((3, 3)))
     frontiers = []
     for k in range(1, n + 1):
         cells = np.argwhere(labels == k)

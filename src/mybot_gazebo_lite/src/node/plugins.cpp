@@ -410,6 +410,9 @@ class JointCommand : public SimPlugin {
       if (!(e->effort > 0))
         jp.fail("joint/effortLimit", "must be positive (URDF <limit effort> of '" + e->name + "' is " +
                                          std::to_string(urdf_effort) + ")");
+      // Motor strength relative to the command: 0.8 models a worn motor 20% weaker.
+      e->gain = jp.num("gain", 1.0);
+      if (!(e->gain > 0)) jp.fail("joint/gain", "must be positive");
       Entry* raw = e.get();
       e->sub = nh.subscribe<std_msgs::Float64>(jp.str("topicName", e->name + "/command"), 1,
                                                [this, raw](const std_msgs::Float64::ConstPtr& m) { onCmd(raw, m->data); });
@@ -438,7 +441,7 @@ class JointCommand : public SimPlugin {
   struct Entry {
     std::string name;
     bool position = false, have = false;
-    double effort = 0, target = 0, stamp = 0;
+    double effort = 0, target = 0, stamp = 0, gain = 1;
     ros::Subscriber sub;
   };
   void onCmd(Entry* e, double v) {
@@ -455,7 +458,7 @@ class JointCommand : public SimPlugin {
     if (e.position)
       c_.robot->commandPosition(e.name, e.target, e.effort);
     else
-      c_.robot->commandVelocity(e.name, e.target, e.effort);
+      c_.robot->commandVelocity(e.name, e.gain * e.target, e.effort);
   }
   PluginContext c_;
   double timeout_;

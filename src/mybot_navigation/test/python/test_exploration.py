@@ -61,3 +61,14 @@ def test_small_frontiers_are_ignored():
     g[0, :] = g[-1, :] = g[:, 0] = g[:, -1] = 100
     g[20, 20] = -1                            # a single unknown cell: 4 frontier cells < 5
     assert find_frontiers(g, INFO, robot_xy=(0.5, 0.5), min_frontier_size=5) == []
+
+
+def test_boundary_keeps_exploration_inside():
+    g = room()
+    fr = find_frontiers(g, INFO, robot_xy=(0.5, 1.5), robot_radius=0.2)
+    assert fr
+    # The frontier runs along x = 1.95 m: a boundary ending at x = 1.5 m excludes it,
+    # one ending at 3 m keeps it.
+    assert find_frontiers(g, INFO, robot_xy=(0.5, 1.5), robot_radius=0.2, boundary=(0, 0, 1.5, 3.0)) == []
+    kept = find_frontiers(g, INFO, robot_xy=(0.5, 1.5), robot_radius=0.2, boundary=(0, 0, 3.0, 3.0))
+    assert [f.goal for f in kept] == [f.goal for f in fr]
