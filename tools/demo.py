@@ -34,6 +34,9 @@ WORLDS = {
     "mybot": {"file": "mybot.world", "map_start": (0.0, 0.0, 0.0), "nav_start": (1.0, 1.0, 1.5708)},
 }
 ROBOT_RADIUS = {"mybot": 0.25, "swerve": 0.33}
+# Simulator pace (mapping, navigation) the whole stack keeps up with on 2 cores; the
+# swerve robot runs a controller, four module loops and odometry on top.
+ROBOT_PACE = {"mybot": (8.0, 4.0), "swerve": (4.0, 3.0)}
 
 
 def log(msg):
@@ -180,6 +183,16 @@ def world_to_map_frame(pose, origin):
     return (c * dx - s * dy, s * dx + c * dy, (pose[2] - oyaw + math.pi) % (2 * math.pi) - math.pi)
 
 
+def world_box_in_map(truth_yaml, map_origin):
+    """The ground-truth map's extent as [xmin, ymin, xmax, ymax] in the map frame."""
+    grid, meta = load_map(truth_yaml)
+    (ox, oy), res = meta["origin"][:2], meta["resolution"]
+    corners = [world_to_map_frame((x, y, 0.0), map_origin)[:2]
+               for x in (ox, ox + grid.shape[1] * res) for y in (oy, oy + grid.shape[0] * res)]
+    return [min(c[0] for c in corners), min(c[1] for c in corners),
+            max(c[0] for c in corners), max(c[1] for c in corners)]
+
+
 def pick_goals(truth_yaml, map_yaml, map_origin, start_xy, n, clearance, seed=7):
     """Goals spread over the free space (world frame): cells with enough
     clearance in the ground truth that the saved map also knows as free (a
@@ -247,7 +260,7 @@ def score_map(map_yaml, truth_yaml, traj_npz, out_prefix):
     return {k: float(v) for k, v in (line.split() for line in res.stdout.strip().splitlines())}
 
 
-def plot(robot, out, truth_yaml, map_yaml, traj_map, traj_nav, goals_map, frontier_goals):
+def plot(robot, out, truth_yaml, map_origin, map_yaml, traj_map, traj_nav, goals_map, frontier_goals):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -272,6 +285,10 @@ def plot(robot, out, truth_yaml, map_yaml, traj_map, traj_nav, goals_map, fronti
         elif frontier_goals:
             fg = np.array(frontier_goals)
             ax.plot(fg[:, 0], fg[:, 1], "m^", ms=7, label="frontier goals")
+        # The world's extent: rays that left through a door do not shrink the building.
+        xmin, ymin, xmax, ymax = world_box_in_map(truth_yaml, map_origin)
+        ax.set_xlim(xmin, xmax)
+        ax.set_ylim(ymin, ymax)
         ax.set_title("%s: %s" % (robot, title))
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
@@ -285,10 +302,12 @@ def plot(robot, out, truth_yaml, map_yaml, traj_map, traj_nav, goals_map, fronti
     for ax, (title, traj) in zip(axes[:, 0], panels):
         if traj is None or not len(traj):
             continue
-        t = traj[:, 0] - traj[0, 0]
+        t0 = traj[0, 0]
+        t = traj[:, 0] - t0
         ax.plot(t, np.hypot(traj[:, 1] - traj[:, 4], traj[:, 2] - traj[:, 5]), label="|estimate - truth| [m]")
-        odom = traj[:, 7:10]
-        if np.isfinite(odom).all():
+        traj = traj[np.isfinite(traj[:, 7:10]).all(axis=1)]
+        t, odom = t[:0] if not len(traj) else traj[:, 0] - t0, traj[:, 7:10]
+        if len(odom):
             # Odometry is in its own frame (the spawn pose): compare displacements from the start.
             o = odom - odom[0]
             g = traj[:, 1:4] - traj[0, 1:4]
@@ -328,12 +347,7 @@ def run_mapping(robot, args, world, truth_yaml, out, common, summary):
     map_prefix = os.path.join(out, robot + "_map")
     # Explore inside the world's extent: rays through the loading bay's door would
     # otherwise lead the robot out into the empty plane around the building.
-    grid, meta = load_map(truth_yaml)
-    (ox, oy), res = meta["origin"][:2], meta["resolution"]
-    corners = [world_to_map_frame((x, y, 0.0), (mx, my, myaw))[:2]
-               for x in (ox, ox + grid.shape[1] * res) for y in (oy, oy + grid.shape[0] * res)]
-    boundary = [min(c[0] for c in corners), min(c[1] for c in corners),
-                max(c[0] for c in corners), max(c[1] for c in corners)]
+    boundary = world_box_in_map(truth_yaml, (mx, my, myaw))
     try:
         stage.run("mapping", "--map-out", map_prefix, "--budget", str(args.explore_budget),
                   "--boundary", *["%.3f" % v for v in boundary],
@@ -367,7 +381,9 @@ def run_robot(robot, args, world, truth_yaml, out):
     wfile = os.path.join(args.worlds_dir, world["file"])
     mx, my, myaw = world["map_start"]
     nx, ny, nyaw = world["nav_start"]
-    common = {"robot": robot, "world": wfile, "real_time_factor": args.real_time_factor, "rviz": str(args.gui).lower()}
+    map_rtf, nav_rtf = ROBOT_PACE[robot]
+    common = {"robot": robot, "world": wfile, "rviz": str(args.gui).lower(),
+              "real_time_factor": args.real_time_factor or map_rtf}
 
     if args.map:
         map_prefix = os.path.splitext(os.path.abspath(args.map))[0]
@@ -379,7 +395,7 @@ def run_robot(robot, args, world, truth_yaml, out):
         if traj_map is None:
             return summary, False
     if not args.navigate and not args.map:
-        plot(robot, out, truth_yaml, map_prefix + ".yaml", traj_map, None, [],
+        plot(robot, out, truth_yaml, (mx, my, myaw), map_prefix + ".yaml", traj_map, None, [],
              frontier_goals_from_log(os.path.join(out, robot + "_mapping_explore.log")))
         return summary, mapping_ok
     goals_world = pick_goals(truth_yaml, map_prefix + ".yaml", (mx, my, myaw), (nx, ny), args.goals, clearance=ROBOT_RADIUS[robot] + 0.35)
@@ -392,7 +408,7 @@ def run_robot(robot, args, world, truth_yaml, out):
     log("%s: navigation: respawn at (%.1f, %.1f), map_server + AMCL + navigation, %d goals" % (robot, nx, ny, len(goals_map)))
     stage = Stage(robot + "_navigation", os.path.join(TOOLS, "launch", "mission_navigation.launch"),
                   dict(common, x=nx, y=ny, yaw=nyaw, map_file=map_prefix + ".yaml",
-                       real_time_factor=args.nav_real_time_factor), out)
+                       real_time_factor=args.nav_real_time_factor or nav_rtf), out)
     try:
         stage.run("navigation", "--initial-pose", *[str(v) for v in init], "--goals", json.dumps(goals_map),
                   "--map-origin", str(mx), str(my), str(myaw), "--goal-timeout", str(args.goal_timeout),
@@ -405,7 +421,7 @@ def run_robot(robot, args, world, truth_yaml, out):
     if os.path.exists(os.path.join(out, robot + "_navigation_traj.npz")):
         traj_nav = np.load(os.path.join(out, robot + "_navigation_traj.npz"))["traj"]
         summary["navigation_collisions"] = collisions(truth_yaml, traj_nav, (mx, my, myaw), ROBOT_RADIUS[robot] * 0.6)
-    plot(robot, out, truth_yaml, map_prefix + ".yaml", traj_map, traj_nav, goals_map,
+    plot(robot, out, truth_yaml, (mx, my, myaw), map_prefix + ".yaml", traj_map, traj_nav, goals_map,
          frontier_goals_from_log(os.path.join(out, robot + "_mapping_explore.log")))
     ok = mapping_ok and bool(nav.get("ok")) and summary.get("navigation_collisions", 1) == 0
     return summary, ok
@@ -461,10 +477,11 @@ def main():
     ap.add_argument("--output", default=os.path.join(WS, "output", time.strftime("demo-%Y%m%d-%H%M%S")),
                     help="output folder for the report, pictures, maps and logs")
     ap.add_argument("--gui", action="store_true", help="also start rviz (needs a display)")
-    ap.add_argument("--real-time-factor", type=float, default=8.0,
-                    help="simulator pace (0 = as fast as possible; the stack must keep up on 2 cores)")
-    ap.add_argument("--nav-real-time-factor", type=float, default=4.0,
-                    help="simulator pace of the navigation stage (AMCL + the local planner need more CPU per sim second)")
+    ap.add_argument("--real-time-factor", type=float, default=None,
+                    help="simulator pace of the mapping stage (default 8 for mybot, 4 for swerve: what the "
+                         "whole stack keeps up with on 2 cores)")
+    ap.add_argument("--nav-real-time-factor", type=float, default=None,
+                    help="simulator pace of the navigation stage (default 4 for mybot, 3 for swerve)")
     ap.add_argument("--map", help="navigate on this saved map (map_server YAML) instead of exploring first")
     ap.add_argument("--goals", type=int, default=5, help="goals to visit per robot")
     ap.add_argument("--explore-budget", type=float, default=900.0, help="sim seconds of exploration per robot")

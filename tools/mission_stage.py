@@ -11,10 +11,12 @@ Both record ground truth (ground_truth/odom, world frame), the estimated pose
 <out>/<name>_traj.npz. Everything waits in ROS (sim) time.
 """
 import argparse
+import collections
 import json
 import math
 import subprocess
 import sys
+import threading
 import time
 
 import actionlib
@@ -43,19 +45,23 @@ def log(msg):
 
 class Recorder:
     """Samples ground truth (converted into the map frame), the tf estimate and
-    odometry at a fixed sim-time rate."""
+    odometry at a fixed sim-time rate, all three at the ground truth's stamp:
+    compared at different instants, a robot driving at 0.5 m/s would show
+    errors that are only the sampling lag of a busy machine."""
 
     def __init__(self, world_to_map, map_frame="map", base_frame="base_footprint", rate=5.0):
         self.map_frame, self.base_frame = map_frame, base_frame
         wx, wy, wyaw = world_to_map  # pose of the map frame in the world
         self.T = (wx, wy, wyaw)
         self.gt = None
-        self.odom = None
+        self.gts = collections.deque(maxlen=500)  # (stamp, pose in the map frame)
+        self.lock = threading.Lock()  # subscriber and timer threads
+        self.odoms = collections.deque(maxlen=200)  # (stamp, x, y, yaw)
         self.rows = []  # t, gt x y yaw, est x y yaw, odom x y yaw
         self.tf = tf2_ros.Buffer(rospy.Duration(30))
         tf2_ros.TransformListener(self.tf)
         rospy.Subscriber("ground_truth/odom", Odometry, self._on_gt, queue_size=5)
-        rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=5)
+        rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=20)
         rospy.Timer(rospy.Duration(1.0 / rate), self._sample)
 
     def world_to_map(self, x, y, yaw):
@@ -67,24 +73,41 @@ class Recorder:
     def _on_gt(self, msg):
         p = msg.pose.pose
         self.gt = self.world_to_map(p.position.x, p.position.y, yaw_of(p.orientation))
+        with self.lock:
+            self.gts.append((msg.header.stamp, self.gt))
 
     def _on_odom(self, msg):
         p = msg.pose.pose
-        self.odom = (p.position.x, p.position.y, yaw_of(p.orientation))
+        with self.lock:
+            self.odoms.append((msg.header.stamp.to_sec(), p.position.x, p.position.y, yaw_of(p.orientation)))
 
-    def estimate(self):
+    def estimate(self, stamp=None):
         try:
-            t = self.tf.lookup_transform(self.map_frame, self.base_frame, rospy.Time(0))
+            t = self.tf.lookup_transform(self.map_frame, self.base_frame, stamp or rospy.Time(0))
         except tf2_ros.TransformException:
             return None
         return (t.transform.translation.x, t.transform.translation.y, yaw_of(t.transform.rotation))
 
+    def _odom_at(self, t):
+        if not self.odoms:
+            return (math.nan,) * 3
+        with self.lock:
+            best = min(self.odoms, key=lambda o: abs(o[0] - t))
+        return best[1:] if abs(best[0] - t) < 0.1 else (math.nan,) * 3
+
     def _sample(self, _):
-        est = self.estimate()
-        if self.gt is None or est is None:
+        # A ground-truth pose a little in the past, when tf and odometry of that
+        # instant have surely arrived.
+        lag = rospy.Time.now() - rospy.Duration(0.3)
+        with self.lock:
+            older = [g for g in self.gts if g[0] <= lag]
+        if not older:
             return
-        odom = self.odom or (math.nan,) * 3
-        self.rows.append((rospy.Time.now().to_sec(),) + tuple(self.gt) + tuple(est) + tuple(odom))
+        stamp, gt = older[-1]
+        est = self.estimate(stamp)
+        if est is None:  # tf not yet (or no longer) buffered at that stamp
+            return
+        self.rows.append((stamp.to_sec(),) + tuple(gt) + tuple(est) + tuple(self._odom_at(stamp.to_sec())))
 
     def array(self):
         return np.array(self.rows, dtype=float).reshape(-1, 10)
@@ -129,7 +152,9 @@ def run_mapping(args, rec, result):
     log("exploring (frontiers on the SLAM map, goals through the move_base action)")
     t0 = rospy.Time.now()
     cmd = ["rosrun", "mybot_navigation", "explore",
-           "_time_budget:=%f" % args.budget, "_robot_radius:=%f" % args.robot_radius]
+           "_time_budget:=%f" % args.budget, "_robot_radius:=%f" % args.robot_radius,
+           # Half a metre of frontier is still worth a trip in a building of shelves.
+           "_min_frontier_size:=0.5"]
     if args.boundary:
         cmd.append("_boundary:=[%s]" % ",".join("%.3f" % v for v in args.boundary))
     explore = subprocess.run(cmd,
@@ -166,6 +191,12 @@ def run_navigation(args, rec, result):
     ix, iy, iyaw = args.initial_pose
     log("initial pose estimate (%.2f, %.2f, %.0f deg) given to AMCL" % (ix, iy, math.degrees(iyaw)))
     keep = send_initial_pose(ix, iy, iyaw)  # noqa: F841 (latched publisher must stay alive)
+    # Before this, AMCL sits at its default pose: not a localization error to report.
+    result["localized_from"] = rospy.Time.now().to_sec() + 1.0
+    # Goals only once AMCL has taken the estimate: before that, map -> odom is
+    # missing (or AMCL's default pose) and move_base would refuse or misplan.
+    wait_for(lambda: (lambda e: e is not None and math.hypot(e[0] - ix, e[1] - iy) < 1.0)(rec.estimate()),
+             60.0, "AMCL to publish map -> odom at the initial pose")
     client = actionlib.SimpleActionClient("move_base", MoveBaseAction)
     if not client.wait_for_server(rospy.Duration(60)):
         raise RuntimeError("no move_base action server")
@@ -246,7 +277,7 @@ def main():
             run_navigation(args, rec, result)
             result["ok"] = bool(result["goals"]) and result["goals_reached"] == len(result["goals"])
         a = rec.array()
-        result["trajectory_error"] = rec.errors()
+        result["trajectory_error"] = rec.errors(result.get("localized_from"))
         result["distance_m"] = path_length(a)
         result["sim_s"] = rospy.Time.now().to_sec() - sim0
         np.savez(args.out + "/" + args.name + "_traj.npz", traj=a)

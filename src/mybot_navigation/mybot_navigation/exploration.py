@@ -140,3 +140,21 @@ def find_frontiers(grid, info, robot_xy, robot_radius=0.2, min_frontier_size=5,
                                   cells=cells))
     frontiers.sort(key=lambda f: f.path_length)
     return frontiers
+
+
+def frontier_near(grid, info, xy, radius, min_cells=1, free_thresh=25):
+    """Whether at least min_cells frontier cells lie within radius of xy: the
+    cheap check, on a window of the grid, that a frontier being driven to
+    still exists."""
+    grid = np.asarray(grid)
+    r, c = info.to_cell(*xy)
+    k = int(np.ceil(radius / info.resolution)) + 1
+    r0, c0 = max(r - k, 0), max(c - k, 0)
+    r1, c1 = min(r + k + 1, grid.shape[0]), min(c + k + 1, grid.shape[1])
+    if r0 >= r1 or c0 >= c1:
+        return False
+    window = grid[max(r0 - 1, 0):min(r1 + 1, grid.shape[0]), max(c0 - 1, 0):min(c1 + 1, grid.shape[1])]
+    front = frontier_mask(window, free_thresh)
+    cells = np.argwhere(front) + [max(r0 - 1, 0), max(c0 - 1, 0)]
+    d = np.hypot(cells[:, 0] - r, cells[:, 1] - c) * info.resolution
+    return int(np.count_nonzero(d <= radius)) >= min_cells

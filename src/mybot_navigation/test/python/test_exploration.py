@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from mybot_navigation.exploration import GridInfo, find_frontiers, frontier_mask, path_lengths
+from mybot_navigation.exploration import GridInfo, find_frontiers, frontier_mask, frontier_near, path_lengths
 
 
 def room(rows=60, cols=80, known_cols=40):
@@ -72,3 +72,13 @@ def test_boundary_keeps_exploration_inside():
     assert find_frontiers(g, INFO, robot_xy=(0.5, 1.5), robot_radius=0.2, boundary=(0, 0, 1.5, 3.0)) == []
     kept = find_frontiers(g, INFO, robot_xy=(0.5, 1.5), robot_radius=0.2, boundary=(0, 0, 3.0, 3.0))
     assert [f.goal for f in kept] == [f.goal for f in fr]
+
+
+def test_frontier_near_looks_only_around_the_point():
+    g = room()                                # frontier along x = 1.95 m
+    assert frontier_near(g, INFO, (1.5, 1.5), radius=1.0)
+    assert not frontier_near(g, INFO, (0.5, 1.5), radius=1.0)
+    assert not frontier_near(g, INFO, (-5.0, -5.0), radius=1.0)   # off the map
+    assert not frontier_near(g, INFO, (1.5, 1.5), radius=1.0, min_cells=100)  # 2 m of it in reach: 40 cells
+    g[:, :] = 0
+    assert not frontier_near(g, INFO, (1.5, 1.5), radius=1.0)
