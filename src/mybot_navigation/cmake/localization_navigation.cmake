@@ -62,6 +62,7 @@ if(CATKIN_ENABLE_TESTING)
   # run by hand: rostest mybot_navigation amcl_kidnap.test. Kidnapping is covered by test_amcl.
   # add_rostest(test/nav/amcl_kidnap.test)
   add_rostest(test/nav/nav_factory.test)
+  add_rostest(test/nav/nav_swerve.test)
 endif()
 
 # Benchmark (bench/bench_nav at the workspace root runs it).

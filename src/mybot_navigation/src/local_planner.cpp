@@ -334,9 +334,10 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
         if (!lookup(path_dist, end.x, end.y, pd) || !lookup(goal_dist_map, end.x, end.y, gd))
           continue;
         double cost = params_.path_distance_bias * pd + params_.goal_distance_bias * gd + params_.occdist_scale * occ;
-        if (!near_goal)
+        // DWA's alignment and goal-front costs at a point ahead of the trajectory's end. They make
+        // the robot face along the path; a holonomic robot keeps its heading and moves sideways.
+        if (!near_goal && !params_.holonomic_robot)
         {
-          // DWA's alignment and goal-front costs at a point ahead of the trajectory's end.
           const double fx = end.x + params_.forward_point_distance * std::cos(end.theta);
           const double fy = end.y + params_.forward_point_distance * std::sin(end.theta);
           double fpd, fgd;
