@@ -424,6 +424,9 @@ def run_robot(robot, args, world, truth_yaml, out):
     plot(robot, out, truth_yaml, (mx, my, myaw), map_prefix + ".yaml", traj_map, traj_nav, goals_map,
          frontier_goals_from_log(os.path.join(out, robot + "_mapping_explore.log")))
     ok = mapping_ok and bool(nav.get("ok")) and summary.get("navigation_collisions", 1) == 0
+    if robot == "swerve" and nav.get("max_sideways_cmd_mps", 0.0) < 0.05:
+        log("swerve: navigation never moved sideways: the holonomic planner is not being used")
+        ok = False
     return summary, ok
 
 
@@ -440,15 +443,17 @@ def write_report(out, summaries, wall_s):
         lines.append("- SLAM trajectory: ATE %.3f m RMS, RPE %.3f m / %.4f rad RMS" % (
             ms.get("ate_rmse_m", math.nan), ms.get("rpe_translation_rms_m", math.nan), ms.get("rpe_rotation_rms_rad", math.nan)))
         if not n:
-            lines += ["- navigation stage not run (--navigate)", "- collisions (ground-truth clearance check): mapping %s samples" % s.get("mapping_collisions"), ""]
+            lines += ["- navigation stage not run (--mapping-only)", "- collisions (ground-truth clearance check): mapping %s samples" % s.get("mapping_collisions"), ""]
             continue
         te = n.get("trajectory_error", {})
         lines.append("- localization (AMCL vs ground truth): %.3f m RMS, %.3f m max, %.2f deg RMS" % (
             te.get("rms_m", math.nan), te.get("max_m", math.nan), te.get("rms_deg", math.nan)))
         goals = n.get("goals", [])
-        lines.append("- goals reached: %d / %d; navigation %.0f s sim, %.0f s wall, %.1f m driven" % (
-            sum(g["reached"] for g in goals), len(goals), n.get("sim_s", math.nan), n.get("wall_s", math.nan),
-            n.get("distance_m", math.nan)))
+        lines.append("- goals reached: %d / %d; navigation %.0f s sim, %.0f s wall, %.1f m driven, "
+                     "largest sideways command %.2f m/s" % (
+                         sum(g["reached"] for g in goals), len(goals), n.get("sim_s", math.nan),
+                         n.get("wall_s", math.nan), n.get("distance_m", math.nan),
+                         n.get("max_sideways_cmd_mps", math.nan)))
         for i, g in enumerate(goals):
             lines.append("  - goal %d (%.2f, %.2f): %s, %.3f m / %.1f deg from it, %.0f s" % (
                 i + 1, g["goal"][0], g["goal"][1], "reached" if g["reached"] else "NOT reached: " + g["text"],
@@ -469,11 +474,10 @@ def write_report(out, summaries, wall_s):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--world", choices=sorted(WORLDS), default="factory")
-    ap.add_argument("--robot", choices=ROBOTS + ("all",), default="mybot",
-                    help="robot(s) for the mission (default mybot; the swerve mission is not yet reliable)")
-    ap.add_argument("--navigate", action="store_true",
-                    help="after mapping, localize with AMCL on the saved map and visit goals "
-                         "(not yet reliable: see README, known limits)")
+    ap.add_argument("--robot", choices=ROBOTS + ("all",), default="all",
+                    help="robot(s) for the mission (default: mybot, then the swerve robot)")
+    ap.add_argument("--mapping-only", dest="navigate", action="store_false",
+                    help="stop after mapping (no AMCL + navigation stage)")
     ap.add_argument("--output", default=os.path.join(WS, "output", time.strftime("demo-%Y%m%d-%H%M%S")),
                     help="output folder for the report, pictures, maps and logs")
     ap.add_argument("--gui", action="store_true", help="also start rviz (needs a display)")

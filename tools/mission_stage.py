@@ -25,7 +25,7 @@ import numpy as np
 import rospy
 import tf2_ros
 from actionlib_msgs.msg import GoalStatus
-from geometry_msgs.msg import PoseWithCovarianceStamped
+from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import OccupancyGrid, Odometry
 from rosgraph_msgs.msg import Clock
@@ -62,6 +62,8 @@ class Recorder:
         tf2_ros.TransformListener(self.tf)
         rospy.Subscriber("ground_truth/odom", Odometry, self._on_gt, queue_size=5)
         rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=20)
+        self.max_vy = 0.0  # sideways command: a holonomic robot should use it
+        rospy.Subscriber("cmd_vel", Twist, self._on_cmd, queue_size=20)
         rospy.Timer(rospy.Duration(1.0 / rate), self._sample)
 
     def world_to_map(self, x, y, yaw):
@@ -75,6 +77,9 @@ class Recorder:
         self.gt = self.world_to_map(p.position.x, p.position.y, yaw_of(p.orientation))
         with self.lock:
             self.gts.append((msg.header.stamp, self.gt))
+
+    def _on_cmd(self, msg):
+        self.max_vy = max(self.max_vy, abs(msg.linear.y))
 
     def _on_odom(self, msg):
         p = msg.pose.pose
@@ -279,6 +284,7 @@ def main():
         a = rec.array()
         result["trajectory_error"] = rec.errors(result.get("localized_from"))
         result["distance_m"] = path_length(a)
+        result["max_sideways_cmd_mps"] = rec.max_vy
         result["sim_s"] = rospy.Time.now().to_sec() - sim0
         np.savez(args.out + "/" + args.name + "_traj.npz", traj=a)
     except Exception as e:  # the orchestrator reports the reason

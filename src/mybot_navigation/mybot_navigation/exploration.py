@@ -130,12 +130,15 @@ def find_frontiers(grid, info, robot_xy, robot_radius=0.2, min_frontier_size=5,
         d_front = np.min(np.hypot(reach[:, None, 0] - cells[None, ::max(1, len(cells) // 50), 0],
                                   reach[:, None, 1] - cells[None, ::max(1, len(cells) // 50), 1]), axis=1)
         ok = reach[d_front * info.resolution <= robot_radius * 2 + 0.5]
+        # Goals already tried are excluded candidate by candidate, not cluster by cluster: a
+        # long frontier seen from one end can still be reached from elsewhere.
+        for bx, by in blacklist:
+            br, bc = (by - info.origin_y) / info.resolution - 0.5, (bx - info.origin_x) / info.resolution - 0.5
+            ok = ok[np.hypot(ok[:, 0] - br, ok[:, 1] - bc) * info.resolution >= blacklist_radius]
         if len(ok) == 0:
             continue
         best = ok[np.argmin(np.hypot(ok[:, 0] - centroid[0], ok[:, 1] - centroid[1]))]
         goal = info.to_world(*best)
-        if any(np.hypot(goal[0] - bx, goal[1] - by) < blacklist_radius for bx, by in blacklist):
-            continue
         frontiers.append(Frontier(goal=goal, size=len(cells), path_length=float(dist[tuple(best)]) * info.resolution,
                                   cells=cells))
     frontiers.sort(key=lambda f: f.path_length)

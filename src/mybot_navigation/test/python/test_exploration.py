@@ -82,3 +82,12 @@ def test_frontier_near_looks_only_around_the_point():
     assert not frontier_near(g, INFO, (1.5, 1.5), radius=1.0, min_cells=100)  # 2 m of it in reach: 40 cells
     g[:, :] = 0
     assert not frontier_near(g, INFO, (1.5, 1.5), radius=1.0)
+
+
+def test_blacklisted_goal_moves_the_goal_not_the_whole_frontier():
+    g = room()                                # one long frontier along x = 1.95 m, y 0.05..2.95
+    first = find_frontiers(g, INFO, robot_xy=(0.5, 1.5), robot_radius=0.2)[0]
+    again = find_frontiers(g, INFO, robot_xy=(0.5, 1.5), robot_radius=0.2,
+                           blacklist=[first.goal], blacklist_radius=0.5)
+    assert len(again) == 1 and again[0].size == first.size
+    assert np.hypot(again[0].goal[0] - first.goal[0], again[0].goal[1] - first.goal[1]) >= 0.5
