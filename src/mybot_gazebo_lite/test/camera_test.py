@@ -51,7 +51,9 @@ class CameraTests(unittest.TestCase):
         t0 = first.header.stamp.to_sec()
         msgs = self.image.wait(lambda m: m[-1].header.stamp.to_sec() >= t0 + 2.0, '2 sim-seconds of images')
         stamps = [m.header.stamp.to_sec() for m in msgs if t0 <= m.header.stamp.to_sec() <= t0 + 2.0]
-        rate = (len(stamps) - 1) / (stamps[-1] - stamps[0])
+        # The median period: a loaded machine may drop a frame at this subscriber (800x800 at 5x
+        # real time is ~300 MB/s), which says nothing about the rate the camera publishes at.
+        rate = 1.0 / float(np.median(np.diff(stamps)))
         self.assertAlmostEqual(rate, 30.0, delta=3.0)
         m = msgs[-1]
         self.assertEqual((m.width, m.height, m.encoding, m.step), (800, 800, 'rgb8', 2400))
