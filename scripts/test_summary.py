@@ -12,6 +12,14 @@ import sys
 import xml.etree.ElementTree as ET
 
 
+def why(element):
+    """The failure's last informative line (the assertion), so a CI log says what broke."""
+    text = (element.get("message") or "") + "\n" + (element.text or "")
+    lines = [l.strip() for l in text.splitlines() if l.strip() and not l.strip().startswith("File ")]
+    asserts = [l for l in lines if "Error" in l or "assert" in l.lower()]
+    return (asserts[-1] if asserts else (lines[-1] if lines else "no message"))[:300]
+
+
 def main(ws):
     passed, failed, skipped, failures = 0, 0, 0, []
     files = sorted(glob.glob(os.path.join(ws, "build", "*", "test_results", "**", "*.xml"), recursive=True))
@@ -27,9 +35,12 @@ def main(ws):
         cases = root.iter("testcase")
         for case in cases:
             name = "%s: %s.%s" % (pkg, case.get("classname", ""), case.get("name", ""))
-            if case.find("failure") is not None or case.find("error") is not None:
+            bad = case.find("failure")
+            if bad is None:
+                bad = case.find("error")
+            if bad is not None:
                 failed += 1
-                failures.append(name)
+                failures.append("%s  [%s]\n        %s" % (name, os.path.basename(path), why(bad)))
             elif case.find("skipped") is not None:
                 skipped += 1
             elif not wrapper:

@@ -230,7 +230,11 @@ class NavSimTest(unittest.TestCase):
 
     def check_navigation(self):
         goals = rospy.get_param("~goals", [])
-        xy_tol = rospy.get_param("~xy_tolerance", 0.15)
+        # The robot stops anywhere inside the planner's tolerance, judged by AMCL: truth may be off by
+        # that tolerance plus the localization error the test allows (twice the RMS bound).
+        max_rms_xy = rospy.get_param("~max_rms_xy", 0.05)
+        xy_tol = rospy.get_param("~xy_tolerance", rospy.get_param("/move_base/DWAPlannerROS/xy_goal_tolerance", 0.1)
+                                 + 2.0 * max_rms_xy)
         yaw_tol = rospy.get_param("~yaw_tolerance", 0.15)
         max_ratio = rospy.get_param("~max_path_ratio", 1.25)
         self.wait_ready()
@@ -249,7 +253,9 @@ class NavSimTest(unittest.TestCase):
                              "goal (%.1f, %.1f): %s" % (gx, gy, client.get_goal_status_text()))
             self.wait_sim(0.5)
             t = self.truth
-            rospy.loginfo("goal (%.2f, %.2f, %.2f) reached at truth (%.3f, %.3f, %.3f)", gx, gy, gyaw, *t[1:])
+            est = self.amcl_pose()
+            rospy.loginfo("goal (%.2f, %.2f, %.2f) reached at truth (%.3f, %.3f, %.3f), AMCL (%.3f, %.3f, %.3f)",
+                          gx, gy, gyaw, *(t[1:] + est))
             self.assertLess(math.hypot(t[1] - gx, t[2] - gy), xy_tol, "goal (%.1f, %.1f) position" % (gx, gy))
             self.assertLess(abs(normalize(t[3] - gyaw)), yaw_tol, "goal (%.1f, %.1f) heading" % (gx, gy))
             seg = self.log[i0:]
@@ -269,7 +275,7 @@ class NavSimTest(unittest.TestCase):
         rms_xy = math.sqrt(sum(e[0] ** 2 for e in errs) / len(errs))
         rms_yaw = math.sqrt(sum(e[1] ** 2 for e in errs) / len(errs))
         rospy.loginfo("AMCL RMS error %.3f m, %.2f deg over %d samples", rms_xy, math.degrees(rms_yaw), len(errs))
-        self.assertLess(rms_xy, rospy.get_param("~max_rms_xy", 0.05))
+        self.assertLess(rms_xy, max_rms_xy)
         self.assertLess(rms_yaw, math.radians(rospy.get_param("~max_rms_yaw_deg", 2.0)))
         if rospy.get_param("~expect_strafe", False):
             self.assertGreater(self.max_vy, 0.1, "the holonomic robot never moved sideways")
