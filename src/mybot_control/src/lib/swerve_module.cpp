@@ -56,7 +56,15 @@ SwerveModuleController::Output SwerveModuleController::update(const SwerveModule
   if (config_.cosine_scale)
     out.target = cosineScale(out.target, angle);
   const double setpoint = out.target.speed / config_.wheel_radius;
-  out.wheel_command = drive_pid_.compute(setpoint, measured_wheel_rate, dt);
+  if (setpoint == 0.0)
+  {
+    // A zero request is a stop: an integral left from the drive would otherwise creep each
+    // wheel on its own (the robot turns after it stopped) until it unwound.
+    drive_pid_.reset();
+    out.wheel_command = 0.0;
+  }
+  else
+    out.wheel_command = drive_pid_.compute(setpoint, measured_wheel_rate, dt);
   out.speed_error = (setpoint - measured_wheel_rate) * config_.wheel_radius;
   return out;
 }

@@ -139,6 +139,26 @@ class SwerveSimTest(unittest.TestCase):
         k = 0.01 / n
         self.drive(vx * k, vy * k, wz * k, 0.8)
         self.stop()
+        self.wait_pivots_still()
+
+    def wait_pivots_still(self, window=0.3, tolerance=0.002):
+        """Until no pivot has moved more than `tolerance` rad for `window` s: the robot stands
+        still long before a 90 degree turn of the modules ends, and a drive that starts while
+        they still turn waits for them (the angle-error rule) and comes up short."""
+        history = []
+
+        def still():
+            self.send()  # zero twists keep the heading hold (silence would time the command out)
+            now = rospy.Time.now().to_sec()
+            with self.lock:
+                history.append((now, dict(self.pivots)))
+            while len(history) > 1 and history[1][0] <= now - window:
+                history.pop(0)
+            old = history[0]
+            return now - old[0] >= window and all(
+                abs(history[-1][1][m] - old[1][m]) < tolerance for m in MODULES)
+
+        self.wait_for(still, 10.0, 'the modules to stop turning')
 
     # ---- motion -------------------------------------------------------------------------
     def check_motion_strafe(self):

@@ -97,14 +97,17 @@ class SimNode {
         ros::WallTime now = ros::WallTime::now();
         if (target > now) {
           std::this_thread::sleep_for(std::chrono::nanoseconds((target - now).toNSec()));
-        } else if ((now - target).toSec() > 0.5) {
-          anchor();  // far behind: do not try to catch up in a burst
+        } else if ((now - target).toSec() > kMaxLagWall) {
+          // Behind (a starved CPU): run slower than asked, as Gazebo does, rather than catch up in
+          // a burst that the controllers, themselves starved, would see as open-loop time.
+          anchor();
         }
       }
     }
   }
 
  private:
+  static constexpr double kMaxLagWall = 0.02;  // s; about one control period of the nodes
   struct ModelEntry {
     std::string name;
     std::vector<std::unique_ptr<SimPlugin>> plugins;
