@@ -14,6 +14,7 @@
 #include "mybot_control/pid.hpp"
 #include "mybot_control/ros_params.hpp"
 #include "mybot_control/step_scheduler.hpp"
+#include "mybot_control/tick_source.hpp"
 
 using namespace mybot_control;
 
@@ -98,7 +99,7 @@ public:
     }
     joint_sub_ = nh_.subscribe("joint_states", 20, &WheelControllerNode::onJointStates, this,
                                ros::TransportHints().tcpNoDelay());
-    timer_ = nh_.createTimer(ros::Duration(period_), &WheelControllerNode::onTimer, this);
+    ticks_.start(nh_, period_, [this](const ros::Time& now) { onTick(now); });
     ROS_INFO("wheel_controller: radius %.4f/%.4f m, %.0f Hz, pid_on %s, output %s", wheels_[0].radius,
              wheels_[1].radius, rate, pid_on_ ? "true" : "false", interface.c_str());
   }
@@ -123,6 +124,7 @@ private:
   void onJointStates(const sensor_msgs::JointState& msg)
   {
     const ros::Time stamp = msg.header.stamp.isZero() ? ros::Time::now() : msg.header.stamp;
+    bool ours = false;
     for (Wheel& w : wheels_)
     {
       if (w.joint_index < 0 || static_cast<std::size_t>(w.joint_index) >= msg.name.size() ||
@@ -135,6 +137,7 @@ private:
       }
       if (w.joint_index < 0 || static_cast<std::size_t>(w.joint_index) >= msg.position.size())
         continue;
+      ours = true;
       if (stamp.toSec() < w.encoder.lastStamp())  // time went backwards: simulation reset
         w.encoder.reset();
       if (!w.encoder.update(msg.position[w.joint_index], stamp.toSec()) || !w.encoder.valid())
@@ -144,11 +147,12 @@ private:
       publish(w.enc_pub, w.encoder.velocity());
       publish(w.tangent_enc_pub, w.encoder.velocity() * w.radius);
     }
+    if (ours)
+      ticks_.onMeasurement();
   }
 
-  void onTimer(const ros::TimerEvent&)
+  void onTick(const ros::Time& now)
   {
-    const ros::Time now = ros::Time::now();
     double dt;
     for (Wheel& w : wheels_)
       if (w.scheduler.onTick(now.toSec(), dt))
@@ -227,7 +231,7 @@ private:
   double response_time_ = 0.0;
   bool pid_on_ = true, joint_commands_ = false;
   ros::Subscriber joint_sub_;
-  ros::Timer timer_;
+  TickSource ticks_;
 };
 
 void body()
