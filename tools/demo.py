@@ -264,8 +264,8 @@ def plot(robot, out, truth_yaml, map_origin, map_yaml, traj_map, traj_nav, goals
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    panels = [("mapping (exploration)", traj_map)]
-    if traj_nav is not None:
+    panels = [] if traj_map is None else [("mapping (exploration)", traj_map)]
+    if traj_nav is not None or not panels:
         panels.append(("navigation on the saved map", traj_nav))
     fig, axes = plt.subplots(1, len(panels), figsize=(8 * len(panels) + 1, 7), squeeze=False)
     for ax, (title, traj) in zip(axes[0], panels):
@@ -292,12 +292,15 @@ def plot(robot, out, truth_yaml, map_origin, map_yaml, traj_map, traj_nav, goals
         ax.set_title("%s: %s" % (robot, title))
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
-        ax.legend(loc="upper right", fontsize=8)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(out, robot + "_map.png"), dpi=110)
     plt.close(fig)
 
-    panels = [("mapping", traj_map)] + ([("navigation", traj_nav)] if traj_nav is not None else [])
+    panels = [(t, tr) for t, tr in (("mapping", traj_map), ("navigation", traj_nav)) if tr is not None and len(tr)]
+    if not panels:
+        return
     fig, axes = plt.subplots(len(panels), 1, figsize=(12, 3.5 * len(panels) + 0.5), squeeze=False)
     for ax, (title, traj) in zip(axes[:, 0], panels):
         if traj is None or not len(traj):
@@ -388,6 +391,7 @@ def run_robot(robot, args, world, truth_yaml, out):
     if args.map:
         map_prefix = os.path.splitext(os.path.abspath(args.map))[0]
         log("%s: mapping skipped, navigating on %s.yaml (--map)" % (robot, map_prefix))
+        summary["map_given"] = map_prefix + ".yaml"
         traj_map, mapping_ok = None, True
     else:
         traj_map, mapping_ok = run_mapping(robot, args, world, truth_yaml, out, common, summary)
@@ -420,6 +424,10 @@ def run_robot(robot, args, world, truth_yaml, out):
     traj_nav = None
     if os.path.exists(os.path.join(out, robot + "_navigation_traj.npz")):
         traj_nav = np.load(os.path.join(out, robot + "_navigation_traj.npz"))["traj"]
+        if nav.get("localized_from") is not None:
+            # Before AMCL took the initial pose its estimate is the map origin: not drawn.
+            traj_nav = traj_nav.copy()
+            traj_nav[traj_nav[:, 0] < nav["localized_from"], 4:7] = np.nan
         summary["navigation_collisions"] = collisions(truth_yaml, traj_nav, (mx, my, myaw), ROBOT_RADIUS[robot] * 0.6)
     plot(robot, out, truth_yaml, (mx, my, myaw), map_prefix + ".yaml", traj_map, traj_nav, goals_map,
          frontier_goals_from_log(os.path.join(out, robot + "_mapping_explore.log")))
@@ -435,13 +443,17 @@ def write_report(out, summaries, wall_s):
     for s in summaries:
         m, n, ms = s.get("mapping", {}), s.get("navigation", {}), s.get("map_score", {})
         lines += ["## %s" % s["robot"], ""]
-        lines.append("- mapping: %s; explored completely: %s; %.1f m driven; %.0f s sim, %.0f s wall" % (
-            "ok" if m.get("ok") else "FAILED (%s)" % m.get("error", ""), m.get("explored_completely"),
-            m.get("distance_m", math.nan), m.get("sim_s", math.nan), m.get("wall_s", math.nan)))
-        lines.append("- map vs ground truth: precision %.3f, recall %.3f (occupied cells, 1-cell tolerance)" % (
-            ms.get("precision", math.nan), ms.get("recall", math.nan)))
-        lines.append("- SLAM trajectory: ATE %.3f m RMS, RPE %.3f m / %.4f rad RMS" % (
-            ms.get("ate_rmse_m", math.nan), ms.get("rpe_translation_rms_m", math.nan), ms.get("rpe_rotation_rms_rad", math.nan)))
+        if s.get("map_given"):
+            lines.append("- mapping: skipped, navigation on the given map %s" % s["map_given"])
+        else:
+            lines.append("- mapping: %s; explored completely: %s; %.1f m driven; %.0f s sim, %.0f s wall" % (
+                "ok" if m.get("ok") else "FAILED (%s)" % m.get("error", ""), m.get("explored_completely"),
+                m.get("distance_m", math.nan), m.get("sim_s", math.nan), m.get("wall_s", math.nan)))
+            lines.append("- map vs ground truth: precision %.3f, recall %.3f (occupied cells, 1-cell tolerance)" % (
+                ms.get("precision", math.nan), ms.get("recall", math.nan)))
+            lines.append("- SLAM trajectory: ATE %.3f m RMS, RPE %.3f m / %.4f rad RMS" % (
+                ms.get("ate_rmse_m", math.nan), ms.get("rpe_translation_rms_m", math.nan),
+                ms.get("rpe_rotation_rms_rad", math.nan)))
         if not n:
             lines += ["- navigation stage not run (--mapping-only)", "- collisions (ground-truth clearance check): mapping %s samples" % s.get("mapping_collisions"), ""]
             continue

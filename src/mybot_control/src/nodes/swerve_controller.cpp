@@ -1,15 +1,12 @@
 // cmd_vel (vx, vy, wz) -> per-module requested pivot angle and wheel speed
 // (swerve_<m>/rqst_pivot_angle, swerve_<m>/rqst_wheel_speed), through the twist limiter,
 // inverse kinematics, desaturation and module-state optimisation
-// against the measured pivot angles (the pivot joints in joint_states: one message for all
-// modules rather than four topics at the control rate). The wheels wait (speed 0) while any
-// module is more than angle_error_threshold from its requested angle. Unchanged requests are
-// repeated at keep_alive_rate only, well inside the modules' timeout.
+// against the measured pivot angles (swerve_<m>/pivot_angle). The wheels wait (speed 0)
+// while any module is more than angle_error_threshold from its requested angle.
 #include <geometry_msgs/Twist.h>
 #include <geometry_msgs/TwistStamped.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
-#include <sensor_msgs/JointState.h>
 #include <std_msgs/Float64.h>
 
 #include <algorithm>
@@ -21,7 +18,6 @@
 #include "mybot_control/step_scheduler.hpp"
 #include "mybot_control/swerve_kinematics.hpp"
 #include "mybot_control/swerve_ros.hpp"
-#include "mybot_control/tick_source.hpp"
 
 using namespace mybot_control;
 
@@ -36,7 +32,6 @@ public:
     geometry_ = loadSwerveGeometry(p, true, false);
     kin_ = std::make_unique<SwerveKinematics>(geometry_.offsets);
     const double rate = p.positive("publish_rate", 50.0);
-    keep_alive_period_ = 1.0 / p.positive("keep_alive_rate", 10.0);
     cmd_vel_timeout_ = p.nonNegative("cmd_vel_timeout", 0.5);
     max_wheel_speed_ = p.nonNegative("max_wheel_speed", 0.0);
     angle_error_threshold_ = p.positive("angle_error_threshold", 0.1);
@@ -63,42 +58,33 @@ public:
       const std::string ns = "swerve_" + geometry_.modules[i] + "/";
       angle_pubs_[i] = nh_.advertise<std_msgs::Float64>(ns + "rqst_pivot_angle", 10);
       speed_pubs_[i] = nh_.advertise<std_msgs::Float64>(ns + "rqst_wheel_speed", 10);
+      angle_subs_.push_back(nh_.subscribe<std_msgs::Float64>(
+          ns + "pivot_angle", 10, [this, i](const std_msgs::Float64::ConstPtr& m) {
+            if (!std::isfinite(m->data))
+              return;
+            measured_[i] = m->data;
+            have_measured_[i] = true;
+            if (!headings_initialised_ &&
+                std::all_of(have_measured_.begin(), have_measured_.end(), [](bool b) { return b; }))
+            {
+              // A zero command holds the modules where they are, not at 0 rad.
+              kin_->resetHeadings(measured_);
+              headings_initialised_ = true;
+            }
+          },
+          ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
     }
-    pivot_index_ = JointIndex(geometry_.pivot_joints);
-    joint_sub_ = nh_.subscribe("joint_states", 10, &SwerveControllerNode::onJointStates, this,
-                               ros::TransportHints().tcpNoDelay());
     if (field_relative_)
       imu_sub_ = nh_.subscribe("imu", 10, &SwerveControllerNode::onImu, this);
     if (publish_cmd_)
       cmd_out_pub_ = pnh_.advertise<geometry_msgs::TwistStamped>("cmd_vel_out", 10);
     cmd_sub_ = nh_.subscribe("cmd_vel", 10, &SwerveControllerNode::onCmd, this, ros::TransportHints().tcpNoDelay());
-    ticks_.start(nh_, period_, [this](const ros::Time& now) { onTick(now); });
+    timer_ = nh_.createTimer(ros::Duration(period_), &SwerveControllerNode::onTimer, this);
     ROS_INFO("swerve_controller: %zu modules, %.0f Hz, cmd_vel_timeout %.2f s, angle_error_threshold %.3f rad%s", n,
              rate, cmd_vel_timeout_, angle_error_threshold_, field_relative_ ? ", field-relative" : "");
   }
 
 private:
-  void onJointStates(const sensor_msgs::JointState& msg)
-  {
-    if (!pivot_index_.update(msg.name, msg.position.size()))
-      return;  // another publisher's joints
-    for (std::size_t i = 0; i < measured_.size(); ++i)
-    {
-      const double a = msg.position[pivot_index_[i]];
-      if (!std::isfinite(a))
-        continue;
-      measured_[i] = wrapAngle(a);
-      have_measured_[i] = true;
-    }
-    if (!headings_initialised_ && std::all_of(have_measured_.begin(), have_measured_.end(), [](bool b) { return b; }))
-    {
-      // A zero command holds the modules where they are, not at 0 rad.
-      kin_->resetHeadings(measured_);
-      headings_initialised_ = true;
-    }
-    ticks_.onMeasurement();
-  }
-
   void onImu(const sensor_msgs::Imu& msg)
   {
     const double yaw = yawOf(msg.orientation);
@@ -125,8 +111,9 @@ private:
       step(last_cmd_, dt);
   }
 
-  void onTick(const ros::Time& now)
+  void onTimer(const ros::TimerEvent&)
   {
+    const ros::Time now = ros::Time::now();
     double dt;
     if (scheduler_.onTick(now.toSec(), dt))
       step(now, dt);
@@ -177,26 +164,16 @@ private:
       // Restart from rest once the modules point the right way, through the acceleration limits.
       limiter_.overrideLast(Twist2D{});
       if (!timed_out && std::count(have_measured_.begin(), have_measured_.end(), true) < static_cast<long>(states.size()))
-        ROS_WARN_THROTTLE(2.0, "swerve_controller: waiting for the pivot joints of every module in joint_states");
+        ROS_WARN_THROTTLE(2.0, "swerve_controller: waiting for swerve_<m>/pivot_angle of every module");
     }
 
-    const bool changed = states.size() != published_.size() ||
-                         !std::equal(states.begin(), states.end(), published_.begin(),
-                                     [](const SwerveModuleState& a, const SwerveModuleState& b) {
-                                       return a.angle == b.angle && a.speed == b.speed;
-                                     });
-    if (changed || now < last_publish_ || (now - last_publish_).toSec() >= keep_alive_period_ - 1e-9)
+    std_msgs::Float64 angle, speed;
+    for (std::size_t i = 0; i < states.size(); ++i)
     {
-      std_msgs::Float64 angle, speed;
-      for (std::size_t i = 0; i < states.size(); ++i)
-      {
-        angle.data = states[i].angle;
-        speed.data = states[i].speed;
-        angle_pubs_[i].publish(angle);
-        speed_pubs_[i].publish(speed);
-      }
-      published_ = states;
-      last_publish_ = now;
+      angle.data = states[i].angle;
+      speed.data = states[i].speed;
+      angle_pubs_[i].publish(angle);
+      speed_pubs_[i].publish(speed);
     }
     if (publish_cmd_)
     {
@@ -215,11 +192,6 @@ private:
   std::unique_ptr<SwerveKinematics> kin_;
   SwerveTwistLimiter limiter_;
   StepScheduler scheduler_{0.02};
-  JointIndex pivot_index_;
-  ros::Subscriber joint_sub_;
-  std::vector<SwerveModuleState> published_;
-  ros::Time last_publish_;
-  double keep_alive_period_ = 0.1;
   double period_ = 0.02, cmd_vel_timeout_ = 0.5, max_wheel_speed_ = 0.0, angle_error_threshold_ = 0.1;
   bool discretize_ = true, field_relative_ = false, publish_cmd_ = false, have_cmd_ = false, have_yaw_ = false,
        headings_initialised_ = false;
@@ -230,9 +202,10 @@ private:
   std::vector<bool> have_measured_;
   ros::Time last_cmd_, last_step_;
   std::vector<ros::Publisher> angle_pubs_, speed_pubs_;
+  std::vector<ros::Subscriber> angle_subs_;
   ros::Publisher cmd_out_pub_;
   ros::Subscriber cmd_sub_, imu_sub_;
-  TickSource ticks_;
+  ros::Timer timer_;
 };
 
 void body()

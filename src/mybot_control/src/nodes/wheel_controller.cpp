@@ -14,7 +14,6 @@
 #include "mybot_control/pid.hpp"
 #include "mybot_control/ros_params.hpp"
 #include "mybot_control/step_scheduler.hpp"
-#include "mybot_control/tick_source.hpp"
 
 using namespace mybot_control;
 
@@ -99,7 +98,7 @@ public:
     }
     joint_sub_ = nh_.subscribe("joint_states", 20, &WheelControllerNode::onJointStates, this,
                                ros::TransportHints().tcpNoDelay());
-    ticks_.start(nh_, period_, [this](const ros::Time& now) { onTick(now); });
+    timer_ = nh_.createTimer(ros::Duration(period_), &WheelControllerNode::onTimer, this);
     ROS_INFO("wheel_controller: radius %.4f/%.4f m, %.0f Hz, pid_on %s, output %s", wheels_[0].radius,
              wheels_[1].radius, rate, pid_on_ ? "true" : "false", interface.c_str());
   }
@@ -124,7 +123,6 @@ private:
   void onJointStates(const sensor_msgs::JointState& msg)
   {
     const ros::Time stamp = msg.header.stamp.isZero() ? ros::Time::now() : msg.header.stamp;
-    bool ours = false;
     for (Wheel& w : wheels_)
     {
       if (w.joint_index < 0 || static_cast<std::size_t>(w.joint_index) >= msg.name.size() ||
@@ -137,7 +135,6 @@ private:
       }
       if (w.joint_index < 0 || static_cast<std::size_t>(w.joint_index) >= msg.position.size())
         continue;
-      ours = true;
       if (stamp.toSec() < w.encoder.lastStamp())  // time went backwards: simulation reset
         w.encoder.reset();
       if (!w.encoder.update(msg.position[w.joint_index], stamp.toSec()) || !w.encoder.valid())
@@ -147,12 +144,11 @@ private:
       publish(w.enc_pub, w.encoder.velocity());
       publish(w.tangent_enc_pub, w.encoder.velocity() * w.radius);
     }
-    if (ours)
-      ticks_.onMeasurement();
   }
 
-  void onTick(const ros::Time& now)
+  void onTimer(const ros::TimerEvent&)
   {
+    const ros::Time now = ros::Time::now();
     double dt;
     for (Wheel& w : wheels_)
       if (w.scheduler.onTick(now.toSec(), dt))
@@ -231,7 +227,7 @@ private:
   double response_time_ = 0.0;
   bool pid_on_ = true, joint_commands_ = false;
   ros::Subscriber joint_sub_;
-  TickSource ticks_;
+  ros::Timer timer_;
 };
 
 void body()
