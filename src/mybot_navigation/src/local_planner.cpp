@@ -63,11 +63,7 @@ std::vector<double> samples(double lo, double hi, int n)
 void LocalPlanner::setPlan(const std::vector<Pose2D>& plan)
 {
   if (plan.empty() || plan_.empty() || std::hypot(plan.back().x - plan_.back().x, plan.back().y - plan_.back().y) > 1e-6)
-  {
     xy_latched_ = false;
-    settling_ = false;
-    last_goal_dist_ = std::numeric_limits<double>::infinity();
-  }
   plan_ = plan;
   plan_start_ = 0;
 }
@@ -179,17 +175,8 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   const Pose2D& goal = plan_.back();
   const double goal_dist = std::hypot(goal.x - pose.x, goal.y - pose.y);
 
-  // Stopping on the tolerance's edge leaves the localization error on top of the whole tolerance,
-  // so inside it the robot keeps closing in while that still gains ground.
-  const bool inside = goal_dist <= params_.xy_goal_tolerance;
-  if (!inside)
-    settling_ = false;
-  else if (goal_dist <= 0.5 * params_.xy_goal_tolerance || goal_dist > last_goal_dist_ - 1e-3)
-    settling_ = true;
-  last_goal_dist_ = goal_dist;
-
   // Goal: stop, then turn to the goal heading (latched stop-and-rotate, no oscillation).
-  if ((inside && settling_) || (params_.latch_xy_goal_tolerance && xy_latched_))
+  if (goal_dist <= params_.xy_goal_tolerance || (params_.latch_xy_goal_tolerance && xy_latched_))
   {
     if (params_.latch_xy_goal_tolerance)
       xy_latched_ = true;

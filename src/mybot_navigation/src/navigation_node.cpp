@@ -393,6 +393,21 @@ private:
     }
   }
 
+  // A goal that arrives while the pose is a moment old (a loaded machine, a late odometry
+  // message) waits for a fresh one, as move_base does, instead of aborting at once.
+  bool waitForRobotPose(Pose2D& pose)
+  {
+    const ros::Time deadline = ros::Time::now() + ros::Duration(2.0);
+    const ros::WallTime wall_deadline = ros::WallTime::now() + ros::WallDuration(10.0);
+    while (!robotPose(pose, false))
+    {
+      if (!ros::ok() || ros::Time::now() > deadline || ros::WallTime::now() > wall_deadline)
+        return robotPose(pose, true);
+      ros::WallDuration(0.005).sleep();
+    }
+    return true;
+  }
+
   bool toGlobalFrame(const geometry_msgs::PoseStamped& in, Pose2D& out, std::string& error)
   {
     if (in.header.frame_id.empty() || in.header.frame_id == global_frame_)
@@ -426,7 +441,7 @@ private:
       error = "the goal has an invalid quaternion";
     else if (!have_map_)
       error = "no map received yet";
-    else if (!robotPose(pose, true))
+    else if (!waitForRobotPose(pose))
       error = "the robot pose is unknown";
     else
       toGlobalFrame(goal->target_pose, g, error);

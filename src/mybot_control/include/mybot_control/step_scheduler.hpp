@@ -1,6 +1,6 @@
 // When to run a control step: immediately when a new command arrives (no added latency),
-// and from ticks (a periodic timer, or the measurements' arrival) only while commands are not
-// arriving (timeouts, ramps to zero), at most once per period. Avoids both the up-to-one-period delay of a purely timer-driven loop and
+// and from a periodic timer only as a watchdog while commands are not arriving (timeouts,
+// ramps to zero). Avoids both the up-to-one-period delay of a purely timer-driven loop and
 // near-zero dt steps from bursts of commands.
 #pragma once
 
@@ -15,7 +15,7 @@ public:
   // A command arrived at t. Returns true (and dt) if a step should run now; bursts faster
   // than a quarter period only update the command, the next step uses it.
   bool onEvent(double t, double& dt);
-  // A tick at t (timer or measurement). Returns true (and dt) if the watchdog should step.
+  // The timer fired at t. Returns true (and dt) if the watchdog should step.
   bool onTick(double t, double& dt);
   void reset() { started_ = false; }
   double period() const { return period_; }

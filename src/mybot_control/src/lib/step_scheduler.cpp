@@ -26,9 +26,8 @@ bool StepScheduler::onEvent(double t, double& dt)
 
 bool StepScheduler::onTick(double t, double& dt)
 {
-  // While events drive the loop the ticks stay quiet; they take over once events stop, at
-  // most once per period (a tick source may be faster than the period, e.g. joint_states).
-  if (started_ && t >= last_step_ && t - last_step_ < (last_by_timer_ ? 0.75 : 1.25) * period_)
+  // While events drive the loop the timer stays quiet; it takes over once they stop.
+  if (started_ && !last_by_timer_ && t >= last_step_ && t - last_step_ < 1.25 * period_)
     return false;
   last_by_timer_ = true;
   return step(t, dt);

@@ -21,17 +21,6 @@ TEST(StepScheduler, EventsDriveAndTimerTakesOverWhenTheyStop)
   EXPECT_NEAR(dt, 0.02, 1e-12);
 }
 
-TEST(StepScheduler, TicksFasterThanThePeriodStepOncePerPeriod)
-{
-  StepScheduler s(0.02);
-  double dt = 0.0;
-  EXPECT_TRUE(s.onTick(1.000, dt));
-  EXPECT_FALSE(s.onTick(1.005, dt));  // e.g. joint_states at 200 Hz
-  EXPECT_FALSE(s.onTick(1.010, dt));
-  EXPECT_TRUE(s.onTick(1.019, dt));   // a tick's jitter still steps
-  EXPECT_NEAR(dt, 0.019, 1e-12);
-}
-
 TEST(StepScheduler, BurstsDoNotStepWithTinyDt)
 {
   StepScheduler s(0.02);

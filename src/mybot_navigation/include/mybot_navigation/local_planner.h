@@ -6,7 +6,6 @@
 #pragma once
 
 #include <string>
-#include <limits>
 #include <vector>
 
 #include "mybot_navigation/costmap.h"
@@ -95,9 +94,6 @@ private:
   std::vector<Pose2D> plan_;
   size_t plan_start_ = 0;  // plan poses before this one are behind the robot
   bool xy_latched_ = false;
-  // Inside the xy tolerance the robot keeps closing in until half-way in or no longer gaining.
-  bool settling_ = false;
-  double last_goal_dist_ = std::numeric_limits<double>::infinity();
   // Oscillation suppression (DWA's OscillationCostFunction, simplified): once a direction of
   // rotation or strafe has been chosen, the opposite sign is forbidden until the robot has moved.
   int forbid_rot_sign_ = 0, forbid_strafe_sign_ = 0;
