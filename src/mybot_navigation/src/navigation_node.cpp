@@ -373,9 +373,7 @@ private:
     {
       const auto t = tf_buffer_.lookupTransform(global_frame_, base_frame_, ros::Time(0));
       // A stale pose (localization or odometry stopped) must not drive the robot.
-      if (!t.header.stamp.isZero() &&
-          (ros::Time::now() - t.header.stamp).toSec() > global_cfg_.transform_tolerance + 1.0 / controller_frequency_ +
-                                                           0.2)
+      if (!t.header.stamp.isZero() && (ros::Time::now() - t.header.stamp).toSec() > maxPoseAge())
       {
         if (warn)
           ROS_WARN_THROTTLE(2.0, "move_base: the robot pose %s -> %s is %.2f s old", global_frame_.c_str(),
@@ -397,16 +395,13 @@ private:
   // message) waits for a fresh one, as move_base does, instead of aborting at once.
   bool waitForRobotPose(Pose2D& pose)
   {
-    const ros::Time deadline = ros::Time::now() + ros::Duration(2.0);
-    const ros::WallTime wall_deadline = ros::WallTime::now() + ros::WallDuration(10.0);
-    while (!robotPose(pose, false))
-    {
-      if (!ros::ok() || ros::Time::now() > deadline || ros::WallTime::now() > wall_deadline)
-        return robotPose(pose, true);
-      ros::WallDuration(0.005).sleep();
-    }
-    return true;
+    const double now = ros::Time::now().toSec();
+    if (now > maxPoseAge())  // tf2 waits (up to 2 s) for a transform at least this recent
+      tf_buffer_.canTransform(global_frame_, base_frame_, ros::Time(now - maxPoseAge()), ros::Duration(2.0));
+    return robotPose(pose, true);
   }
+
+  double maxPoseAge() const { return global_cfg_.transform_tolerance + 1.0 / controller_frequency_ + 0.2; }
 
   bool toGlobalFrame(const geometry_msgs::PoseStamped& in, Pose2D& out, std::string& error)
   {
