@@ -67,6 +67,16 @@ enum class ScanOutcome
   NoValidPoints  // nothing usable to match or insert
 };
 
+// The last accepted loop closure, for logging.
+struct LoopClosureRecord
+{
+  int from = -1;           // older keyframe
+  int to = -1;             // current keyframe
+  double score = 0.0;      // matcher score of the closure
+  double ratio = 0.0;      // translation constraint ratio (1 = fully constrained)
+  Pose2D correction;       // closure pose relative to the estimate before optimisation
+};
+
 struct SlamStats
 {
   int scans = 0;
@@ -75,6 +85,7 @@ struct SlamStats
   int loop_attempts = 0;
   int loop_closures = 0;
   double last_match_score = 0.0;
+  LoopClosureRecord last_closure;
 };
 
 class Slam

@@ -260,6 +260,7 @@ bool Slam::tryLoopClosure(int current)
   ++stats_.loop_closures;
 
   const Pose2D correction = between(kf.pose, res.pose);
+  stats_.last_closure = {best, current, res.score, ratio, correction};
   if (translationNorm(correction) < params_.grid.resolution && std::abs(correction.theta) < 0.01)
     return true;  // already consistent: keep the constraint, skip the expensive re-render
   graph_.optimize();

@@ -194,7 +194,15 @@ private:
                                        range_max, max_urange_, g, &stats);
     if (stats.invalid > 0)
       ROS_DEBUG_THROTTLE(5.0, "slam: %d invalid readings (NaN/-inf/below range_min) ignored", stats.invalid);
+    const int closures = slam_->stats().loop_closures;
     const ScanOutcome outcome = slam_->addScan(stamp, odom, rs);
+    if (slam_->stats().loop_closures != closures)
+    {
+      const LoopClosureRecord& c = slam_->stats().last_closure;
+      ROS_INFO("slam: loop closure keyframe %d -> %d (score %.2f, constraint ratio %.2f, correction %.3f m %.3f m "
+               "%.3f rad)",
+               c.to, c.from, c.score, c.ratio, c.correction.x, c.correction.y, c.correction.theta);
+    }
     last_stamp_ = std::max(last_stamp_, stamp);
     switch (outcome)
     {

@@ -94,8 +94,10 @@ class SlamSimTest(unittest.TestCase):
         for wx, wy in self.waypoints:
             deadline = rospy.Time.now() + rospy.Duration(120)
             while not rospy.is_shutdown():
-                self.assertLess(rospy.Time.now(), deadline, "waypoint (%.1f, %.1f) not reached" % (wx, wy))
-                _, x, y, yaw = self.truth
+                stamp, x, y, yaw = self.truth
+                self.assertLess(rospy.Time.now(), deadline,
+                                "waypoint (%.1f, %.1f) not reached: ground truth (%.2f, %.2f, %.2f rad) at %.2f s, "
+                                "now %.2f s" % (wx, wy, x, y, yaw, stamp.to_sec(), rospy.Time.now().to_sec()))
                 dist = math.hypot(wx - x, wy - y)
                 if dist < 0.1:
                     break
