@@ -54,3 +54,33 @@ TEST(PoseGraph, RejectsBadIndices)
   g.addNode({});
   EXPECT_THROW(g.addEdge({0, 1, {}, 0.1, 0.1, false}), std::out_of_range);
 }
+
+TEST(PoseGraph, ResidualTellsAConsistentClosureFromAWrongOne)
+{
+  // A straight 5 m chain measured well, then a closure back to the start: the true one leaves no
+  // residual after optimisation, one placed a metre off (a neighbouring aisle) cannot be honoured.
+  auto chain = []() {
+    PoseGraph g;
+    g.addNode({});
+    for (int i = 1; i <= 10; ++i)
+    {
+      g.addNode({0.5 * i, 0.0, 0.0});
+      g.addEdge({i - 1, i, {0.5, 0.0, 0.0}, 0.02, 0.01, false});
+    }
+    return g;
+  };
+  PoseGraph good = chain();
+  const PoseGraphEdge truth{0, 10, {5.0, 0.0, 0.0}, 0.05, 0.02, true};
+  good.addEdge(truth);
+  good.optimize();
+  EXPECT_LT(translationNorm(good.residual(truth)), 1e-6);
+
+  PoseGraph bad = chain();
+  const PoseGraphEdge wrong{0, 10, {5.0, 1.0, 0.0}, 0.05, 0.02, true};
+  bad.addEdge(wrong);
+  EXPECT_NEAR(translationNorm(bad.residual(wrong)), 1.0, 1e-9);
+  bad.optimize();
+  EXPECT_GT(translationNorm(bad.residual(wrong)), 3 * 0.05);
+  bad.popEdge();
+  EXPECT_EQ(bad.edges().size(), 10u);
+}

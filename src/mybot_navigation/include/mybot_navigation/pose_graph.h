@@ -37,6 +37,11 @@ public:
   const Pose2D& node(int i) const { return nodes_[static_cast<size_t>(i)]; }
   void setNode(int i, const Pose2D& p) { nodes_[static_cast<size_t>(i)] = p; }
   const std::vector<PoseGraphEdge>& edges() const { return edges_; }
+  // Drops the newest edge (a loop closure that failed its consistency check).
+  void popEdge() { edges_.pop_back(); }
+  // How far the current node poses are from satisfying an edge: the measured pose of `to`
+  // relative to where `from` currently puts it, in `from`'s frame (zero when consistent).
+  Pose2D residual(const PoseGraphEdge& edge) const;
 
   // Optimises every node except the first (the gauge). Poses are updated in place.
   OptimizationSummary optimize(int max_iterations = 50, double huber_scale = 1.0);

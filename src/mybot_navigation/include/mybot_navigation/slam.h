@@ -29,7 +29,10 @@ struct SlamParams
   double search_window_linear = 0.3;   // m
   double search_window_angular = 0.35; // rad
   double min_match_score = 0.35;       // below: keep the odometry prediction
-  double match_translation_weight = 2.0;  // motion prior (score per m^2 away from the prediction)
+  // Motion prior: score lost per m^2 away from the odometry prediction. Along an aisle the match
+  // score is flat but for bumps of about 1 %; at 20 such a bump moves the pose about 2 cm, while
+  // a real 10 cm correction still wins (slam_bench, factory at 8 m range: ATE 6 -> 2 cm).
+  double match_translation_weight = 20.0;
   double match_rotation_weight = 0.1;     // (score per rad^2)
   double match_point_spacing = 0.1;    // m, voxel filter of the points used for matching
   double sigma_xy = 0.02;              // m, sequential edge uncertainty
@@ -47,6 +50,17 @@ struct SlamParams
   int loop_check_interval = 3;         // keyframes between closure attempts
   double loop_sigma_xy = 0.05;
   double loop_sigma_theta = 0.02;
+  // Consistency: a closure may move the current pose at most loop_max_correction plus
+  // loop_max_correction_per_m for each metre travelled since the candidate (drift cannot
+  // grow faster), and after optimisation the graph must satisfy it to within
+  // loop_max_residual_sigma of its uncertainty; otherwise it is undone (repeating
+  // structure matched at the wrong place).
+  double loop_max_correction = 0.3;          // m
+  double loop_max_correction_per_m = 0.05;   // m per m travelled
+  double loop_max_residual_sigma = 3.0;
+  // A closure that moves the pose must score at least this many times its score at the current
+  // estimate: along an aisle of identical shelves both fit, and the match says nothing of drift.
+  double loop_min_score_gain = 1.5;
 };
 
 struct Keyframe
@@ -73,8 +87,11 @@ struct LoopClosureRecord
   int from = -1;           // older keyframe
   int to = -1;             // current keyframe
   double score = 0.0;      // matcher score of the closure
+  double score_at_estimate = 0.0;  // the same scan scored at the current estimate
   double ratio = 0.0;      // translation constraint ratio (1 = fully constrained)
   Pose2D correction;       // closure pose relative to the estimate before optimisation
+  bool accepted = false;
+  const char* reason = "";  // why a matched closure was rejected
 };
 
 struct SlamStats
@@ -84,8 +101,9 @@ struct SlamStats
   int weak_matches = 0;          // matcher below min_match_score: odometry used
   int loop_attempts = 0;
   int loop_closures = 0;
+  int loop_rejected = 0;         // matched, but implausible or inconsistent with the graph
   double last_match_score = 0.0;
-  LoopClosureRecord last_closure;
+  LoopClosureRecord last_closure;  // the last matched closure, accepted or rejected
 };
 
 class Slam

@@ -49,6 +49,11 @@ void PoseGraph::addEdge(const PoseGraphEdge& e)
   edges_.push_back(e);
 }
 
+Pose2D PoseGraph::residual(const PoseGraphEdge& e) const
+{
+  return between(between(node(e.from), node(e.to)), e.measurement);
+}
+
 OptimizationSummary PoseGraph::optimize(int max_iterations, double huber_scale)
 {
   OptimizationSummary out;

@@ -249,21 +249,60 @@ bool Slam::tryLoopClosure(int current)
   if (ratio < params_.loop_min_constraint_ratio)
     return false;
 
+  const Keyframe& candidate = keyframes_[static_cast<size_t>(best)];
+  const Pose2D correction = between(kf.pose, res.pose);
+  const double score_at_estimate = scorePose(field, kf.match_points, kf.pose);
+  stats_.last_closure = {best, current, res.score, score_at_estimate, ratio, correction, false, ""};
+  // A closure that merely confirms the estimate is harmless however weak. One that moves the
+  // pose must fit clearly better there than at the estimate: in a well-structured place a
+  // few centimetres off costs most of the score, while along an aisle of identical shelves
+  // (or seen from the opposite side) both poses fit about equally.
+  if (translationNorm(correction) > 2.0 * params_.grid.resolution &&
+      res.score < params_.loop_min_score_gain * score_at_estimate)
+  {
+    ++stats_.loop_rejected;
+    stats_.last_closure.reason = "it fits hardly better than the current estimate (ambiguous place)";
+    return false;
+  }
+  const double max_correction =
+      params_.loop_max_correction + params_.loop_max_correction_per_m * (kf.travelled - candidate.travelled);
+  if (translationNorm(correction) > max_correction)
+  {
+    ++stats_.loop_rejected;
+    stats_.last_closure.reason = "correction larger than the drift possible since the candidate";
+    return false;
+  }
+
   PoseGraphEdge edge;
   edge.from = best;
   edge.to = current;
-  edge.measurement = between(keyframes_[static_cast<size_t>(best)].pose, res.pose);
+  edge.measurement = between(candidate.pose, res.pose);
   edge.sigma_xy = params_.loop_sigma_xy;
   edge.sigma_theta = params_.loop_sigma_theta;
   edge.robust = true;
   graph_.addEdge(edge);
-  ++stats_.loop_closures;
-
-  const Pose2D correction = between(kf.pose, res.pose);
-  stats_.last_closure = {best, current, res.score, ratio, correction};
   if (translationNorm(correction) < params_.grid.resolution && std::abs(correction.theta) < 0.01)
+  {
+    ++stats_.loop_closures;
+    stats_.last_closure.accepted = true;
     return true;  // already consistent: keep the constraint, skip the expensive re-render
+  }
   graph_.optimize();
+  // The robust loss lets a wrong closure sit in the graph half-satisfied while it bends the
+  // rest: a closure the optimised graph cannot honour is undone.
+  const Pose2D r = graph_.residual(edge);
+  if (translationNorm(r) > params_.loop_max_residual_sigma * params_.loop_sigma_xy ||
+      std::abs(r.theta) > params_.loop_max_residual_sigma * params_.loop_sigma_theta)
+  {
+    graph_.popEdge();
+    for (size_t i = 0; i < keyframes_.size(); ++i)
+      graph_.setNode(static_cast<int>(i), keyframes_[i].pose);
+    ++stats_.loop_rejected;
+    stats_.last_closure.reason = "the optimised graph disagrees with it";
+    return false;
+  }
+  ++stats_.loop_closures;
+  stats_.last_closure.accepted = true;
   for (size_t i = 0; i < keyframes_.size(); ++i)
     keyframes_[i].pose = graph_.node(static_cast<int>(i));
   renderGlobalMap();

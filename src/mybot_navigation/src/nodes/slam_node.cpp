@@ -73,6 +73,8 @@ public:
     p.local_map_scans = param(pnh_, "local_map_scans", 20, [](int v) { return v >= 2; }, "an integer >= 2");
     p.search_window_linear = param(pnh_, "search_window_linear", 0.3, non_negative, "a distance >= 0 (m)");
     p.search_window_angular = param(pnh_, "search_window_angular", 0.35, non_negative, "an angle >= 0 (rad)");
+    p.match_translation_weight = param(pnh_, "match_translation_weight", p.match_translation_weight, non_negative,
+                                       "a number >= 0 (score per m^2)");
     p.min_match_score = param(pnh_, "min_match_score", 0.35, [](double v) { return v >= 0 && v < 1; }, "in [0, 1)");
     p.loop_closure = param(pnh_, "loop_closure", true, [](bool) { return true; }, "a bool");
     p.loop_search_radius = param(pnh_, "loop_search_radius", 4.0, positive, "a positive distance (m)");
@@ -80,6 +82,14 @@ public:
     p.loop_window_linear = param(pnh_, "loop_window_linear", 1.5, positive, "a positive distance (m)");
     p.loop_window_angular = param(pnh_, "loop_window_angular", 0.5, positive, "a positive angle (rad)");
     p.loop_min_score = param(pnh_, "loop_min_score", 0.6, [](double v) { return v > 0 && v < 1; }, "in (0, 1)");
+    p.loop_max_correction = param(pnh_, "loop_max_correction", p.loop_max_correction, non_negative,
+                                  "a distance >= 0 (m)");
+    p.loop_max_correction_per_m = param(pnh_, "loop_max_correction_per_m", p.loop_max_correction_per_m,
+                                        non_negative, "a number >= 0 (m per m travelled)");
+    p.loop_min_score_gain = param(pnh_, "loop_min_score_gain", p.loop_min_score_gain,
+                                  [](double v) { return std::isfinite(v) && v >= 1.0; }, "a ratio >= 1");
+    p.loop_max_residual_sigma = param(pnh_, "loop_max_residual_sigma", p.loop_max_residual_sigma, positive,
+                                      "a positive number of standard deviations");
     if (p.grid.resolution > 1.0)
       ROS_WARN("slam: ~delta = %.2f m is a very coarse map", p.grid.resolution);
     slam_ = std::make_unique<Slam>(p);
@@ -194,14 +204,15 @@ private:
                                        range_max, max_urange_, g, &stats);
     if (stats.invalid > 0)
       ROS_DEBUG_THROTTLE(5.0, "slam: %d invalid readings (NaN/-inf/below range_min) ignored", stats.invalid);
-    const int closures = slam_->stats().loop_closures;
+    const int closures = slam_->stats().loop_closures, rejected = slam_->stats().loop_rejected;
     const ScanOutcome outcome = slam_->addScan(stamp, odom, rs);
-    if (slam_->stats().loop_closures != closures)
+    if (slam_->stats().loop_closures != closures || slam_->stats().loop_rejected != rejected)
     {
       const LoopClosureRecord& c = slam_->stats().last_closure;
-      ROS_INFO("slam: loop closure keyframe %d -> %d (score %.2f, constraint ratio %.2f, correction %.3f m %.3f m "
-               "%.3f rad)",
-               c.to, c.from, c.score, c.ratio, c.correction.x, c.correction.y, c.correction.theta);
+      ROS_INFO("slam: loop closure keyframe %d -> %d %s%s (score %.2f, %.2f at the estimate, constraint ratio %.2f, "
+               "correction %.3f m %.3f m %.3f rad)",
+               c.to, c.from, c.accepted ? "accepted" : "rejected: ", c.reason, c.score, c.score_at_estimate, c.ratio,
+               c.correction.x, c.correction.y, c.correction.theta);
     }
     last_stamp_ = std::max(last_stamp_, stamp);
     switch (outcome)

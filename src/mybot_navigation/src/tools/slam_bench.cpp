@@ -37,20 +37,29 @@ double median(std::vector<double> v)
 const std::vector<Point2D> kRoute{{2, 3},   {23, 3},  {23, 10}, {2, 10},  {2, 17},  {23, 17}, {23, 24}, {47, 24},
                                   {47, 17}, {27, 17}, {27, 24}, {23, 24}, {23, 31}, {23, 3},  {2, 3}};
 
-Row runOnce(const GridMap& world, const std::vector<Point2D>& route, bool loop_closure, unsigned seed)
+struct Setup
+{
+  bool loop_closure = true;
+  double usable_range = 30.0;  // m (the node's maxUrange)
+  int local_map_scans = SlamParams().local_map_scans;
+  OdometryNoise noise{0.05, 0.05, 0.01};
+  double translation_weight = SlamParams().match_translation_weight;
+  double rotation_weight = SlamParams().match_rotation_weight;
+};
+
+Row runOnce(const GridMap& world, const std::vector<Point2D>& route, const Setup& setup, unsigned seed)
 {
   LaserSpec laser;
-  OdometryNoise noise;
-  noise.alpha_trans = 0.05;
-  noise.alpha_rot = 0.05;
-  noise.drift_rot = 0.01;
-  DriveSimulator drive(world, route, laser, noise, 0.5, 1.0, seed);
+  DriveSimulator drive(world, route, laser, setup.noise, 0.5, 1.0, seed);
   SlamParams p;
   p.linear_update = 0.25;
   p.angular_update = 0.25;
-  p.loop_closure = loop_closure;
+  p.loop_closure = setup.loop_closure;
+  p.local_map_scans = setup.local_map_scans;
+  p.match_translation_weight = setup.translation_weight;
+  p.match_rotation_weight = setup.rotation_weight;
   Slam slam(p);
-  const OfflineRun run = runSlamOnDrive(slam, drive, laser, 30.0);
+  const OfflineRun run = runSlamOnDrive(slam, drive, laser, setup.usable_range);
   const Pose2D align = alignTrajectories(run.estimate, run.truth);
   const MapScore ms = scoreMap(slam.map(), world, align, 1);
   const RelativePoseError rpe = relativePoseError(run.estimate, run.truth, 4);  // ~1 m apart
@@ -90,7 +99,8 @@ std::vector<Point2D> parseRoute(const std::string& text)
 int main(int argc, char** argv)
 {
   int runs = 3;
-  bool closure = true, quick = false;
+  bool quick = false;
+  Setup setup;
   std::string map_file, route_text, label = "synthetic 50 x 50 m factory";
   for (int i = 1; i < argc; ++i)
   {
@@ -99,7 +109,19 @@ int main(int argc, char** argv)
     if (a == "--runs" && has_value)
       runs = std::max(1, std::atoi(argv[++i]));
     else if (a == "--closure" && has_value)
-      closure = std::atoi(argv[++i]) != 0;
+      setup.loop_closure = std::atoi(argv[++i]) != 0;
+    else if (a == "--range" && has_value)
+      setup.usable_range = std::atof(argv[++i]);
+    else if (a == "--local-scans" && has_value)
+      setup.local_map_scans = std::max(2, std::atoi(argv[++i]));
+    else if (a == "--noise" && has_value)
+      setup.noise.alpha_trans = setup.noise.alpha_rot = std::atof(argv[++i]);
+    else if (a == "--translation-weight" && has_value)
+      setup.translation_weight = std::atof(argv[++i]);
+    else if (a == "--rotation-weight" && has_value)
+      setup.rotation_weight = std::atof(argv[++i]);
+    else if (a == "--drift" && has_value)
+      setup.noise.drift_rot = std::atof(argv[++i]);
     else if (a == "--map" && has_value)
       map_file = argv[++i];
     else if (a == "--route" && has_value)
@@ -111,7 +133,8 @@ int main(int argc, char** argv)
     else
     {
       std::fprintf(stderr, "usage: slam_bench [--map TRUTH.yaml --route \"x,y x,y ...\"] [--label L] [--closure 0|1] "
-                           "[--runs N] [--quick]\nprints one Markdown table row (medians over runs)\n");
+                           "[--range M] [--local-scans N] [--noise ALPHA] [--drift RAD_PER_M] "
+                           "[--translation-weight W] [--rotation-weight W] [--runs N] [--quick]\nprints one Markdown table row (medians over runs)\n");
       return 2;
     }
   }
@@ -135,7 +158,7 @@ int main(int argc, char** argv)
   for (size_t i = 1; i < route.size(); ++i)
     length += std::hypot(route[i].x - route[i - 1].x, route[i].y - route[i - 1].y);
   for (int i = 0; i < runs; ++i)
-    rows.push_back(runOnce(world, route, closure, 100 + static_cast<unsigned>(i)));
+    rows.push_back(runOnce(world, route, setup, 100 + static_cast<unsigned>(i)));
   auto med = [&](double Row::*f) {
     std::vector<double> v;
     for (const Row& r : rows)
@@ -151,7 +174,7 @@ int main(int argc, char** argv)
   rusage ru;
   getrusage(RUSAGE_SELF, &ru);
   std::printf("| %s, %.0f m | %s | %.3f | %.3f | %.3f | %.3f / %.4f | %.2f | %.0f | %.0f | %.0f | %.0f |\n", label.c_str(),
-              length, closure ? "on" : "off", med(&Row::precision), med(&Row::recall), med(&Row::ate),
+              length, setup.loop_closure ? "on" : "off", med(&Row::precision), med(&Row::recall), med(&Row::ate),
               med(&Row::rpe_t), med(&Row::rpe_r), med(&Row::odom_ate), med(&Row::rtf), median(kf), median(cl),
               ru.ru_maxrss / 1024.0);
   return 0;
