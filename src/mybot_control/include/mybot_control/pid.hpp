@@ -32,6 +32,11 @@ struct PidConfig
   double output_max = std::numeric_limits<double>::infinity();
   double d_filter_tau = 0.0;  // s, time constant of the derivative low-pass; 0 = unfiltered
   bool angle_wrap = false;    // error and measurement steps wrapped to (-pi, pi]
+  // Velocity loops: while |setpoint| is below this (a motor's dead-band speed), the output never
+  // opposes the setpoint's sign. There the motor cannot turn as slowly as asked, and a trim
+  // free to reverse swings the wheel between directions; held to one sign it pulses forward at
+  // the requested mean. Above it, reverse output is braking and stays allowed. 0 = off.
+  double no_reverse_below = 0.0;
   // Control steps by which the measurement lags the command (transport delay, encoder
   // differencing). The feedback error compares the measurement with the setpoint of that
   // many steps ago, so a plant that follows the feed-forward is not "corrected" while its

@@ -24,6 +24,8 @@ std::string PidConfig::validate(const std::string& prefix) const
     return bad("output_min", "must be below output_max");
   if (setpoint_delay < 0 || setpoint_delay > 100)
     return bad("setpoint_delay", "must be an integer number of steps in [0, 100]");
+  if (!(no_reverse_below >= 0.0))
+    return bad("no_reverse_below", "must be >= 0 (a speed; 0 = off)");
   if (!(d_filter_tau >= 0.0) || !std::isfinite(d_filter_tau))
     return bad("d_filter_tau", "must be >= 0 s");
   for (std::size_t k = 0; k < schedule.size(); ++k)
@@ -101,8 +103,15 @@ double Pid::compute(double setpoint, double reference, double measurement, doubl
 
   // Conditional integration: integrate only if that does not push a saturated output
   // further into saturation. The integral term itself is also clamped (i_clamp).
+  double lo = config_.output_min, hi = config_.output_max;
+  if (std::abs(setpoint) < config_.no_reverse_below && setpoint > 0.0)
+    lo = std::max(lo, 0.0);
+  else if (std::abs(setpoint) < config_.no_reverse_below && setpoint < 0.0)
+    hi = std::min(hi, 0.0);
   const double candidate_i = std::clamp(i_term_ + g.i * error_ * dt, config_.i_clamp_min, config_.i_clamp_max);
   const double unsat_with = ff + p_term_ + candidate_i + d_term_;
+  // The no-reverse bound is not a saturation: there the integral keeps acting on the mean
+  // error, which sets the pulse duty below the dead band (i_clamp bounds it).
   const bool pushes_high = unsat_with > config_.output_max && candidate_i > i_term_;
   const bool pushes_low = unsat_with < config_.output_min && candidate_i < i_term_;
   if (!pushes_high && !pushes_low)
@@ -111,7 +120,7 @@ double Pid::compute(double setpoint, double reference, double measurement, doubl
     i_term_ = std::clamp(i_term_, config_.i_clamp_min, config_.i_clamp_max);
 
   const double unsat = ff + p_term_ + i_term_ + d_term_;
-  output_ = std::clamp(unsat, config_.output_min, config_.output_max);
+  output_ = std::clamp(unsat, lo, hi);
   saturated_ = output_ != unsat;
   return output_;
 }

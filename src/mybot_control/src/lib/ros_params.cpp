@@ -135,6 +135,7 @@ PidConfig loadPid(const ParamReader& p, const std::string& name, bool required, 
   c.output_max = p.number(b + "output_max", defaults.output_max);
   c.d_filter_tau = p.number(b + "d_filter_tau", defaults.d_filter_tau);
   c.angle_wrap = p.boolean(b + "angle_wrap", defaults.angle_wrap);
+  c.no_reverse_below = p.number(b + "no_reverse_below", defaults.no_reverse_below);
   const double delay = p.number(b + "setpoint_delay", defaults.setpoint_delay);
   if (delay != std::floor(delay))
     p.fail(b + "setpoint_delay", "must be an integer number of control steps");

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <deque>
 #include <limits>
 
 #include "mybot_control/pid.hpp"
@@ -257,4 +258,46 @@ TEST(Pid, TwoDegreeOfFreedomReference)
   // can reflect (here still the old one, which it matches): no correction yet.
   EXPECT_DOUBLE_EQ(pid.compute(5.0, 0.0, 0.0, 0.02), 5.0);
   EXPECT_DOUBLE_EQ(pid.compute(5.0, 5.0, 4.0, 0.02), 6.0);
+}
+
+TEST(Pid, NoReverseKeepsAWheelBelowItsDeadBandFromSwinging)
+{
+  // A motor behind the GoPiGo tutorial's motor map: any non-zero request turns the wheel at
+  // 1.28 rad/s at least. Asked for 0.3 rad/s, the trim must pulse the wheel forward (mean near
+  // the target), not drive it backwards.
+  auto run = [](bool no_reverse, double* mean, double* min_speed) {
+    PidConfig c;
+    c.p = 1.0;
+    c.i = 10.0;
+    c.f = 1.0;
+    c.i_clamp_min = -3.0;
+    c.i_clamp_max = 3.0;
+    c.no_reverse_below = no_reverse ? 1.28 : 0.0;
+    Pid pid(c);
+    double y = 0.0, sum = 0.0;
+    *min_speed = 0.0;
+    const double dt = 0.02;
+    const int n = 1000;
+    std::deque<double> measured(5, 0.0);  // 0.1 s of encoder differencing and transport
+    for (int k = 0; k < n; ++k)
+    {
+      const double u = pid.compute(0.3, measured.front(), dt);
+      const double floor_speed = std::abs(u) < 1e-6 ? 0.0 : std::copysign(std::max(std::abs(u), 1.28), u);
+      y += dt * (floor_speed - y) / 0.1;
+      measured.pop_front();
+      measured.push_back(y);
+      if (k >= n / 2)
+      {
+        sum += y;
+        *min_speed = std::min(*min_speed, y);
+      }
+    }
+    *mean = sum / (n / 2);
+  };
+  double mean = 0.0, min_speed = 0.0;
+  run(false, &mean, &min_speed);
+  EXPECT_LT(min_speed, -0.5);  // the plain loop swings the wheel backwards
+  run(true, &mean, &min_speed);
+  EXPECT_GE(min_speed, 0.0);
+  EXPECT_NEAR(mean, 0.3, 0.1);
 }
