@@ -296,6 +296,11 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
                                            std::min(params_.max_vel_theta, vel.wz + params_.acc_lim_theta * dt),
                                            params_.vth_samples);
   const bool near_goal = goal_dist <= params_.forward_point_distance;
+  // Starting in collision (localization error, or an obstacle marked at the footprint's edge)
+  // every trajectory would be rejected and the robot would sit until the recoveries, blocked
+  // the same way, abort the goal. Accept the trajectories that get out: collisions are
+  // tolerated until the footprint first comes free, after which it must stay free.
+  const bool start_in_collision = cm.footprintCost(pose) < 0;
   LocalResult best;
   best.cost = std::numeric_limits<double>::infinity();
   int n_samples = 0, n_valid = 0;
@@ -316,18 +321,21 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
         const Velocity2D v{vx, vy, wz};
         const std::vector<Pose2D> traj = simulate(pose, v);
         double occ = 0.0;
-        bool ok = true;
+        bool ok = true, free = !start_in_collision;
         for (const Pose2D& p : traj)
         {
           const double c = cm.footprintCost(p);
           if (c < 0)
           {
+            if (!free)
+              continue;  // still getting out
             ok = false;
             break;
           }
+          free = true;
           occ = std::max(occ, c);
         }
-        if (!ok)
+        if (!ok || !free)
           continue;
         const Pose2D& end = traj.back();
         double pd, gd;

@@ -249,8 +249,10 @@ class NavSimTest(unittest.TestCase):
             client.send_goal(self.goal(gx, gy, gyaw))
             self.wait(lambda: client.get_state() not in (GoalStatus.PENDING, GoalStatus.ACTIVE), 600,
                       "goal (%.1f, %.1f)" % (gx, gy))
-            self.assertEqual(client.get_state(), GoalStatus.SUCCEEDED,
-                             "goal (%.1f, %.1f): %s" % (gx, gy, client.get_goal_status_text()))
+            if client.get_state() != GoalStatus.SUCCEEDED:
+                t, est = self.truth, self.amcl_pose() or (float("nan"),) * 3
+                self.fail("goal (%.1f, %.1f): %s; robot at truth (%.2f, %.2f, %.2f), AMCL (%.2f, %.2f, %.2f)"
+                          % ((gx, gy, client.get_goal_status_text()) + tuple(t[1:]) + tuple(est)))
             self.wait_sim(0.5)
             t = self.truth
             est = self.amcl_pose()

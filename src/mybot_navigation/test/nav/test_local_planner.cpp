@@ -273,6 +273,24 @@ TEST(LocalPlanner, RejectsTrajectoriesIntoObstacles)
     EXPECT_GE(cm.footprintCost(p), 0.0);
 }
 
+TEST(LocalPlanner, GetsOutWhenTheFootprintAlreadyTouchesAnObstacle)
+{
+  // Localization put the front edge 5 cm into a wall; the path leads back the other way. Every
+  // trajectory starts in collision, so without an escape the robot would sit until the goal
+  // aborted ("failed to find a valid control").
+  const GridMap world = makeWorld(8.0, 4.0, 0.05, {{2.0, 0.0, 2.2, 4.0}});
+  const Costmap cm = staticCostmap(world, true);
+  const Pose2D pose{1.75, 2.0, 0.0};
+  ASSERT_LT(cm.footprintCost(pose), 0.0);
+  LocalPlanner lp(diffParams());
+  lp.setPlan(straightPlan({1.75, 2.0, 0.0}, -0.05, 20));
+  const LocalResult r = lp.computeVelocity(cm, pose, {});
+  ASSERT_EQ(r.status, LocalStatus::Moving);
+  ASSERT_FALSE(r.trajectory.empty());
+  EXPECT_GE(cm.footprintCost(r.trajectory.back()), 0.0);
+  EXPECT_LT(r.trajectory.back().x, pose.x);  // away from the wall
+}
+
 TEST(LocalPlanner, HolonomicRobotStrafesToASidewaysGoal)
 {
   const GridMap world = makeWorld(8.0, 4.0, 0.05, {});
