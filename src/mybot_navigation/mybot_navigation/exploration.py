@@ -75,13 +75,36 @@ def path_lengths(passable, start):
     return dist
 
 
+def enclosed_unknown(grid, max_area_cells):
+    """Unknown cells in 4-connected pockets of at most max_area_cells that do
+    not touch the grid's edge: the inside of a box or pillar, which no laser
+    can see however often the robot drives around it."""
+    unknown = np.asarray(grid) == UNKNOWN
+    labels, n = ndimage.label(unknown)
+    if n == 0:
+        return np.zeros_like(unknown)
+    sizes = np.bincount(labels.ravel(), minlength=n + 1)
+    edge = np.unique(np.concatenate([labels[0, :], labels[-1, :], labels[:, 0], labels[:, -1]]))
+    small = sizes <= max_area_cells
+    small[0] = False
+    small[edge] = False
+    return small[labels]
+
+
 def find_frontiers(grid, info, robot_xy, robot_radius=0.2, min_frontier_size=5,
-                   blacklist=(), blacklist_radius=0.5, free_thresh=25, boundary=None):
+                   blacklist=(), blacklist_radius=0.5, free_thresh=25, boundary=None, min_unknown_area=2.0):
     """Frontier clusters reachable from the robot, nearest (by path) first.
     boundary (xmin, ymin, xmax, ymax), in the map frame, keeps exploration
     inside an area: laser rays leaving through an open door do not send the
-    robot out to map the car park."""
+    robot out to map the car park. Unknown pockets enclosed by known cells and
+    smaller than min_unknown_area (m^2) are not worth a frontier: they are the
+    insides of obstacles."""
     grid = np.asarray(grid)
+    if min_unknown_area > 0:
+        pockets = enclosed_unknown(grid, int(min_unknown_area / info.resolution ** 2))
+        if pockets.any():
+            grid = grid.copy()
+            grid[pockets] = 100  # treated as solid: no frontier borders them
     free = free_mask(grid, free_thresh)
     blocked = ~free  # unknown counts as blocked for clearance: goals stay inside known space
     clearance = ndimage.distance_transform_edt(~blocked) * info.resolution

@@ -91,3 +91,23 @@ def test_blacklisted_goal_moves_the_goal_not_the_whole_frontier():
                            blacklist=[first.goal], blacklist_radius=0.5)
     assert len(again) == 1 and again[0].size == first.size
     assert np.hypot(again[0].goal[0] - first.goal[0], again[0].goal[1] - first.goal[1]) >= 0.5
+
+
+def test_inside_of_a_box_is_not_a_frontier():
+    # A fully explored room with a 1 x 1 m box whose inside the laser never saw: driving around
+    # it forever would not reveal it.
+    g = np.zeros((80, 80), dtype=np.int8)
+    g[0, :] = g[-1, :] = g[:, 0] = g[:, -1] = 100
+    g[30:50, 30:50] = -1
+    g[30, 30:50] = g[49, 30:50] = g[30:50, 30] = g[30:50, 49] = 100
+    g[30, 36:44] = 0                         # a gap in the box's outline: its inside borders free space
+    assert frontier_mask(g)[30, 40]
+    assert find_frontiers(g, INFO, robot_xy=(0.5, 0.5), min_unknown_area=0) != []
+    assert find_frontiers(g, INFO, robot_xy=(0.5, 0.5)) == []
+    # A large unknown area is still explored, and so is unknown space reaching the map's edge.
+    g2 = room()
+    assert find_frontiers(g2, INFO, robot_xy=(0.5, 1.5)) != []
+    g3 = np.zeros((120, 120), dtype=np.int8)
+    g3[0, :] = g3[-1, :] = g3[:, 0] = g3[:, -1] = 100
+    g3[20:100, 20:100] = -1                  # 16 m^2 unseen inside the walls
+    assert find_frontiers(g3, INFO, robot_xy=(0.5, 0.5)) != []
