@@ -284,26 +284,37 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   }
 
   const double dt = simPeriod();
-  const std::vector<double> vxs = samples(std::max(params_.min_vel_x, vel.vx - params_.acc_lim_x * dt),
-                                          std::min(params_.max_vel_x, vel.vx + params_.acc_lim_x * dt),
-                                          params_.vx_samples);
-  const std::vector<double> vys =
-      params_.holonomic_robot ? samples(std::max(params_.min_vel_y, vel.vy - params_.acc_lim_y * dt),
-                                        std::min(params_.max_vel_y, vel.vy + params_.acc_lim_y * dt),
-                                        params_.vy_samples)
-                              : std::vector<double>{0.0};
-  const std::vector<double> vths = samples(std::max(-params_.max_vel_theta, vel.wz - params_.acc_lim_theta * dt),
-                                           std::min(params_.max_vel_theta, vel.wz + params_.acc_lim_theta * dt),
-                                           params_.vth_samples);
   const bool near_goal = goal_dist <= params_.forward_point_distance;
   // Starting in collision (localization error, or an obstacle marked at the footprint's edge)
   // every trajectory would be rejected and the robot would sit until the recoveries, blocked
   // the same way, abort the goal. Accept the trajectories that get out: collisions are
-  // tolerated until the footprint first comes free, after which it must stay free.
+  // tolerated until the footprint first comes free, within kEscapeDistance of the start (so
+  // no trajectory tunnels through a thin wall), after which it must stay free.
+  constexpr double kEscapeDistance = 0.15;  // m
   const bool start_in_collision = cm.footprintCost(pose) < 0;
   LocalResult best;
   best.cost = std::numeric_limits<double>::infinity();
   int n_samples = 0, n_valid = 0;
+  // Pass 0 is DWA's dynamic window around the current velocity, with the oscillation flags.
+  // If nothing there is admissible (a turn already committed towards a shelf corner, or the
+  // only way out is the rotation the oscillation flags forbid), pass 1 samples the window of
+  // a stopped robot without the flags: the base controller brakes into the new command, where
+  // DWA would command zero and let the recoveries abort the goal.
+  for (int pass = 0; pass < 2 && n_valid == 0; ++pass)
+  {
+  const Velocity2D centre = pass == 0 ? vel : Velocity2D();
+  const bool honour_flags = pass == 0;
+  const std::vector<double> vxs = samples(std::max(params_.min_vel_x, centre.vx - params_.acc_lim_x * dt),
+                                          std::min(params_.max_vel_x, centre.vx + params_.acc_lim_x * dt),
+                                          params_.vx_samples);
+  const std::vector<double> vys =
+      params_.holonomic_robot ? samples(std::max(params_.min_vel_y, centre.vy - params_.acc_lim_y * dt),
+                                        std::min(params_.max_vel_y, centre.vy + params_.acc_lim_y * dt),
+                                        params_.vy_samples)
+                              : std::vector<double>{0.0};
+  const std::vector<double> vths = samples(std::max(-params_.max_vel_theta, centre.wz - params_.acc_lim_theta * dt),
+                                           std::min(params_.max_vel_theta, centre.wz + params_.acc_lim_theta * dt),
+                                           params_.vth_samples);
   for (double vx : vxs)
     for (double vy : vys)
       for (double wz : vths)
@@ -314,9 +325,9 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
           continue;
         if (vmag + 1e-9 < params_.min_vel_trans && std::abs(wz) + 1e-9 < params_.min_vel_theta)
           continue;
-        if (forbid_rot_sign_ != 0 && wz * forbid_rot_sign_ > 1e-9 && vmag < params_.min_vel_trans)
+        if (honour_flags && forbid_rot_sign_ != 0 && wz * forbid_rot_sign_ > 1e-9 && vmag < params_.min_vel_trans)
           continue;
-        if (forbid_strafe_sign_ != 0 && vy * forbid_strafe_sign_ > 1e-9)
+        if (honour_flags && forbid_strafe_sign_ != 0 && vy * forbid_strafe_sign_ > 1e-9)
           continue;
         const Velocity2D v{vx, vy, wz};
         const std::vector<Pose2D> traj = simulate(pose, v);
@@ -327,7 +338,7 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
           const double c = cm.footprintCost(p);
           if (c < 0)
           {
-            if (!free)
+            if (!free && std::hypot(p.x - pose.x, p.y - pose.y) <= kEscapeDistance)
               continue;  // still getting out
             ok = false;
             break;
@@ -362,6 +373,7 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
           best.trajectory = traj;
         }
       }
+  }
   best.samples = n_samples;
   best.valid_samples = n_valid;
   if (n_valid == 0)

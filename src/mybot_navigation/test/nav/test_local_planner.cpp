@@ -289,6 +289,34 @@ TEST(LocalPlanner, GetsOutWhenTheFootprintAlreadyTouchesAnObstacle)
   ASSERT_FALSE(r.trajectory.empty());
   EXPECT_GE(cm.footprintCost(r.trajectory.back()), 0.0);
   EXPECT_LT(r.trajectory.back().x, pose.x);  // away from the wall
+
+  // The same contact with a thin wall and the path beyond it: driving through is no escape.
+  const GridMap thin = makeWorld(8.0, 4.0, 0.05, {{2.0, 0.0, 2.05, 4.0}});
+  const Costmap cm2 = staticCostmap(thin, true);
+  ASSERT_LT(cm2.footprintCost(pose), 0.0);
+  LocalPlanner lp2(diffParams());
+  lp2.setPlan(straightPlan({1.75, 2.0, 0.0}, 0.05, 40));
+  const LocalResult r2 = lp2.computeVelocity(cm2, pose, {0.3, 0, 0});
+  for (const Pose2D& p : r2.trajectory)
+    EXPECT_LT(p.x, 1.9) << "trajectory tunnels through the wall";
+}
+
+TEST(LocalPlanner, BrakesOutOfACommittedTurnInsteadOfGivingUp)
+{
+  // Turning right fast next to a box on the right: every velocity the dynamic window can
+  // reach keeps swinging the footprint into the box. DWA would find nothing; the robot must
+  // still get a command that leads somewhere safe (straight on, or turning left).
+  const GridMap world = makeWorld(8.0, 4.0, 0.05, {{1.0, 1.0, 2.0, 1.66}});
+  const Costmap cm = staticCostmap(world, true);
+  const Pose2D pose{1.5, 2.0, 0.0};
+  ASSERT_GE(cm.footprintCost(pose), 0.0);
+  LocalPlanner lp(diffParams());
+  lp.setPlan(straightPlan(pose, 0.05, 60));
+  const LocalResult r = lp.computeVelocity(cm, pose, {0.0, 0, -1.5});
+  ASSERT_EQ(r.status, LocalStatus::Moving);
+  EXPECT_GT(r.cmd.wz, -1.0);
+  for (const Pose2D& p : r.trajectory)
+    EXPECT_GE(cm.footprintCost(p), 0.0);
 }
 
 TEST(LocalPlanner, HolonomicRobotStrafesToASidewaysGoal)
