@@ -302,77 +302,77 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   // DWA would command zero and let the recoveries abort the goal.
   for (int pass = 0; pass < 2 && n_valid == 0; ++pass)
   {
-  const Velocity2D centre = pass == 0 ? vel : Velocity2D();
-  const bool honour_flags = pass == 0;
-  const std::vector<double> vxs = samples(std::max(params_.min_vel_x, centre.vx - params_.acc_lim_x * dt),
-                                          std::min(params_.max_vel_x, centre.vx + params_.acc_lim_x * dt),
-                                          params_.vx_samples);
-  const std::vector<double> vys =
-      params_.holonomic_robot ? samples(std::max(params_.min_vel_y, centre.vy - params_.acc_lim_y * dt),
-                                        std::min(params_.max_vel_y, centre.vy + params_.acc_lim_y * dt),
-                                        params_.vy_samples)
-                              : std::vector<double>{0.0};
-  const std::vector<double> vths = samples(std::max(-params_.max_vel_theta, centre.wz - params_.acc_lim_theta * dt),
-                                           std::min(params_.max_vel_theta, centre.wz + params_.acc_lim_theta * dt),
-                                           params_.vth_samples);
-  for (double vx : vxs)
-    for (double vy : vys)
-      for (double wz : vths)
-      {
-        ++n_samples;
-        const double vmag = std::hypot(vx, vy);
-        if (vmag > params_.max_vel_trans + 1e-9)
-          continue;
-        if (vmag + 1e-9 < params_.min_vel_trans && std::abs(wz) + 1e-9 < params_.min_vel_theta)
-          continue;
-        if (honour_flags && forbid_rot_sign_ != 0 && wz * forbid_rot_sign_ > 1e-9 && vmag < params_.min_vel_trans)
-          continue;
-        if (honour_flags && forbid_strafe_sign_ != 0 && vy * forbid_strafe_sign_ > 1e-9)
-          continue;
-        const Velocity2D v{vx, vy, wz};
-        const std::vector<Pose2D> traj = simulate(pose, v);
-        double occ = 0.0;
-        bool ok = true, free = !start_in_collision;
-        for (const Pose2D& p : traj)
+    const Velocity2D centre = pass == 0 ? vel : Velocity2D();
+    const bool honour_flags = pass == 0;
+    const std::vector<double> vxs = samples(std::max(params_.min_vel_x, centre.vx - params_.acc_lim_x * dt),
+                                            std::min(params_.max_vel_x, centre.vx + params_.acc_lim_x * dt),
+                                            params_.vx_samples);
+    const std::vector<double> vys =
+        params_.holonomic_robot ? samples(std::max(params_.min_vel_y, centre.vy - params_.acc_lim_y * dt),
+                                          std::min(params_.max_vel_y, centre.vy + params_.acc_lim_y * dt),
+                                          params_.vy_samples)
+                                : std::vector<double>{0.0};
+    const std::vector<double> vths = samples(std::max(-params_.max_vel_theta, centre.wz - params_.acc_lim_theta * dt),
+                                             std::min(params_.max_vel_theta, centre.wz + params_.acc_lim_theta * dt),
+                                             params_.vth_samples);
+    for (double vx : vxs)
+      for (double vy : vys)
+        for (double wz : vths)
         {
-          const double c = cm.footprintCost(p);
-          if (c < 0)
+          ++n_samples;
+          const double vmag = std::hypot(vx, vy);
+          if (vmag > params_.max_vel_trans + 1e-9)
+            continue;
+          if (vmag + 1e-9 < params_.min_vel_trans && std::abs(wz) + 1e-9 < params_.min_vel_theta)
+            continue;
+          if (honour_flags && forbid_rot_sign_ != 0 && wz * forbid_rot_sign_ > 1e-9 && vmag < params_.min_vel_trans)
+            continue;
+          if (honour_flags && forbid_strafe_sign_ != 0 && vy * forbid_strafe_sign_ > 1e-9)
+            continue;
+          const Velocity2D v{vx, vy, wz};
+          const std::vector<Pose2D> traj = simulate(pose, v);
+          double occ = 0.0;
+          bool ok = true, free = !start_in_collision;
+          for (const Pose2D& p : traj)
           {
-            if (!free && std::hypot(p.x - pose.x, p.y - pose.y) <= kEscapeDistance)
-              continue;  // still getting out
-            ok = false;
-            break;
+            const double c = cm.footprintCost(p);
+            if (c < 0)
+            {
+              if (!free && std::hypot(p.x - pose.x, p.y - pose.y) <= kEscapeDistance)
+                continue;  // still getting out
+              ok = false;
+              break;
+            }
+            free = true;
+            occ = std::max(occ, c);
           }
-          free = true;
-          occ = std::max(occ, c);
+          if (!ok || !free)
+            continue;
+          const Pose2D& end = traj.back();
+          double pd, gd;
+          if (!lookup(path_dist, end.x, end.y, pd) || !lookup(goal_dist_map, end.x, end.y, gd))
+            continue;
+          double cost = params_.path_distance_bias * pd + params_.goal_distance_bias * gd + params_.occdist_scale * occ;
+          // DWA's alignment and goal-front costs at a point ahead of the trajectory's end. They make
+          // the robot face along the path; a holonomic robot keeps its heading and moves sideways.
+          if (!near_goal && !params_.holonomic_robot)
+          {
+            const double fx = end.x + params_.forward_point_distance * std::cos(end.theta);
+            const double fy = end.y + params_.forward_point_distance * std::sin(end.theta);
+            double fpd, fgd;
+            if (lookup(path_dist, fx, fy, fpd) && lookup(goal_dist_map, fx, fy, fgd))
+              cost += params_.path_distance_bias * fpd + params_.goal_distance_bias * fgd;
+            else
+              cost += (params_.path_distance_bias + params_.goal_distance_bias) * reach;
+          }
+          ++n_valid;
+          if (cost < best.cost)
+          {
+            best.cost = cost;
+            best.cmd = v;
+            best.trajectory = traj;
+          }
         }
-        if (!ok || !free)
-          continue;
-        const Pose2D& end = traj.back();
-        double pd, gd;
-        if (!lookup(path_dist, end.x, end.y, pd) || !lookup(goal_dist_map, end.x, end.y, gd))
-          continue;
-        double cost = params_.path_distance_bias * pd + params_.goal_distance_bias * gd + params_.occdist_scale * occ;
-        // DWA's alignment and goal-front costs at a point ahead of the trajectory's end. They make
-        // the robot face along the path; a holonomic robot keeps its heading and moves sideways.
-        if (!near_goal && !params_.holonomic_robot)
-        {
-          const double fx = end.x + params_.forward_point_distance * std::cos(end.theta);
-          const double fy = end.y + params_.forward_point_distance * std::sin(end.theta);
-          double fpd, fgd;
-          if (lookup(path_dist, fx, fy, fpd) && lookup(goal_dist_map, fx, fy, fgd))
-            cost += params_.path_distance_bias * fpd + params_.goal_distance_bias * fgd;
-          else
-            cost += (params_.path_distance_bias + params_.goal_distance_bias) * reach;
-        }
-        ++n_valid;
-        if (cost < best.cost)
-        {
-          best.cost = cost;
-          best.cmd = v;
-          best.trajectory = traj;
-        }
-      }
   }
   best.samples = n_samples;
   best.valid_samples = n_valid;

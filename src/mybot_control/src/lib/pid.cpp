@@ -104,10 +104,13 @@ double Pid::compute(double setpoint, double reference, double measurement, doubl
   // Conditional integration: integrate only if that does not push a saturated output
   // further into saturation. The integral term itself is also clamped (i_clamp).
   double lo = config_.output_min, hi = config_.output_max;
-  if (std::abs(setpoint) < config_.no_reverse_below && setpoint > 0.0)
-    lo = std::max(lo, 0.0);
-  else if (std::abs(setpoint) < config_.no_reverse_below && setpoint < 0.0)
-    hi = std::min(hi, 0.0);
+  if (std::abs(setpoint) < config_.no_reverse_below)
+  {
+    if (setpoint > 0.0)
+      lo = std::max(lo, 0.0);
+    else if (setpoint < 0.0)
+      hi = std::min(hi, 0.0);
+  }
   const double candidate_i = std::clamp(i_term_ + g.i * error_ * dt, config_.i_clamp_min, config_.i_clamp_max);
   const double unsat_with = ff + p_term_ + candidate_i + d_term_;
   // The no-reverse bound is not a saturation: there the integral keeps acting on the mean

@@ -253,25 +253,22 @@ bool Slam::tryLoopClosure(int current)
   const Pose2D correction = between(kf.pose, res.pose);
   const double score_at_estimate = scorePose(field, kf.match_points, kf.pose);
   stats_.last_closure = {best, current, res.score, score_at_estimate, ratio, correction, false, ""};
+  auto reject = [this](const char* reason) {
+    ++stats_.loop_rejected;
+    stats_.last_closure.reason = reason;
+    return false;
+  };
   // A closure that merely confirms the estimate is harmless however weak. One that moves the
   // pose must fit clearly better there than at the estimate: in a well-structured place a
   // few centimetres off costs most of the score, while along an aisle of identical shelves
   // (or seen from the opposite side) both poses fit about equally.
   if (translationNorm(correction) > 2.0 * params_.grid.resolution &&
       res.score < params_.loop_min_score_gain * score_at_estimate)
-  {
-    ++stats_.loop_rejected;
-    stats_.last_closure.reason = "it fits hardly better than the current estimate (ambiguous place)";
-    return false;
-  }
+    return reject("it fits hardly better than the current estimate (ambiguous place)");
   const double max_correction =
       params_.loop_max_correction + params_.loop_max_correction_per_m * (kf.travelled - candidate.travelled);
   if (translationNorm(correction) > max_correction)
-  {
-    ++stats_.loop_rejected;
-    stats_.last_closure.reason = "correction larger than the drift possible since the candidate";
-    return false;
-  }
+    return reject("correction larger than the drift possible since the candidate");
 
   PoseGraphEdge edge;
   edge.from = best;
@@ -297,9 +294,7 @@ bool Slam::tryLoopClosure(int current)
     graph_.popEdge();
     for (size_t i = 0; i < keyframes_.size(); ++i)
       graph_.setNode(static_cast<int>(i), keyframes_[i].pose);
-    ++stats_.loop_rejected;
-    stats_.last_closure.reason = "the optimised graph disagrees with it";
-    return false;
+    return reject("the optimised graph disagrees with it");
   }
   ++stats_.loop_closures;
   stats_.last_closure.accepted = true;
