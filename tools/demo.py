@@ -183,14 +183,75 @@ def world_to_map_frame(pose, origin):
     return (c * dx - s * dy, s * dx + c * dy, (pose[2] - oyaw + math.pi) % (2 * math.pi) - math.pi)
 
 
-def world_box_in_map(truth_yaml, map_origin):
-    """The ground-truth map's extent as [xmin, ymin, xmax, ymax] in the map frame."""
+def world_extent(truth_yaml):
+    """The ground-truth map's extent [xmin, ymin, xmax, ymax] (world frame)."""
     grid, meta = load_map(truth_yaml)
     (ox, oy), res = meta["origin"][:2], meta["resolution"]
-    corners = [world_to_map_frame((x, y, 0.0), map_origin)[:2]
-               for x in (ox, ox + grid.shape[1] * res) for y in (oy, oy + grid.shape[0] * res)]
+    return [ox, oy, ox + grid.shape[1] * res, oy + grid.shape[0] * res]
+
+
+def building_box(truth_yaml):
+    """The inside of the outer walls [xmin, ymin, xmax, ymax] (world frame): the
+    bounding box of the largest connected obstacle, shrunk past each side made
+    mostly of wall (a door leaves most of its side standing)."""
+    from scipy import ndimage
+    grid, meta = load_map(truth_yaml)
+    (ox, oy), res = meta["origin"][:2], meta["resolution"]
+    labels, n = ndimage.label(grid == 100, structure=np.ones((3, 3)))
+    if n == 0:
+        return world_extent(truth_yaml)
+    walls = labels == np.argmax(np.bincount(labels.ravel())[1:]) + 1
+    rows, cols = np.nonzero(walls)
+    r0, r1, c0, c1 = rows.min(), rows.max(), cols.min(), cols.max()
+    while r0 < r1 and walls[r0, c0:c1 + 1].mean() > 0.5:
+        r0 += 1
+    while r1 > r0 and walls[r1, c0:c1 + 1].mean() > 0.5:
+        r1 -= 1
+    while c0 < c1 and walls[r0:r1 + 1, c0].mean() > 0.5:
+        c0 += 1
+    while c1 > c0 and walls[r0:r1 + 1, c1].mean() > 0.5:
+        c1 -= 1
+    return [ox + c0 * res, oy + r0 * res, ox + (c1 + 1) * res, oy + (r1 + 1) * res]
+
+
+def box_in_map(box, map_origin):
+    """A world-frame box's bounding box in the map frame."""
+    corners = [world_to_map_frame((x, y, 0.0), map_origin)[:2] for x in box[0::2] for y in box[1::2]]
     return [min(c[0] for c in corners), min(c[1] for c in corners),
             max(c[0] for c in corners), max(c[1] for c in corners)]
+
+
+def compose(origin, align):
+    """Pose in the world of a frame placed at align within the frame at origin."""
+    c, s = math.cos(origin[2]), math.sin(origin[2])
+    return (origin[0] + c * align[0] - s * align[1], origin[1] + s * align[0] + c * align[1],
+            origin[2] + align[2])
+
+
+def coverage(truth_yaml, map_yaml, map_origin, start_xy, clearance, box):
+    """Share of the floor the robot could drive on (ground-truth free cells
+    with the robot's clearance, inside the building, connected to the start)
+    that the saved map knows, free or occupied."""
+    from scipy import ndimage
+    grid, meta = load_map(truth_yaml)
+    res, (ox, oy) = meta["resolution"], meta["origin"][:2]
+    rows, cols = np.indices(grid.shape)
+    x, y = ox + (cols + 0.5) * res, oy + (rows + 0.5) * res
+    floor = ((ndimage.distance_transform_edt(grid != 100) * res >= clearance)
+             & (x >= box[0]) & (x <= box[2]) & (y >= box[1]) & (y <= box[3]))
+    labels, _ = ndimage.label(floor)
+    sr, sc = int((start_xy[1] - oy) / res), int((start_xy[0] - ox) / res)
+    if not labels[sr, sc]:
+        return math.nan
+    floor = labels == labels[sr, sc]
+    mgrid, mmeta = load_map(map_yaml)
+    mres, (mox, moy) = mmeta["resolution"], mmeta["origin"][:2]
+    mx, my, _ = world_to_map_frame((x, y, 0.0), map_origin)
+    mc, mr = np.floor((mx - mox) / mres).astype(int), np.floor((my - moy) / mres).astype(int)
+    inside = (mr >= 0) & (mr < mgrid.shape[0]) & (mc >= 0) & (mc < mgrid.shape[1])
+    known = np.zeros_like(floor)
+    known[inside] = mgrid[mr[inside], mc[inside]] >= 0
+    return float(np.count_nonzero(known & floor)) / max(1, np.count_nonzero(floor))
 
 
 def pick_goals(truth_yaml, map_yaml, map_origin, start_xy, n, clearance, seed=7):
@@ -286,7 +347,7 @@ def plot(robot, out, truth_yaml, map_origin, map_yaml, traj_map, traj_nav, goals
             fg = np.array(frontier_goals)
             ax.plot(fg[:, 0], fg[:, 1], "m^", ms=7, label="frontier goals")
         # The world's extent: rays that left through a door do not shrink the building.
-        xmin, ymin, xmax, ymax = world_box_in_map(truth_yaml, map_origin)
+        xmin, ymin, xmax, ymax = box_in_map(world_extent(truth_yaml), map_origin)
         ax.set_xlim(xmin, xmax)
         ax.set_ylim(ymin, ymax)
         ax.set_title("%s: %s" % (robot, title))
@@ -342,15 +403,16 @@ def frontier_goals_from_log(path):
 def run_mapping(robot, args, world, truth_yaml, out, common, summary):
     """Stage 1: explore with SLAM, save the map, score it. Returns the
     trajectory (None if the stage failed) and whether the map is good enough."""
-    thresholds = {"precision": 0.85, "recall": 0.75}
+    thresholds = {"precision": 0.85, "recall": 0.75, "coverage": 0.9}
     mx, my, myaw = world["map_start"]
     log("%s: mapping %s: spawn at (%.1f, %.1f), SLAM + navigation + frontier exploration" % (robot, args.world, mx, my))
     stage = Stage(robot + "_mapping", os.path.join(TOOLS, "launch", "mission_mapping.launch"),
                   dict(common, x=mx, y=my, yaw=myaw), out)
     map_prefix = os.path.join(out, robot + "_map")
-    # Explore inside the world's extent: rays through the loading bay's door would
-    # otherwise lead the robot out into the empty plane around the building.
-    boundary = world_box_in_map(truth_yaml, (mx, my, myaw))
+    # Explore inside the building: rays through the loading bay's door would
+    # otherwise lead the robot along the outside of the walls.
+    building = building_box(truth_yaml)
+    boundary = box_in_map(building, (mx, my, myaw))
     try:
         stage.run("mapping", "--map-out", map_prefix, "--budget", str(args.explore_budget),
                   "--boundary", *["%.3f" % v for v in boundary],
@@ -367,15 +429,25 @@ def run_mapping(robot, args, world, truth_yaml, out, common, summary):
     summary["map_score"] = score_map(map_prefix + ".yaml", truth_yaml, os.path.join(out, robot + "_mapping_traj.npz"),
                                      os.path.join(out, robot + "_mapping"))
     summary["mapping_collisions"] = collisions(truth_yaml, traj_map, (mx, my, myaw), ROBOT_RADIUS[robot] * 0.6)
-    log("%s: map precision %.3f, recall %.3f, trajectory ATE %.3f m RMS, %d collision samples" % (
-        robot, summary["map_score"].get("precision", math.nan), summary["map_score"].get("recall", math.nan),
-        summary["map_score"].get("ate_rmse_m", math.nan), summary["mapping_collisions"]))
+    ms = summary["map_score"]
+    # The saved map's frame in the world, as the SLAM trajectory's best fit to the ground truth
+    # places it: a map a few tenths of a degree off the world is still a good map, and goals
+    # given on it (as a user clicks them in rviz) are in its frame.
+    summary["map_origin"] = compose((mx, my, myaw), (ms.get("align_x_m", 0.0), ms.get("align_y_m", 0.0),
+                                                     ms.get("align_yaw_rad", 0.0)))
+    summary["coverage"] = coverage(truth_yaml, map_prefix + ".yaml", summary["map_origin"], (mx, my),
+                                   ROBOT_RADIUS[robot], building)
+    log("%s: map precision %.3f, recall %.3f, coverage %.3f, trajectory ATE %.3f m RMS, %d collision samples" % (
+        robot, ms.get("precision", math.nan), ms.get("recall", math.nan), summary["coverage"],
+        ms.get("ate_rmse_m", math.nan), summary["mapping_collisions"]))
 
-    mapping_ok = (summary["map_score"].get("precision", 0) >= thresholds["precision"]
-                  and summary["map_score"].get("recall", 0) >= thresholds["recall"]
+    mapping_ok = (ms.get("precision", 0) >= thresholds["precision"]
+                  and ms.get("recall", 0) >= thresholds["recall"]
+                  and summary["coverage"] >= thresholds["coverage"]
                   and summary["mapping_collisions"] == 0)
-    log("%s: mapping %s (needs precision >= %.2f, recall >= %.2f, no collision)" % (
-        robot, "succeeded" if mapping_ok else "FAILED", thresholds["precision"], thresholds["recall"]))
+    log("%s: mapping %s (needs precision >= %.2f, recall >= %.2f, coverage >= %.2f, no collision)" % (
+        robot, "succeeded" if mapping_ok else "FAILED", thresholds["precision"], thresholds["recall"],
+        thresholds["coverage"]))
     return traj_map, mapping_ok
 
 
@@ -402,20 +474,21 @@ def run_robot(robot, args, world, truth_yaml, out):
         plot(robot, out, truth_yaml, (mx, my, myaw), map_prefix + ".yaml", traj_map, None, [],
              frontier_goals_from_log(os.path.join(out, robot + "_mapping_explore.log")))
         return summary, mapping_ok
-    goals_world = pick_goals(truth_yaml, map_prefix + ".yaml", (mx, my, myaw), (nx, ny), args.goals, clearance=ROBOT_RADIUS[robot] + 0.35)
+    frame = tuple(summary.get("map_origin", (mx, my, myaw)))  # the saved map's frame in the world
+    goals_world = pick_goals(truth_yaml, map_prefix + ".yaml", frame, (nx, ny), args.goals, clearance=ROBOT_RADIUS[robot] + 0.35)
     goals_map = []
     for i, (gx, gy) in enumerate(goals_world):
         px, py = goals_world[i - 1] if i else (nx, ny)
         gyaw = math.atan2(gy - py, gx - px)
-        goals_map.append(world_to_map_frame((gx, gy, gyaw), (mx, my, myaw)))
-    init = world_to_map_frame((nx + 0.2, ny - 0.15, nyaw + 0.1), (mx, my, myaw))  # a rough estimate, as a user clicks
+        goals_map.append(world_to_map_frame((gx, gy, gyaw), frame))
+    init = world_to_map_frame((nx + 0.2, ny - 0.15, nyaw + 0.1), frame)  # a rough estimate, as a user clicks
     log("%s: navigation: respawn at (%.1f, %.1f), map_server + AMCL + navigation, %d goals" % (robot, nx, ny, len(goals_map)))
     stage = Stage(robot + "_navigation", os.path.join(TOOLS, "launch", "mission_navigation.launch"),
                   dict(common, x=nx, y=ny, yaw=nyaw, map_file=map_prefix + ".yaml",
                        real_time_factor=args.nav_real_time_factor or nav_rtf), out)
     try:
         stage.run("navigation", "--initial-pose", *[str(v) for v in init], "--goals", json.dumps(goals_map),
-                  "--map-origin", str(mx), str(my), str(myaw), "--goal-timeout", str(args.goal_timeout),
+                  "--map-origin", *[str(v) for v in frame], "--goal-timeout", str(args.goal_timeout),
                   timeout=args.stage_timeout)
     finally:
         stage.close()
@@ -428,7 +501,7 @@ def run_robot(robot, args, world, truth_yaml, out):
             # Before AMCL took the initial pose its estimate is the map origin: not drawn.
             traj_nav = traj_nav.copy()
             traj_nav[traj_nav[:, 0] < nav["localized_from"], 4:7] = np.nan
-        summary["navigation_collisions"] = collisions(truth_yaml, traj_nav, (mx, my, myaw), ROBOT_RADIUS[robot] * 0.6)
+        summary["navigation_collisions"] = collisions(truth_yaml, traj_nav, frame, ROBOT_RADIUS[robot] * 0.6)
     plot(robot, out, truth_yaml, (mx, my, myaw), map_prefix + ".yaml", traj_map, traj_nav, goals_map,
          frontier_goals_from_log(os.path.join(out, robot + "_mapping_explore.log")))
     ok = mapping_ok and bool(nav.get("ok")) and summary.get("navigation_collisions", 1) == 0
@@ -449,8 +522,14 @@ def write_report(out, summaries, wall_s):
             lines.append("- mapping: %s; explored completely: %s; %.1f m driven; %.0f s sim, %.0f s wall" % (
                 "ok" if m.get("ok") else "FAILED (%s)" % m.get("error", ""), m.get("explored_completely"),
                 m.get("distance_m", math.nan), m.get("sim_s", math.nan), m.get("wall_s", math.nan)))
-            lines.append("- map vs ground truth: precision %.3f, recall %.3f (occupied cells, 1-cell tolerance)" % (
-                ms.get("precision", math.nan), ms.get("recall", math.nan)))
+            lines.append("- map vs ground truth: precision %.3f, recall %.3f (occupied cells, 1-cell tolerance); "
+                         "coverage %.3f (share of the drivable floor the map knows)" % (
+                             ms.get("precision", math.nan), ms.get("recall", math.nan), s.get("coverage", math.nan)))
+            if s.get("map_origin"):
+                lines.append("- the saved map's frame is (%.3f m, %.3f m, %.2f deg) from the spawn pose by the SLAM "
+                             "trajectory's best fit; goals and localization errors are in the map's frame" % (
+                                 ms.get("align_x_m", 0.0), ms.get("align_y_m", 0.0),
+                                 math.degrees(ms.get("align_yaw_rad", 0.0))))
             lines.append("- SLAM trajectory: ATE %.3f m RMS, RPE %.3f m / %.4f rad RMS" % (
                 ms.get("ate_rmse_m", math.nan), ms.get("rpe_translation_rms_m", math.nan),
                 ms.get("rpe_rotation_rms_rad", math.nan)))

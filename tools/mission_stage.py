@@ -58,6 +58,8 @@ class Recorder:
         self.lock = threading.Lock()  # subscriber and timer threads
         self.odoms = collections.deque(maxlen=200)  # (stamp, x, y, yaw)
         self.rows = []  # t, gt x y yaw, est x y yaw, odom x y yaw
+        self.skipped = collections.Counter()  # samples not taken, by reason
+        self.tf_error = ""
         self.tf = tf2_ros.Buffer(rospy.Duration(30))
         tf2_ros.TransformListener(self.tf)
         rospy.Subscriber("ground_truth/odom", Odometry, self._on_gt, queue_size=5)
@@ -89,7 +91,9 @@ class Recorder:
     def estimate(self, stamp=None):
         try:
             t = self.tf.lookup_transform(self.map_frame, self.base_frame, stamp or rospy.Time(0))
-        except tf2_ros.TransformException:
+        except tf2_ros.TransformException as e:
+            # Kept short (no stamps) so that skip reasons group in the result.
+            self.tf_error = type(e).__name__
             return None
         return (t.transform.translation.x, t.transform.translation.y, yaw_of(t.transform.rotation))
 
@@ -103,14 +107,22 @@ class Recorder:
     def _sample(self, _):
         # A ground-truth pose a little in the past, when tf and odometry of that
         # instant have surely arrived.
-        lag = rospy.Time.now() - rospy.Duration(0.3)
+        # rospy.Time cannot go negative, and an exception here would end the timer's thread
+        # for good (every later sample lost): the first 0.3 s of sim time are not sampled.
+        now = rospy.Time.now()
+        if now.to_sec() < 0.3:
+            self.skipped["no ground truth yet"] += 1
+            return
+        lag = now - rospy.Duration(0.3)
         with self.lock:
             older = [g for g in self.gts if g[0] <= lag]
         if not older:
+            self.skipped["no ground truth yet"] += 1
             return
         stamp, gt = older[-1]
         est = self.estimate(stamp)
         if est is None:  # tf not yet (or no longer) buffered at that stamp
+            self.skipped["no tf at the ground truth's stamp: %s" % self.tf_error] += 1
             return
         self.rows.append((stamp.to_sec(),) + tuple(gt) + tuple(est) + tuple(self._odom_at(stamp.to_sec())))
 
@@ -285,6 +297,7 @@ def main():
         result["trajectory_error"] = rec.errors(result.get("localized_from"))
         result["distance_m"] = path_length(a)
         result["max_sideways_cmd_mps"] = rec.max_vy
+        result["samples_skipped"] = dict(rec.skipped)
         result["sim_s"] = rospy.Time.now().to_sec() - sim0
         np.savez(args.out + "/" + args.name + "_traj.npz", traj=a)
     except Exception as e:  # the orchestrator reports the reason

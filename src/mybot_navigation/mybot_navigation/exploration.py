@@ -91,9 +91,39 @@ def enclosed_unknown(grid, max_area_cells):
     return small[labels]
 
 
+def start_cell(free, passable, info, robot_xy, robot_radius):
+    """The passable cell the search starts from: the robot's own, or, when it
+    stands closer to an obstacle than its radius (a narrow gap, a wall it
+    brushed), the nearest passable cell it can get to through free space
+    within 2 m. None when there is none: the robot's position says nothing
+    about the frontiers then, so that is not "explored"."""
+    r, c = info.to_cell(*robot_xy)
+    if not (0 <= r < free.shape[0] and 0 <= c < free.shape[1]):
+        return None
+    if passable[r, c]:
+        return r, c
+    if not free[r, c]:
+        # The SLAM grid may mark the robot's own cell: take the nearest free cell next to it.
+        k = int(np.ceil(robot_radius / info.resolution))
+        win = np.argwhere(free[max(r - k, 0):r + k + 1, max(c - k, 0):c + k + 1])
+        if len(win) == 0:
+            return None
+        win = win + [max(r - k, 0), max(c - k, 0)]
+        r, c = win[np.argmin(np.hypot(win[:, 0] - r, win[:, 1] - c))]
+    seed = np.zeros_like(free)
+    seed[r, c] = True
+    around = ndimage.binary_dilation(seed, iterations=int(np.ceil(2.0 / info.resolution)), mask=free)
+    cand = np.argwhere(around & passable)
+    if len(cand) == 0:
+        return None
+    near = cand[np.argmin(np.hypot(cand[:, 0] - r, cand[:, 1] - c))]
+    return int(near[0]), int(near[1])
+
+
 def find_frontiers(grid, info, robot_xy, robot_radius=0.2, min_frontier_size=5,
                    blacklist=(), blacklist_radius=0.5, free_thresh=25, boundary=None, min_unknown_area=2.0):
-    """Frontier clusters reachable from the robot, nearest (by path) first.
+    """Frontier clusters reachable from the robot, nearest (by path) first;
+    None when the robot cannot be placed on the grid's passable space.
     boundary (xmin, ymin, xmax, ymax), in the map frame, keeps exploration
     inside an area: laser rays leaving through an open door do not send the
     robot out to map the car park. Unknown pockets enclosed by known cells and
@@ -110,19 +140,9 @@ def find_frontiers(grid, info, robot_xy, robot_radius=0.2, min_frontier_size=5,
     clearance = ndimage.distance_transform_edt(~blocked) * info.resolution
     passable = free & (clearance >= robot_radius)
 
-    start = info.to_cell(*robot_xy)
-    if not (0 <= start[0] < grid.shape[0] and 0 <= start[1] < grid.shape[1]):
-        return []
-    if not passable[start]:
-        # The robot stands closer to a wall than its radius: search from the
-        # nearest passable cell so exploration can still begin.
-        cand = np.argwhere(passable)
-        if len(cand) == 0:
-            return []
-        near = cand[np.argmin(np.hypot(cand[:, 0] - start[0], cand[:, 1] - start[1]))]
-        if np.hypot(*(near - np.array(start))) * info.resolution > 2 * robot_radius + info.resolution:
-            return []
-        start = tuple(int(v) for v in near)
+    start = start_cell(free, passable, info, robot_xy, robot_radius)
+    if start is None:
+        return None
     dist = path_lengths(passable, start)
 
     front = frontier_mask(grid, free_thresh)
@@ -153,6 +173,13 @@ def find_frontiers(grid, info, robot_xy, robot_radius=0.2, min_frontier_size=5,
         d_front = np.min(np.hypot(reach[:, None, 0] - cells[None, ::max(1, len(cells) // 50), 0],
                                   reach[:, None, 1] - cells[None, ::max(1, len(cells) // 50), 1]), axis=1)
         ok = reach[d_front * info.resolution <= robot_radius * 2 + 0.5]
+        # ...and sees it: the frontier must lie within that reach through free space, not behind a
+        # wall (rays through a door map free cells outside, right behind the wall from inside).
+        seen = np.zeros((r1 - r0, c1 - c0), dtype=bool)
+        seen[cells[:, 0] - r0, cells[:, 1] - c0] = True
+        seen = ndimage.binary_dilation(seen, iterations=int(np.ceil((robot_radius * 2 + 0.5) / info.resolution)),
+                                       mask=free[r0:r1, c0:c1])
+        ok = ok[seen[ok[:, 0] - r0, ok[:, 1] - c0]]
         # Goals already tried are excluded candidate by candidate, not cluster by cluster: a
         # long frontier seen from one end can still be reached from elsewhere.
         for bx, by in blacklist:

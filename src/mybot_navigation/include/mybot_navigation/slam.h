@@ -61,6 +61,13 @@ struct SlamParams
   // A closure that moves the pose must score at least this many times its score at the current
   // estimate: along an aisle of identical shelves both fit, and the match says nothing of drift.
   double loop_min_score_gain = 1.5;
+  // A closure that would move the pose by more than loop_confirm_correction is held until a
+  // later attempt (within loop_confirm_attempts) finds the same correction, within
+  // loop_confirm_tolerance: a one-off match in a repetitive place then bends nothing, while a
+  // true closure is seen again a few keyframes later. 0 applies every closure at once.
+  double loop_confirm_correction = 0.15;  // m
+  double loop_confirm_tolerance = 0.1;    // m (and 0.05 rad)
+  int loop_confirm_attempts = 2;
 };
 
 struct Keyframe
@@ -102,8 +109,11 @@ struct SlamStats
   int loop_attempts = 0;
   int loop_closures = 0;
   int loop_rejected = 0;         // matched, but implausible or inconsistent with the graph
+  int loop_held = 0;             // large closures held for confirmation
+  int loop_unconfirmed = 0;      // held closures dropped: no later attempt confirmed them
   double last_match_score = 0.0;
-  LoopClosureRecord last_closure;  // the last matched closure, accepted or rejected
+  LoopClosureRecord last_closure;  // the last matched closure, accepted, held or rejected
+  LoopClosureRecord last_unconfirmed;  // the last held closure that was dropped
 };
 
 class Slam
@@ -160,6 +170,14 @@ private:
   Pose2D current_pose_;
   double last_stamp_ = -1e300;
   int last_loop_attempt_ = -1000000;
+  struct HeldClosure
+  {
+    bool active = false;
+    PoseGraphEdge edge;
+    Pose2D map_correction;  // estimate -> closure pose, as a map-frame transform
+    LoopClosureRecord record;
+    int attempts_left = 0;
+  } held_;
   SlamStats stats_;
   uint64_t map_version_ = 0;
 };

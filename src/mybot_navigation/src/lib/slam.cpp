@@ -221,6 +221,12 @@ bool Slam::tryLoopClosure(int current)
     return false;
   last_loop_attempt_ = current;
   ++stats_.loop_attempts;
+  if (held_.active && held_.attempts_left-- <= 0)
+  {
+    held_.active = false;
+    ++stats_.loop_unconfirmed;
+    stats_.last_unconfirmed = held_.record;
+  }
 
   // Render the candidate's neighbourhood (only keyframes well separated from the current one).
   OccupancyGrid sub(params_.grid);
@@ -264,11 +270,11 @@ bool Slam::tryLoopClosure(int current)
   // (or seen from the opposite side) both poses fit about equally.
   if (translationNorm(correction) > 2.0 * params_.grid.resolution &&
       res.score < params_.loop_min_score_gain * score_at_estimate)
-    return reject("it fits hardly better than the current estimate (ambiguous place)");
+    return reject("rejected: it fits hardly better than the current estimate (ambiguous place)");
   const double max_correction =
       params_.loop_max_correction + params_.loop_max_correction_per_m * (kf.travelled - candidate.travelled);
   if (translationNorm(correction) > max_correction)
-    return reject("correction larger than the drift possible since the candidate");
+    return reject("rejected: correction larger than the drift possible since the candidate");
 
   PoseGraphEdge edge;
   edge.from = best;
@@ -277,7 +283,38 @@ bool Slam::tryLoopClosure(int current)
   edge.sigma_xy = params_.loop_sigma_xy;
   edge.sigma_theta = params_.loop_sigma_theta;
   edge.robust = true;
-  graph_.addEdge(edge);
+
+  std::vector<PoseGraphEdge> added;
+  const Pose2D map_correction = compose(res.pose, inverse(kf.pose));
+  if (params_.loop_confirm_correction > 0.0 && translationNorm(correction) > params_.loop_confirm_correction)
+  {
+    // Both corrections applied to the current pose must land in the same place.
+    const Pose2D a = compose(map_correction, kf.pose);
+    const Pose2D b = held_.active ? compose(held_.map_correction, kf.pose) : Pose2D{};
+    if (!held_.active || std::hypot(a.x - b.x, a.y - b.y) > params_.loop_confirm_tolerance ||
+        std::abs(normalizeAngle(a.theta - b.theta)) > 0.05)
+    {
+      if (held_.active)
+      {
+        ++stats_.loop_unconfirmed;
+        stats_.last_unconfirmed = held_.record;
+      }
+      held_.active = true;
+      held_.edge = edge;
+      held_.map_correction = map_correction;
+      held_.record = stats_.last_closure;
+      held_.record.reason = "held until a later attempt finds the same correction";
+      held_.attempts_left = params_.loop_confirm_attempts;
+      stats_.last_closure.reason = held_.record.reason;
+      ++stats_.loop_held;
+      return false;
+    }
+    added.push_back(held_.edge);
+    held_.active = false;
+  }
+  added.push_back(edge);
+  for (const PoseGraphEdge& e : added)
+    graph_.addEdge(e);
   if (translationNorm(correction) < params_.grid.resolution && std::abs(correction.theta) < 0.01)
   {
     ++stats_.loop_closures;
@@ -287,14 +324,18 @@ bool Slam::tryLoopClosure(int current)
   graph_.optimize();
   // The robust loss lets a wrong closure sit in the graph half-satisfied while it bends the
   // rest: a closure the optimised graph cannot honour is undone.
-  const Pose2D r = graph_.residual(edge);
-  if (translationNorm(r) > params_.loop_max_residual_sigma * params_.loop_sigma_xy ||
-      std::abs(r.theta) > params_.loop_max_residual_sigma * params_.loop_sigma_theta)
+  for (const PoseGraphEdge& e : added)
   {
-    graph_.popEdge();
-    for (size_t i = 0; i < keyframes_.size(); ++i)
-      graph_.setNode(static_cast<int>(i), keyframes_[i].pose);
-    return reject("the optimised graph disagrees with it");
+    const Pose2D r = graph_.residual(e);
+    if (translationNorm(r) > params_.loop_max_residual_sigma * params_.loop_sigma_xy ||
+        std::abs(r.theta) > params_.loop_max_residual_sigma * params_.loop_sigma_theta)
+    {
+      for (size_t k = 0; k < added.size(); ++k)
+        graph_.popEdge();
+      for (size_t i = 0; i < keyframes_.size(); ++i)
+        graph_.setNode(static_cast<int>(i), keyframes_[i].pose);
+      return reject("rejected: the optimised graph disagrees with it");
+    }
   }
   ++stats_.loop_closures;
   stats_.last_closure.accepted = true;

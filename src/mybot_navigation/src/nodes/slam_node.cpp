@@ -90,6 +90,12 @@ public:
                                   [](double v) { return std::isfinite(v) && v >= 1.0; }, "a ratio >= 1");
     p.loop_max_residual_sigma = param(pnh_, "loop_max_residual_sigma", p.loop_max_residual_sigma, positive,
                                       "a positive number of standard deviations");
+    p.loop_confirm_correction = param(pnh_, "loop_confirm_correction", p.loop_confirm_correction, non_negative,
+                                      "a distance >= 0 (m; 0 applies every closure at once)");
+    p.loop_confirm_tolerance = param(pnh_, "loop_confirm_tolerance", p.loop_confirm_tolerance, positive,
+                                     "a positive distance (m)");
+    p.loop_confirm_attempts = param(pnh_, "loop_confirm_attempts", p.loop_confirm_attempts,
+                                    [](int v) { return v >= 1; }, "an integer >= 1");
     if (p.grid.resolution > 1.0)
       ROS_WARN("slam: ~delta = %.2f m is a very coarse map", p.grid.resolution);
     slam_ = std::make_unique<Slam>(p);
@@ -159,6 +165,14 @@ private:
     return true;
   }
 
+  static void logClosure(const LoopClosureRecord& c, const char* what)
+  {
+    ROS_INFO("slam: loop closure keyframe %d -> %d %s (score %.2f, %.2f at the estimate, constraint ratio %.2f, "
+             "correction %.3f m %.3f m %.3f rad)",
+             c.to, c.from, what, c.score, c.score_at_estimate, c.ratio, c.correction.x, c.correction.y,
+             c.correction.theta);
+  }
+
   void scanCallback(const sensor_msgs::LaserScan::ConstPtr& scan)
   {
     if (++scan_counter_ % throttle_scans_ != 0)
@@ -204,16 +218,14 @@ private:
                                        range_max, max_urange_, g, &stats);
     if (stats.invalid > 0)
       ROS_DEBUG_THROTTLE(5.0, "slam: %d invalid readings (NaN/-inf/below range_min) ignored", stats.invalid);
-    const int closures = slam_->stats().loop_closures, rejected = slam_->stats().loop_rejected;
+    const SlamStats before = slam_->stats();
     const ScanOutcome outcome = slam_->addScan(stamp, odom, rs);
-    if (slam_->stats().loop_closures != closures || slam_->stats().loop_rejected != rejected)
-    {
-      const LoopClosureRecord& c = slam_->stats().last_closure;
-      ROS_INFO("slam: loop closure keyframe %d -> %d %s%s (score %.2f, %.2f at the estimate, constraint ratio %.2f, "
-               "correction %.3f m %.3f m %.3f rad)",
-               c.to, c.from, c.accepted ? "accepted" : "rejected: ", c.reason, c.score, c.score_at_estimate, c.ratio,
-               c.correction.x, c.correction.y, c.correction.theta);
-    }
+    const SlamStats& after = slam_->stats();
+    if (after.loop_unconfirmed != before.loop_unconfirmed)
+      logClosure(after.last_unconfirmed, "dropped: no later attempt confirmed it");
+    if (after.loop_closures != before.loop_closures || after.loop_rejected != before.loop_rejected ||
+        after.loop_held != before.loop_held)
+      logClosure(after.last_closure, after.last_closure.accepted ? "accepted" : after.last_closure.reason);
     last_stamp_ = std::max(last_stamp_, stamp);
     switch (outcome)
     {

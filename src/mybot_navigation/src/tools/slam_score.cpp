@@ -100,6 +100,8 @@ int main(int argc, char** argv)
       const RelativePoseError rpe = relativePoseError(est, gt, 1);
       std::printf("ate_rmse_m %.4f\nrpe_translation_rms_m %.4f\nrpe_rotation_rms_rad %.4f\n",
                   absoluteTrajectoryRmse(est, gt, align), rpe.translation_rms, rpe.rotation_rms);
+      // The fit itself: where the estimate's frame lies in the ground truth's.
+      std::printf("align_x_m %.4f\nalign_y_m %.4f\nalign_yaw_rad %.5f\n", align.x, align.y, align.theta);
     }
     const MapScore s = scoreMap(loadMap(map), loadMap(truth), align, tolerance);
     std::printf("precision %.4f\nrecall %.4f\n", s.precision, s.recall);

@@ -111,3 +111,36 @@ def test_inside_of_a_box_is_not_a_frontier():
     g3[0, :] = g3[-1, :] = g3[:, 0] = g3[:, -1] = 100
     g3[20:100, 20:100] = -1                  # 16 m^2 unseen inside the walls
     assert find_frontiers(g3, INFO, robot_xy=(0.5, 0.5)) != []
+
+
+def test_free_space_seen_through_a_door_is_not_a_frontier_from_behind_the_wall():
+    # A room (x < 2 m) whose right wall has a door at its far end; rays through the door mapped a
+    # strip of free space outside, right behind the wall, with unknown space beyond it.
+    g = np.zeros((60, 80), dtype=np.int8)
+    g[0, :] = g[-1, :] = g[:, 0] = 100
+    g[:, 40] = 100
+    g[50:56, 40] = 0                         # the door
+    g[:, 44:] = -1                           # outside: a 3-cell strip mapped, then unknown
+    fr = find_frontiers(g, INFO, robot_xy=(1.0, 0.5), robot_radius=0.2, min_unknown_area=0)
+    assert fr
+    # Every goal offered lies within reach of its frontier through the door (rows 50-55, reach 0.9 m
+    # = 18 cells), none further along the wall.
+    for f in fr:
+        assert f.goal[1] / INFO.resolution >= 50 - 18, f.goal
+    g[50:56, 40] = 100                       # door closed: the strip is unreachable and out of sight
+    assert find_frontiers(g, INFO, robot_xy=(1.0, 0.5), robot_radius=0.2, min_unknown_area=0) == []
+
+
+def test_robot_in_a_narrow_gap_still_finds_frontiers():
+    # The robot stands in a 0.5 m gap between two shelves, narrower than its clearance radius.
+    g = room(rows=80, cols=80, known_cols=60)
+    g[30:50, 5:30] = 100
+    g[30:50, 40:55] = 100                    # gap between cols 30 and 40: 0.5 m
+    fr = find_frontiers(g, INFO, robot_xy=(1.75, 2.0), robot_radius=0.3)
+    assert fr and fr[0].path_length > 0
+    # Off the grid or walled in, the explorer learns nothing about the map: None, not "no frontier".
+    assert find_frontiers(g, INFO, robot_xy=(-5.0, 1.0)) is None
+    boxed = g.copy()
+    boxed[38:43, 33:38] = 0
+    boxed[37, 32:39] = boxed[43, 32:39] = boxed[37:44, 32] = boxed[37:44, 38] = 100
+    assert find_frontiers(boxed, INFO, robot_xy=(1.75, 2.0), robot_radius=0.3) is None
