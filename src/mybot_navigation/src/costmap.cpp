@@ -355,6 +355,22 @@ void Costmap::updateCosts()
 
 double Costmap::footprintCost(const Pose2D& pose) const
 {
+  if (params_.footprint.size() >= 3)
+    return polygonCost(pose, footprint_);
+  // A circular robot: the inflated cost at its centre says it all.
+  int cx, cy;
+  if (!worldToMap(pose.x, pose.y, cx, cy))
+    return -3.0;
+  const uint8_t centre = cost(cx, cy);
+  if (centre == costs::kLethal || centre == costs::kInscribed)
+    return -1.0;
+  if (centre == costs::kNoInformation)
+    return params_.track_unknown_space ? -2.0 : 0.0;
+  return centre;
+}
+
+double Costmap::polygonCost(const Pose2D& pose, const std::vector<Point2D>& polygon) const
+{
   int cx, cy;
   if (!worldToMap(pose.x, pose.y, cx, cy))
     return -3.0;
@@ -363,19 +379,13 @@ double Costmap::footprintCost(const Pose2D& pose) const
     return -1.0;
   if (centre == costs::kNoInformation && params_.track_unknown_space)
     return -2.0;
-  if (params_.footprint.size() < 3)
-  {
-    if (centre == costs::kInscribed)
-      return -1.0;
-    return centre == costs::kNoInformation ? 0.0 : centre;
-  }
   double worst = centre == costs::kNoInformation ? 0.0 : centre;
   const double res = info_.resolution;
   const Pose2D inv = inverse(info_.origin);
-  for (size_t i = 0; i < footprint_.size(); ++i)
+  for (size_t i = 0; i < polygon.size(); ++i)
   {
-    const Point2D a = transformPoint(inv, transformPoint(pose, footprint_[i]));
-    const Point2D b = transformPoint(inv, transformPoint(pose, footprint_[(i + 1) % footprint_.size()]));
+    const Point2D a = transformPoint(inv, transformPoint(pose, polygon[i]));
+    const Point2D b = transformPoint(inv, transformPoint(pose, polygon[(i + 1) % polygon.size()]));
     bool hit = false, unknown = false;
     traceLine(static_cast<int>(std::floor(a.x / res)), static_cast<int>(std::floor(a.y / res)),
               static_cast<int>(std::floor(b.x / res)), static_cast<int>(std::floor(b.y / res)), [&](int x, int y) {

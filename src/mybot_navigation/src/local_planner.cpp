@@ -288,10 +288,23 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   // Starting in collision (localization error, or an obstacle marked at the footprint's edge)
   // every trajectory would be rejected and the robot would sit until the recoveries, blocked
   // the same way, abort the goal. Accept the trajectories that get out: collisions are
-  // tolerated until the footprint first comes free, within kEscapeDistance of the start (so
-  // no trajectory tunnels through a thin wall), after which it must stay free.
+  // tolerated until the footprint first comes free, after which it must stay free. Until then
+  // each pose must be clear with the footprint shrunk by kEscapeShrink (a side grazing a shelf
+  // drives along it and turns away, over several cycles if need be), or lie within
+  // kEscapeDistance of the start on a trajectory that comes free (an edge pushed into a wall
+  // backs out). Nothing tunnels through a wall.
   constexpr double kEscapeDistance = 0.15;  // m
+  constexpr double kEscapeShrink = 0.06;    // m, about a cell plus the footprint padding
+  constexpr double kStillGrazingCost = 1e4;
   const bool start_in_collision = cm.footprintCost(pose) < 0;
+  std::vector<Point2D> shrunk;
+  if (start_in_collision)
+    for (const Point2D& v : cm.footprint())
+    {
+      const double r = std::hypot(v.x, v.y);
+      const double k = r > 0.0 ? std::max(0.0, r - kEscapeShrink * std::sqrt(2.0)) / r : 0.0;
+      shrunk.push_back({v.x * k, v.y * k});
+    }
   LocalResult best;
   best.cost = std::numeric_limits<double>::infinity();
   int n_samples = 0, n_valid = 0;
@@ -332,21 +345,26 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
           const Velocity2D v{vx, vy, wz};
           const std::vector<Pose2D> traj = simulate(pose, v);
           double occ = 0.0;
-          bool ok = true, free = !start_in_collision;
+          bool ok = true, free = !start_in_collision, deep = false;
           for (const Pose2D& p : traj)
           {
             const double c = cm.footprintCost(p);
             if (c < 0)
             {
+              if (!free && cm.polygonCost(p, shrunk) >= 0)
+                continue;  // grazing: still getting out
               if (!free && std::hypot(p.x - pose.x, p.y - pose.y) <= kEscapeDistance)
-                continue;  // still getting out
+              {
+                deep = true;  // acceptable only if it comes free
+                continue;
+              }
               ok = false;
               break;
             }
             free = true;
             occ = std::max(occ, c);
           }
-          if (!ok || !free)
+          if (!ok || (deep && !free))
             continue;
           const Pose2D& end = traj.back();
           double pd, gd;
@@ -365,6 +383,8 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
             else
               cost += (params_.path_distance_bias + params_.goal_distance_bias) * reach;
           }
+          if (!free)
+            cost += kStillGrazingCost;  // any trajectory that comes free is better
           ++n_valid;
           if (cost < best.cost)
           {

@@ -95,6 +95,8 @@ public:
   // (or, for a circular robot, the centre is within the inscribed radius of one), -2 if it
   // touches unknown space when track_unknown_space, -3 off the grid; else the highest cost.
   double footprintCost(const Pose2D& pose) const;
+  // The same check for any polygon (robot frame), by its outline only.
+  double polygonCost(const Pose2D& pose, const std::vector<Point2D>& polygon) const;
 
   const std::vector<Point2D>& footprint() const { return footprint_; }
   double inscribedRadius() const { return inscribed_; }
