@@ -288,6 +288,8 @@ bool Slam::tryLoopClosure(int current)
   const Pose2D map_correction = compose(res.pose, inverse(kf.pose));
   if (params_.loop_confirm_correction > 0.0 && translationNorm(correction) > params_.loop_confirm_correction)
   {
+    if (res.score < params_.loop_min_score_large)
+      return reject("rejected: a large correction from a weak match");
     // Both corrections applied to the current pose must land in the same place.
     const Pose2D a = compose(map_correction, kf.pose);
     const Pose2D b = held_.active ? compose(held_.map_correction, kf.pose) : Pose2D{};
