@@ -565,9 +565,8 @@ def write_report(out, summaries, wall_s):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--world", choices=sorted(WORLDS), default="factory")
-    ap.add_argument("--robot", choices=ROBOTS + ("all",), default="mybot",
-                    help="robot(s) for the mission (default mybot; the swerve robot maps the factory but "
-                         "its navigation stage there fails: see README, known limits)")
+    ap.add_argument("--robot", choices=ROBOTS + ("all",), default="all",
+                    help="robot(s) for the mission (default all: mybot, then the swerve robot)")
     ap.add_argument("--mapping-only", dest="navigate", action="store_false",
                     help="stop after mapping (no AMCL + navigation stage)")
     ap.add_argument("--output", default=os.path.join(WS, "output", time.strftime("demo-%Y%m%d-%H%M%S")),

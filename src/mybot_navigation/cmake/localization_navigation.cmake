@@ -63,6 +63,7 @@ if(CATKIN_ENABLE_TESTING)
   # add_rostest(test/nav/amcl_kidnap.test)
   add_rostest(test/nav/nav_factory.test)
   add_rostest(test/nav/nav_swerve.test)
+  add_rostest(test/nav/nav_factory_swerve.test)
 endif()
 
 # Benchmark (bench/bench_nav at the workspace root runs it).
