@@ -297,14 +297,23 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   constexpr double kEscapeShrink = 0.06;    // m, about a cell plus the footprint padding
   constexpr double kStillGrazingCost = 1e4;
   const bool start_in_collision = cm.footprintCost(pose) < 0;
+  // The least shrink that clears the start: no trajectory may graze deeper than the robot
+  // already does, or the planner would steer into shelf corners in narrow gaps.
   std::vector<Point2D> shrunk;
-  if (start_in_collision)
+  for (double shrink = 0.02; start_in_collision && shrink <= kEscapeShrink + 1e-9; shrink += 0.02)
+  {
+    shrunk.clear();
     for (const Point2D& v : cm.footprint())
     {
       const double r = std::hypot(v.x, v.y);
-      const double k = r > 0.0 ? std::max(0.0, r - kEscapeShrink * std::sqrt(2.0)) / r : 0.0;
+      const double k = r > 0.0 ? std::max(0.0, r - shrink * std::sqrt(2.0)) / r : 0.0;
       shrunk.push_back({v.x * k, v.y * k});
     }
+    if (cm.polygonCost(pose, shrunk) >= 0)
+      break;
+    if (shrink + 0.02 > kEscapeShrink + 1e-9)
+      shrunk.clear();  // deeper than that: only the short escape below applies
+  }
   LocalResult best;
   best.cost = std::numeric_limits<double>::infinity();
   int n_samples = 0, n_valid = 0;
@@ -351,7 +360,7 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
             const double c = cm.footprintCost(p);
             if (c < 0)
             {
-              if (!free && cm.polygonCost(p, shrunk) >= 0)
+              if (!free && !shrunk.empty() && cm.polygonCost(p, shrunk) >= 0)
                 continue;  // grazing: still getting out
               if (!free && std::hypot(p.x - pose.x, p.y - pose.y) <= kEscapeDistance)
               {
