@@ -208,12 +208,12 @@ def run_navigation(args, rec, result):
     ix, iy, iyaw = args.initial_pose
     log("initial pose estimate (%.2f, %.2f, %.0f deg) given to AMCL" % (ix, iy, math.degrees(iyaw)))
     keep = send_initial_pose(ix, iy, iyaw)  # noqa: F841 (latched publisher must stay alive)
-    # Before this, AMCL sits at its default pose: not a localization error to report.
-    result["localized_from"] = rospy.Time.now().to_sec() + 1.0
     # Goals only once AMCL has taken the estimate: before that, map -> odom is
     # missing (or AMCL's default pose) and move_base would refuse or misplan.
     wait_for(lambda: (lambda e: e is not None and math.hypot(e[0] - ix, e[1] - iy) < 1.0)(rec.estimate()),
              60.0, "AMCL to publish map -> odom at the initial pose")
+    # Before this, AMCL sat at its default pose: not a localization error to report (nor to draw).
+    result["localized_from"] = rospy.Time.now().to_sec()
     client = actionlib.SimpleActionClient("move_base", MoveBaseAction)
     if not client.wait_for_server(rospy.Duration(60)):
         raise RuntimeError("no move_base action server")
