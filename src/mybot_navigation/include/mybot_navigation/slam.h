@@ -66,8 +66,10 @@ struct SlamParams
   // loop_confirm_tolerance: a one-off match in a repetitive place then bends nothing, while a
   // true closure is seen again a few keyframes later. 0 applies every closure at once.
   double loop_confirm_correction = 0.15;  // m
-  // ...and must itself score at least this: the wrong matches seen in the factory (a submap of
-  // the next aisle, 0.6-0.8 m off, twice in a row) scored 0.63-0.70, the true large ones 0.86+.
+  // One beyond loop_large_correction must also score at least loop_min_score_large: the wrong
+  // matches seen in the factory (a submap of the next aisle, 0.75-0.8 m off, twice in a row)
+  // scored 0.63-0.70, while true corrections of 0.15-0.25 m also score 0.63-0.75 and must pass.
+  double loop_large_correction = 0.4;  // m
   double loop_min_score_large = 0.75;
   double loop_confirm_tolerance = 0.1;    // m (and 0.05 rad)
   int loop_confirm_attempts = 2;

@@ -288,7 +288,7 @@ bool Slam::tryLoopClosure(int current)
   const Pose2D map_correction = compose(res.pose, inverse(kf.pose));
   if (params_.loop_confirm_correction > 0.0 && translationNorm(correction) > params_.loop_confirm_correction)
   {
-    if (res.score < params_.loop_min_score_large)
+    if (translationNorm(correction) > params_.loop_large_correction && res.score < params_.loop_min_score_large)
       return reject("rejected: a large correction from a weak match");
     // Both corrections applied to the current pose must land in the same place.
     const Pose2D a = compose(map_correction, kf.pose);

@@ -92,6 +92,8 @@ public:
                                       "a positive number of standard deviations");
     p.loop_confirm_correction = param(pnh_, "loop_confirm_correction", p.loop_confirm_correction, non_negative,
                                       "a distance >= 0 (m; 0 applies every closure at once)");
+    p.loop_large_correction = param(pnh_, "loop_large_correction", p.loop_large_correction, positive,
+                                    "a positive distance (m)");
     p.loop_min_score_large = param(pnh_, "loop_min_score_large", p.loop_min_score_large,
                                    [](double v) { return v > 0 && v < 1; }, "in (0, 1)");
     p.loop_confirm_tolerance = param(pnh_, "loop_confirm_tolerance", p.loop_confirm_tolerance, positive,
