@@ -228,6 +228,21 @@ def compose(origin, align):
             origin[2] + align[2])
 
 
+def saved_map_at(shape, meta, map_yaml, map_origin):
+    """The saved map's value (-1/0/100, -1 outside it) at the centre of each cell
+    of a ground-truth grid of this shape and metadata."""
+    res, (ox, oy) = meta["resolution"], meta["origin"][:2]
+    rows, cols = np.indices(shape)
+    mgrid, mmeta = load_map(map_yaml)
+    mres, (mox, moy) = mmeta["resolution"], mmeta["origin"][:2]
+    mx, my, _ = world_to_map_frame((ox + (cols + 0.5) * res, oy + (rows + 0.5) * res, 0.0), map_origin)
+    mc, mr = np.floor((mx - mox) / mres).astype(int), np.floor((my - moy) / mres).astype(int)
+    inside = (mr >= 0) & (mr < mgrid.shape[0]) & (mc >= 0) & (mc < mgrid.shape[1])
+    out = np.full(shape, -1, dtype=np.int8)
+    out[inside] = mgrid[mr[inside], mc[inside]]
+    return out
+
+
 def coverage(truth_yaml, map_yaml, map_origin, start_xy, clearance, box):
     """Share of the floor the robot could drive on (ground-truth free cells
     with the robot's clearance, inside the building, connected to the start)
@@ -244,13 +259,7 @@ def coverage(truth_yaml, map_yaml, map_origin, start_xy, clearance, box):
     if not labels[sr, sc]:
         return math.nan
     floor = labels == labels[sr, sc]
-    mgrid, mmeta = load_map(map_yaml)
-    mres, (mox, moy) = mmeta["resolution"], mmeta["origin"][:2]
-    mx, my, _ = world_to_map_frame((x, y, 0.0), map_origin)
-    mc, mr = np.floor((mx - mox) / mres).astype(int), np.floor((my - moy) / mres).astype(int)
-    inside = (mr >= 0) & (mr < mgrid.shape[0]) & (mc >= 0) & (mc < mgrid.shape[1])
-    known = np.zeros_like(floor)
-    known[inside] = mgrid[mr[inside], mc[inside]] >= 0
+    known = saved_map_at(grid.shape, meta, map_yaml, map_origin) >= 0
     return float(np.count_nonzero(known & floor)) / max(1, np.count_nonzero(floor))
 
 
@@ -263,14 +272,7 @@ def pick_goals(truth_yaml, map_yaml, map_origin, start_xy, n, clearance, seed=7)
     grid, meta = load_map(truth_yaml)
     res, (ox, oy) = meta["resolution"], meta["origin"][:2]
     free = grid == 0
-    rows, cols = np.indices(grid.shape)
-    mgrid, mmeta = load_map(map_yaml)
-    mres, (mox, moy) = mmeta["resolution"], mmeta["origin"][:2]
-    mx, my, myaw = world_to_map_frame((ox + (cols + 0.5) * res, oy + (rows + 0.5) * res, 0.0), map_origin)
-    mc, mr = np.floor((mx - mox) / mres).astype(int), np.floor((my - moy) / mres).astype(int)
-    inside = (mr >= 0) & (mr < mgrid.shape[0]) & (mc >= 0) & (mc < mgrid.shape[1])
-    mapped = np.zeros_like(free)
-    mapped[inside] = mgrid[mr[inside], mc[inside]] == 0
+    mapped = saved_map_at(grid.shape, meta, map_yaml, map_origin) == 0
     clear = ndimage.distance_transform_edt(free) * res
     ok = (clear >= clearance) & mapped
     labels, _ = ndimage.label(ok)

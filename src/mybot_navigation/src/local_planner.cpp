@@ -299,20 +299,22 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   const bool start_in_collision = cm.footprintCost(pose) < 0;
   // The least shrink that clears the start: no trajectory may graze deeper than the robot
   // already does, or the planner would steer into shelf corners in narrow gaps.
+  // Empty when even kEscapeShrink does not clear the start: only the short escape applies.
   std::vector<Point2D> shrunk;
-  for (double shrink = 0.02; start_in_collision && shrink <= kEscapeShrink + 1e-9; shrink += 0.02)
+  for (int step = 1; start_in_collision && step <= 3; ++step)
   {
-    shrunk.clear();
+    std::vector<Point2D> candidate;
     for (const Point2D& v : cm.footprint())
     {
       const double r = std::hypot(v.x, v.y);
-      const double k = r > 0.0 ? std::max(0.0, r - shrink * std::sqrt(2.0)) / r : 0.0;
-      shrunk.push_back({v.x * k, v.y * k});
+      const double k = r > 0.0 ? std::max(0.0, r - step * kEscapeShrink / 3.0 * std::sqrt(2.0)) / r : 0.0;
+      candidate.push_back({v.x * k, v.y * k});
     }
-    if (cm.polygonCost(pose, shrunk) >= 0)
+    if (cm.polygonCost(pose, candidate) >= 0)
+    {
+      shrunk = std::move(candidate);
       break;
-    if (shrink + 0.02 > kEscapeShrink + 1e-9)
-      shrunk.clear();  // deeper than that: only the short escape below applies
+    }
   }
   LocalResult best;
   best.cost = std::numeric_limits<double>::infinity();
