@@ -391,16 +391,6 @@ private:
     }
   }
 
-  // A goal that arrives while the pose is a moment old (a loaded machine, a late odometry
-  // message) waits for a fresh one, as move_base does, instead of aborting at once.
-  bool waitForRobotPose(Pose2D& pose)
-  {
-    const double now = ros::Time::now().toSec();
-    if (now > maxPoseAge())  // tf2 waits (up to 2 s) for a transform at least this recent
-      tf_buffer_.canTransform(global_frame_, base_frame_, ros::Time(now - maxPoseAge()), ros::Duration(2.0));
-    return robotPose(pose, true);
-  }
-
   double maxPoseAge() const { return global_cfg_.transform_tolerance + 1.0 / controller_frequency_ + 0.2; }
 
   bool toGlobalFrame(const geometry_msgs::PoseStamped& in, Pose2D& out, std::string& error)
@@ -426,29 +416,41 @@ private:
 
   void goalCallback()
   {
-    const auto goal = server_->acceptNewGoal();
-    move_base_msgs::MoveBaseResult result;
-    Pose2D g, pose;
-    std::string error;
-    const auto& o = goal->target_pose.pose.orientation;
+    pending_goal_ = server_->acceptNewGoal();
+    pending_since_ = ros::Time::now();
+    const auto& o = pending_goal_->target_pose.pose.orientation;
     const double q = std::sqrt(o.x * o.x + o.y * o.y + o.z * o.z + o.w * o.w);
     if (!(std::abs(q - 1.0) < 0.01))
-      error = "the goal has an invalid quaternion";
+      abortPending("the goal has an invalid quaternion");
     else if (!have_map_)
-      error = "no map received yet";
-    else if (!waitForRobotPose(pose))
-      error = "the robot pose is unknown";
+      abortPending("no map received yet");
     else
-      toGlobalFrame(goal->target_pose, g, error);
-    if (error.empty())
+      startPendingGoal();
+  }
+
+  // A goal that arrives while the pose is a moment old (start-up, a loaded machine, a late
+  // odometry message) waits for a fresh one, as move_base does, instead of aborting at once.
+  // The wait happens in the control loop, so scans, make_plan and the timers keep being served.
+  void startPendingGoal()
+  {
+    Pose2D g, pose;
+    std::string error;
+    if (!robotPose(pose, false))
+    {
+      if (moving_)
+        stop();
+      if ((ros::Time::now() - pending_since_).toSec() > kPoseWait)
+        abortPending("the robot pose is unknown");
+      return;
+    }
+    if (toGlobalFrame(pending_goal_->target_pose, g, error))
       error = navigator_->setGoal(g, ros::Time::now().toSec(), pose);
     if (!error.empty())
     {
-      ROS_WARN("move_base: goal aborted: %s", error.c_str());
-      stop();
-      server_->setAborted(result, error);
+      abortPending(error);
       return;
     }
+    pending_goal_.reset();
     geometry_msgs::PoseStamped current;
     current.header.frame_id = global_frame_;
     current.header.stamp = ros::Time::now();
@@ -457,8 +459,17 @@ private:
     publishPlan();
   }
 
+  void abortPending(const std::string& error)
+  {
+    pending_goal_.reset();
+    ROS_WARN("move_base: goal aborted: %s", error.c_str());
+    stop();
+    server_->setAborted(move_base_msgs::MoveBaseResult(), error);
+  }
+
   void preemptCallback()
   {
+    pending_goal_.reset();
     navigator_->cancel();
     stop();
     if (server_->isActive())
@@ -491,6 +502,11 @@ private:
   {
     if (!server_->isActive())
       return;
+    if (pending_goal_)
+    {
+      startPendingGoal();
+      return;
+    }
     Pose2D pose;
     if (!robotPose(pose, true))
     {
@@ -596,6 +612,9 @@ private:
   std::unique_ptr<LocalPlanner> controller_;
   std::unique_ptr<Navigator> navigator_;
   std::unique_ptr<Server> server_;
+  static constexpr double kPoseWait = 2.0;  // s of sim time a new goal waits for a robot pose
+  move_base_msgs::MoveBaseGoalConstPtr pending_goal_;
+  ros::Time pending_since_;
   std::string global_frame_, base_frame_;
   double controller_frequency_ = 20.0;
   bool have_map_ = false, moving_ = false;
