@@ -58,9 +58,7 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/nav/nav_mybot.test)
   add_rostest(test/nav/nav_errors.test)
   add_rostest(test/nav/amcl_global.test)
-  # Flaky under load (the teleport sometimes does not register before the check);
-  # run by hand: rostest mybot_navigation amcl_kidnap.test. Kidnapping is covered by test_amcl.
-  # add_rostest(test/nav/amcl_kidnap.test)
+  add_rostest(test/nav/amcl_kidnap.test)
   add_rostest(test/nav/nav_factory.test)
   add_rostest(test/nav/nav_swerve.test)
   add_rostest(test/nav/nav_factory_swerve.test)

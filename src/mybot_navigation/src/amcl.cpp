@@ -22,6 +22,12 @@ std::string validate(const AmclParams& p)
     e << "recovery_alpha_slow must be in [0, 1] (got " << p.filter.alpha_slow << ")";
   else if (p.filter.alpha_fast < 0.0 || p.filter.alpha_fast > 1.0)
     e << "recovery_alpha_fast must be in [0, 1] (got " << p.filter.alpha_fast << ")";
+  else if (!(p.filter.recovery_trigger_ratio > 0.0 && p.filter.recovery_trigger_ratio <= 1.0))
+    e << "recovery_trigger_ratio must be in (0, 1] (got " << p.filter.recovery_trigger_ratio << ")";
+  else if (!(p.filter.recovery_release_ratio >= p.filter.recovery_trigger_ratio &&
+             p.filter.recovery_release_ratio <= 1.0))
+    e << "recovery_release_ratio must be in [recovery_trigger_ratio, 1] (got " << p.filter.recovery_release_ratio
+      << ")";
   else if (p.laser.max_beams < 2)
     e << "laser_max_beams must be >= 2 (got " << p.laser.max_beams << ")";
   else if (!(p.laser.sigma_hit > 0.0))
@@ -123,7 +129,7 @@ bool Amcl::processScan(const Pose2D& odom_pose, const LaserScanData& scan)
     return false;
   force_update_ = false;
 
-  filter_.correct([this, &scan](const Pose2D& p) { return field_.weight(p, scan); });
+  filter_.correct([this, &scan](const Pose2D& p) { return field_.weight(p, scan); }, 1.0, field_.maxWeight(scan));
   ++updates_;
   if (++resample_count_ % params_.resample_interval == 0)
   {

@@ -51,7 +51,7 @@ void ParticleFilter::initGaussian(const Pose2D& mean, double var_x, double var_y
               normalizeAngle(mean.theta + std::sqrt(std::max(0.0, var_a)) * n(rng_))};
     p.weight = w;
   }
-  w_slow_ = w_fast_ = 0.0;
+  have_averages_ = lost_ = false;
 }
 
 void ParticleFilter::initFromGenerator(const PoseGenerator& gen)
@@ -63,7 +63,7 @@ void ParticleFilter::initFromGenerator(const PoseGenerator& gen)
     p.pose = gen(rng_);
     p.weight = w;
   }
-  w_slow_ = w_fast_ = 0.0;
+  have_averages_ = lost_ = false;
 }
 
 void ParticleFilter::predict(const MotionModel& model, const Pose2D& odom_old, const Pose2D& odom_new)
@@ -75,13 +75,15 @@ void ParticleFilter::predict(const MotionModel& model, const Pose2D& odom_old, c
   model.apply(odom_old, odom_new, poses, rng_);
 }
 
-bool ParticleFilter::correct(const std::function<double(const Pose2D&)>& likelihood)
+bool ParticleFilter::correct(const std::function<double(const Pose2D&)>& likelihood, double floor, double ceiling)
 {
-  double total = 0.0;
+  double total = 0.0, total_times_l = 0.0;
   for (Particle& p : particles_)
   {
-    p.weight *= likelihood(p.pose);
+    const double l = likelihood(p.pose);
+    p.weight *= l;
     total += p.weight;
+    total_times_l += p.weight * l;
   }
   if (!(total > 0.0) || !std::isfinite(total))
   {
@@ -92,16 +94,23 @@ bool ParticleFilter::correct(const std::function<double(const Pose2D&)>& likelih
   }
   for (Particle& p : particles_)
     p.weight /= total;
-  // amcl: the average likelihood drives the long/short term averages for recovery.
-  const double w_avg = total / particles_.size();
-  if (w_slow_ == 0.0)
-    w_slow_ = w_avg;
-  else
-    w_slow_ += params_.alpha_slow * (w_avg - w_slow_);
-  if (w_fast_ == 0.0)
-    w_fast_ = w_avg;
-  else
-    w_fast_ += params_.alpha_fast * (w_avg - w_fast_);
+  // Recovery statistic: how well the posterior explains the measurement, as a share of the
+  // way from `floor` to `ceiling`. amcl averages the raw weights instead (mean likelihood
+  // divided by the particle count), which moves with the particle count and with how many
+  // beams return, more than with being lost.
+  const double fit = ceiling > floor ? std::clamp((total_times_l / total - floor) / (ceiling - floor), 0.0, 1.0) : 0.0;
+  if (!have_averages_)
+  {
+    w_slow_ = w_fast_ = fit;
+    have_averages_ = true;
+    return true;
+  }
+  // w_slow holds the fit of a localized filter: it rises as fast as w_fast and decays at
+  // alpha_slow. amcl's plain slow average starts from the unconverged filter and needs
+  // ~1/alpha_slow updates to learn what "localized" looks like; a kidnapping before then
+  // goes unnoticed.
+  w_slow_ += (fit > w_slow_ ? params_.alpha_fast : params_.alpha_slow) * (fit - w_slow_);
+  w_fast_ += params_.alpha_fast * (fit - w_fast_);
   return true;
 }
 
@@ -121,9 +130,25 @@ void ParticleFilter::resample(const PoseGenerator& random_pose)
 {
   if (particles_.empty())
     return;
+  // Random particles replace a share 1 - w_fast / w_slow of the cloud (amcl), but only while
+  // lost: from when the fit drops below recovery_trigger_ratio of the localized one until it
+  // is back above recovery_release_ratio. Smaller dips are the scene, and any random particle
+  // spreads the cloud over new histogram bins, which drives the KLD sample count to
+  // max_particles; a cloud that settled on a wrong place fitting half as well keeps searching.
   double w_diff = 0.0;
   if (random_pose && w_slow_ > 0.0)
-    w_diff = std::max(0.0, 1.0 - w_fast_ / w_slow_);
+  {
+    const double ratio = w_fast_ / w_slow_;
+    if (ratio < params_.recovery_trigger_ratio)
+      lost_ = true;
+    else if (ratio >= params_.recovery_release_ratio)
+      lost_ = false;
+    if (getenv("XP_DBG")) fprintf(stderr, "XP n=%zu ratio=%.3f lost=%d\n", particles_.size(), ratio, (int)lost_);
+    if (lost_)
+      w_diff = 1.0 - ratio;
+  }
+  else
+    lost_ = false;
 
   // Cumulative weights for multinomial draws (amcl's pf_update_resample).
   std::vector<double> cumulative(particles_.size());
@@ -158,9 +183,8 @@ void ParticleFilter::resample(const PoseGenerator& random_pose)
     if (static_cast<int>(next.size()) > resampleLimit(static_cast<int>(bins.size())))
       break;
   }
-  // Recovery fired: restart the averages so it does not keep firing (amcl does the same).
-  if (w_diff > 0.0)
-    w_slow_ = w_fast_ = 0.0;
+  // Unlike amcl, the averages are not restarted after random particles were added: they keep
+  // coming while the fit stays low, and stop once a particle has found the robot.
   const double w = 1.0 / next.size();
   for (Particle& p : next)
     p.weight = w;

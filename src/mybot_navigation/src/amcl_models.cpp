@@ -148,17 +148,36 @@ double LikelihoodField::distance(double x, double y) const
   return dist_[static_cast<size_t>(cy) * info_.width + cx];
 }
 
+namespace
+{
+// amcl: step = (range_count - 1) / (max_beams - 1), integer division, at least 1.
+size_t beamStep(size_t count, int max_beams)
+{
+  const size_t step = max_beams > 1 ? (count - 1) / static_cast<size_t>(max_beams - 1) : count;
+  return std::max<size_t>(step, 1);
+}
+}  // namespace
+
 std::vector<size_t> LikelihoodField::beamIndices(size_t count) const
 {
   std::vector<size_t> out;
   if (count == 0)
     return out;
-  // amcl: step = (range_count - 1) / (max_beams - 1), integer division, at least 1.
-  size_t step = params_.max_beams > 1 ? (count - 1) / static_cast<size_t>(params_.max_beams - 1) : count;
-  step = std::max<size_t>(step, 1);
+  const size_t step = beamStep(count, params_.max_beams);
   for (size_t i = 0; i < count; i += step)
     out.push_back(i);
   return out;
+}
+
+double LikelihoodField::maxWeight(const LaserScanData& scan) const
+{
+  const double pz = params_.z_hit + params_.z_rand / scan.range_max;
+  const size_t count = scan.readings.size();
+  double p = 1.0;
+  for (size_t i = 0; i < count; i += beamStep(count, params_.max_beams))
+    if (scan.readings[i].range < scan.range_max)
+      p += pz * pz * pz;
+  return p;
 }
 
 double LikelihoodField::weight(const Pose2D& robot, const LaserScanData& scan) const
@@ -170,8 +189,7 @@ double LikelihoodField::weight(const Pose2D& robot, const LaserScanData& scan) c
   const double z_rand_term = params_.z_rand / scan.range_max;
   double p = 1.0;
   const size_t count = scan.readings.size();
-  size_t step = params_.max_beams > 1 ? (count - 1) / static_cast<size_t>(params_.max_beams - 1) : count;
-  step = std::max<size_t>(step, 1);
+  const size_t step = beamStep(count, params_.max_beams);
   for (size_t i = 0; i < count; i += step)
   {
     const LaserReading& r = scan.readings[i];

@@ -38,6 +38,8 @@ AmclParams readAmclParams(const ros::NodeHandle& pnh)
   p.filter.kld_z = d("kld_z", p.filter.kld_z);
   p.filter.alpha_slow = d("recovery_alpha_slow", p.filter.alpha_slow);
   p.filter.alpha_fast = d("recovery_alpha_fast", p.filter.alpha_fast);
+  p.filter.recovery_trigger_ratio = d("recovery_trigger_ratio", p.filter.recovery_trigger_ratio);
+  p.filter.recovery_release_ratio = d("recovery_release_ratio", p.filter.recovery_release_ratio);
   p.laser.max_beams = i("laser_max_beams", p.laser.max_beams);
   p.laser.z_hit = d("laser_z_hit", p.laser.z_hit);
   p.laser.z_rand = d("laser_z_rand", p.laser.z_rand);
@@ -255,6 +257,15 @@ private:
       data.readings.push_back({r, sign * (scan->angle_min + scan->angle_increment * static_cast<double>(i))});
     }
     const bool updated = amcl_.processScan(odom_pose, data);
+    if (updated && amcl_.filter().lost() != lost_)
+    {
+      lost_ = amcl_.filter().lost();
+      const ParticleFilter& f = amcl_.filter();
+      if (lost_)
+        ROS_WARN("amcl: the scan fits %.0f %% as well as when localized: adding random particles", 100.0 * f.wFast() / f.wSlow());
+      else
+        ROS_INFO("amcl: the scan fits %.0f %% as well as when localized again: recovery stops", 100.0 * f.wFast() / f.wSlow());
+    }
     if (updated)
     {
       const PoseEstimate& e = amcl_.estimate();
@@ -323,6 +334,7 @@ private:
   std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
   ros::Timer save_timer_;
   Pose2D last_pose_;
+  bool lost_ = false;
   bool have_pose_ = false;
   ros::Time last_cloud_;
 };

@@ -56,6 +56,7 @@ public:
   Pose2D mapToOdom() const { return compose(estimate_.mean, inverse(estimate_odom_pose_)); }
   bool hasEstimate() const { return has_estimate_; }
   const std::vector<Particle>& particles() const { return filter_.particles(); }
+  const ParticleFilter& filter() const { return filter_; }
   const AmclParams& params() const { return params_; }
   int updates() const { return updates_; }
   int resamples() const { return resamples_; }

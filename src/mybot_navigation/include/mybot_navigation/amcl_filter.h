@@ -25,6 +25,8 @@ struct FilterParams
   double kld_z = 0.99;         // kld_z (upper standard normal quantile 1 - delta)
   double alpha_slow = 0.0;     // recovery_alpha_slow (0 disables recovery)
   double alpha_fast = 0.0;     // recovery_alpha_fast
+  double recovery_trigger_ratio = 0.5;  // ours: lost (random particles) once w_fast < this * w_slow
+  double recovery_release_ratio = 0.8;  // ours: ... until w_fast >= this * w_slow again
   // amcl's kd-tree histogram bin size used to count occupied bins for the KLD bound.
   std::array<double, 3> bin_size{{0.5, 0.5, 10.0 * M_PI / 180.0}};
 };
@@ -56,7 +58,9 @@ public:
   void predict(const MotionModel& model, const Pose2D& odom_old, const Pose2D& odom_new);
   // Sensor update: multiplies weights by the likelihood, normalises, tracks w_slow/w_fast.
   // Returns false if every weight vanished (weights are then reset to uniform).
-  bool correct(const std::function<double(const Pose2D&)>& likelihood);
+  // `floor` and `ceiling` bound the likelihood for this measurement (a pose that explains
+  // nothing / everything): the recovery averages track where the posterior sits between them.
+  bool correct(const std::function<double(const Pose2D&)>& likelihood, double floor = 0.0, double ceiling = 1.0);
   // KLD resampling; `random_pose` supplies recovery particles (may be empty: no recovery).
   void resample(const PoseGenerator& random_pose);
 
@@ -67,6 +71,8 @@ public:
   const FilterParams& params() const { return params_; }
   double wSlow() const { return w_slow_; }
   double wFast() const { return w_fast_; }
+  // Recovery is adding random particles (the fit fell below recovery_trigger_ratio).
+  bool lost() const { return lost_; }
   Rng& rng() { return rng_; }
 
   // amcl's pf_resample_limit: samples needed for `k` occupied bins.
@@ -77,6 +83,8 @@ private:
   Rng rng_;
   std::vector<Particle> particles_;
   double w_slow_ = 0.0, w_fast_ = 0.0;
+  bool have_averages_ = false;
+  bool lost_ = false;
 };
 
 }  // namespace mybot_navigation

@@ -97,6 +97,8 @@ public:
   double distance(double x, double y) const;
   // amcl's (unnormalised) weight factor of one robot pose for the scan.
   double weight(const Pose2D& robot, const LaserScanData& scan) const;
+  // The weight of a pose that explains every beam the model uses (all end points on obstacles).
+  double maxWeight(const LaserScanData& scan) const;
   // Indices of the beams the model uses (amcl's integer step).
   std::vector<size_t> beamIndices(size_t count) const;
 

@@ -96,26 +96,67 @@ TEST(ParticleFilter, EstimatePicksHeaviestClusterAndWrapsHeading)
   EXPECT_GT(e.cov[0], 1.0);  // the whole set is spread between both clusters
 }
 
-TEST(ParticleFilter, CorrectTracksSlowAndFastAverages)
+TEST(ParticleFilter, RecoveryAveragesTrackTheFitAndTriggerOnlyWhenLost)
 {
   FilterParams fp;
   fp.alpha_slow = 0.001;
   fp.alpha_fast = 0.1;
+  fp.max_particles = 2000;
   ParticleFilter pf(fp, 1);
   pf.initGaussian({0, 0, 0}, 1, 1, 1);
-  ASSERT_TRUE(pf.correct([](const Pose2D&) { return 10.0; }));
-  EXPECT_NEAR(pf.wSlow(), 10.0 / pf.particles().size(), 1e-12);
-  // A sudden drop in likelihood moves w_fast well below w_slow: recovery particles will be added.
-  pf.correct([](const Pose2D&) { return 0.1; });
-  EXPECT_LT(pf.wFast(), pf.wSlow());
+  const auto constant = [](double l) { return [l](const Pose2D&) { return l; }; };
   int random = 0;
-  pf.resample([&random](Rng&) {
+  const ParticleFilter::PoseGenerator far = [&random](Rng&) {
     ++random;
     return Pose2D{100, 100, 0};
-  });
+  };
+  // The fit is the posterior's likelihood between floor and ceiling: 10 of 0..20 is 0.5,
+  // whatever the particle count.
+  ASSERT_TRUE(pf.correct(constant(10.0), 0.0, 20.0));
+  EXPECT_NEAR(pf.wSlow(), 0.5, 1e-12);
+  EXPECT_NEAR(pf.wFast(), 0.5, 1e-12);
+  // A better fit raises w_slow at alpha_fast (it learns the localized level quickly).
+  pf.correct(constant(16.0), 0.0, 20.0);
+  EXPECT_NEAR(pf.wSlow(), 0.5 + 0.1 * 0.3, 1e-12);
+  // A dip that stays above recovery_trigger_ratio adds no random particles.
+  for (int i = 0; i < 3; ++i)
+    pf.correct(constant(8.0), 0.0, 20.0);
+  EXPECT_LT(pf.wFast(), pf.wSlow());
+  EXPECT_GT(pf.wFast(), fp.recovery_trigger_ratio * pf.wSlow());
+  pf.resample(far);
+  EXPECT_EQ(random, 0);
+  // Lost: the fit collapses and stays low; random particles keep coming (no reset).
+  for (int i = 0; i < 15; ++i)
+    pf.correct(constant(0.2), 0.0, 20.0);
+  ASSERT_LT(pf.wFast(), fp.recovery_trigger_ratio * pf.wSlow());
+  const double w_slow = pf.wSlow();
+  pf.resample(far);
   EXPECT_GT(random, 0);
-  EXPECT_EQ(pf.wSlow(), 0.0);  // reset after recovery
-  EXPECT_FALSE(pf.correct([](const Pose2D&) { return 0.0; }));  // all weights vanished
+  EXPECT_EQ(pf.wSlow(), w_slow);
+  const int first = random;
+  pf.correct(constant(0.2), 0.0, 20.0);
+  pf.resample(far);
+  EXPECT_GT(random, first);
+  EXPECT_TRUE(pf.lost());
+  // Found again: the fit climbs back; between the trigger and the release ratio the search
+  // goes on, and it stops once past recovery_release_ratio.
+  bool searched_between = false;
+  for (int i = 0; i < 100 && pf.lost(); ++i)
+  {
+    pf.correct(constant(16.0), 0.0, 20.0);
+    const double ratio = pf.wFast() / pf.wSlow();
+    const int before = random;
+    pf.resample(far);
+    if (ratio > fp.recovery_trigger_ratio && ratio < fp.recovery_release_ratio)
+      searched_between = searched_between || random > before;
+  }
+  EXPECT_TRUE(searched_between);
+  EXPECT_FALSE(pf.lost());
+  const int found = random;
+  pf.correct(constant(16.0), 0.0, 20.0);
+  pf.resample(far);
+  EXPECT_EQ(random, found);
+  EXPECT_FALSE(pf.correct(constant(0.0), 0.0, 20.0));  // all weights vanished
 }
 
 TEST(Amcl, ValidateNamesTheBadParameter)
@@ -124,6 +165,9 @@ TEST(Amcl, ValidateNamesTheBadParameter)
   EXPECT_EQ(validate(p), "");
   p.filter.max_particles = 10;
   EXPECT_NE(validate(p).find("max_particles"), std::string::npos);
+  p = AmclParams();
+  p.filter.recovery_trigger_ratio = 0.0;
+  EXPECT_NE(validate(p).find("recovery_trigger_ratio"), std::string::npos);
   p = AmclParams();
   p.resample_interval = 0;
   EXPECT_NE(validate(p).find("resample_interval"), std::string::npos);

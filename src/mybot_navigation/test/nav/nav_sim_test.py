@@ -317,6 +317,9 @@ class NavSimTest(unittest.TestCase):
         self.spin_until_localized(10.0)
         x, y, yaw = rospy.get_param("~kidnap_to")
         self.set_truth_pose(x, y, yaw)
+        # Under load the ground-truth subscriber lags: wait until it has seen the teleport.
+        self.wait(lambda: math.hypot(self.truth[1] - x, self.truth[2] - y) < 0.2, 60,
+                  "ground truth at the teleport target")
         self.wait_sim(0.5)
         dxy, _ = self.localization_error()
         self.assertGreater(dxy, 1.0, "teleport did not displace the robot")
