@@ -3,7 +3,9 @@
 // parameter). Kept out of the pure library on purpose.
 #pragma once
 
+#include <boost/make_shared.hpp>
 #include <geometry_msgs/Quaternion.h>
+#include <ros/publisher.h>
 
 #include <string>
 #include <vector>
@@ -13,6 +15,16 @@
 
 namespace mybot_control
 {
+
+// Publishes a copy as a shared pointer. In one process (swerve_chain, the nodelets) roscpp then
+// hands it to the subscriber as is; a message published by value is serialised and wakes
+// roscpp's network thread, once per message, even when every subscriber is in the process.
+template <class M>
+void publishShared(const ros::Publisher& pub, const M& msg)
+{
+  if (pub.getNumSubscribers() > 0)
+    pub.publish(boost::make_shared<M>(msg));
+}
 
 struct SwerveGeometry
 {

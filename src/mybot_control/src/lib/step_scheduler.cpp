@@ -33,4 +33,24 @@ bool StepScheduler::onTick(double t, double& dt)
   return step(t, dt);
 }
 
+bool RateGate::due(double t)
+{
+  if (period_ <= 0.0)
+    return true;
+  if (started_ && t >= last_)
+  {
+    if (t < next_ - 0.1 * period_)
+      return false;
+    // On schedule, unless the stream paused for more than a period: then start over from t.
+    next_ = t < next_ + period_ ? next_ + period_ : t + period_;
+  }
+  else  // first message, or time went backwards (simulation reset)
+  {
+    next_ = t + period_;
+    started_ = true;
+  }
+  last_ = t;
+  return true;
+}
+
 }  // namespace mybot_control

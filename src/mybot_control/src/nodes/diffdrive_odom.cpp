@@ -14,6 +14,7 @@
 #include "mybot_control/SetPose.h"
 #include "mybot_control/odometry.hpp"
 #include "mybot_control/ros_params.hpp"
+#include "mybot_control/step_scheduler.hpp"
 
 using namespace mybot_control;
 
@@ -41,7 +42,7 @@ public:
       p.fail("odom_frame_id", "and base_frame_id must be non-empty and different");
     enable_tf_ = p.boolean("enable_odom_tf", true);
     const double rate = p.nonNegative("publish_rate", 50.0);
-    min_interval_ = rate > 0.0 ? 1.0 / rate : 0.0;
+    publish_gate_ = RateGate(rate);
     const auto pose_cov = p.numbers("pose_covariance_diagonal", 6);
     const auto twist_cov = p.numbers("twist_covariance_diagonal", 6);
     for (std::size_t k = 0; k < 6; ++k)
@@ -94,7 +95,6 @@ private:
       ROS_WARN("diffdrive_odom: time went backwards (%.3f -> %.3f s); restarting from the current pose",
                last_stamp_.toSec(), stamp.toSec());
       odom_.resetEncoders();
-      last_publish_ = ros::Time();
     }
     last_stamp_ = stamp;
     const double l = msg.position[index_[0]], r = msg.position[index_[1]];
@@ -104,9 +104,8 @@ private:
         ROS_WARN_THROTTLE(1.0, "diffdrive_odom: ignoring NaN/inf wheel positions");
       return;
     }
-    if (!last_publish_.isZero() && (stamp - last_publish_).toSec() < min_interval_ - 1e-6)
+    if (!publish_gate_.due(stamp.toSec()))
       return;
-    last_publish_ = stamp;
     publish(stamp);
   }
 
@@ -165,8 +164,8 @@ private:
   std::array<int, 2> index_{-1, -1};
   DiffDriveOdometry odom_;
   bool enable_tf_ = true;
-  double min_interval_ = 0.02;
-  ros::Time last_stamp_, last_publish_;
+  RateGate publish_gate_{50.0};
+  ros::Time last_stamp_;
   nav_msgs::Odometry msg_;
   ros::Publisher odom_pub_, twist_pub_;
   ros::Subscriber sub_;

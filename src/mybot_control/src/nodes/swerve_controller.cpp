@@ -18,15 +18,16 @@
 #include "mybot_control/step_scheduler.hpp"
 #include "mybot_control/swerve_kinematics.hpp"
 #include "mybot_control/swerve_ros.hpp"
+#include "swerve_nodes.hpp"
 
 using namespace mybot_control;
 
-namespace
+namespace mybot_control_nodes
 {
 class SwerveControllerNode
 {
 public:
-  SwerveControllerNode() : pnh_("~")
+  SwerveControllerNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)
   {
     const ParamReader p(pnh_);
     geometry_ = loadSwerveGeometry(p, true, false);
@@ -172,8 +173,8 @@ private:
     {
       angle.data = states[i].angle;
       speed.data = states[i].speed;
-      angle_pubs_[i].publish(angle);
-      speed_pubs_[i].publish(speed);
+      publishShared(angle_pubs_[i], angle);
+      publishShared(speed_pubs_[i], speed);
     }
     if (publish_cmd_)
     {
@@ -208,14 +209,19 @@ private:
   ros::Timer timer_;
 };
 
-void body()
-{
-  SwerveControllerNode node;
-  ros::spin();
-}
-}  // namespace
 
+std::shared_ptr<void> makeSwerveController(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
+{
+  return std::make_shared<SwerveControllerNode>(nh, pnh);
+}
+}  // namespace mybot_control_nodes
+
+#ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "swerve_controller", body);
+  return runNode(argc, argv, "swerve_controller", [] {
+    const auto node = mybot_control_nodes::makeSwerveController(ros::NodeHandle(), ros::NodeHandle("~"));
+    ros::spin();
+  });
 }
+#endif

@@ -17,10 +17,11 @@
 #include "mybot_control/ros_params.hpp"
 #include "mybot_control/swerve_module.hpp"
 #include "mybot_control/swerve_ros.hpp"
+#include "swerve_nodes.hpp"
 
 using namespace mybot_control;
 
-namespace
+namespace mybot_control_nodes
 {
 struct Module
 {
@@ -46,7 +47,7 @@ struct Module
 class SwerveModuleNode
 {
 public:
-  SwerveModuleNode() : pnh_("~")
+  SwerveModuleNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)
   {
     const ParamReader p(pnh_);
     geometry_ = loadSwerveGeometry(p, false, true);
@@ -170,7 +171,7 @@ private:
       measure(m, m.mock.pivotPosition(), m.mock.wheelPosition(), now);
     }
     joint_state_.header.stamp = now;
-    joint_state_pub_.publish(joint_state_);
+    publishShared(joint_state_pub_, joint_state_);
     control(now);
   }
 
@@ -212,7 +213,7 @@ private:
       m.wheel_command = out.wheel_command;
       auto pub = [&v](ros::Publisher& p, double x) {
         v.data = x;
-        p.publish(v);
+        publishShared(p, v);
       };
       pub(m.angle_pub, angle);
       pub(m.speed_pub, rate * geometry_.wheel_radius);
@@ -241,14 +242,19 @@ private:
   ros::Timer timer_;
 };
 
-void body()
-{
-  SwerveModuleNode node;
-  ros::spin();
-}
-}  // namespace
 
+std::shared_ptr<void> makeSwerveModule(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
+{
+  return std::make_shared<SwerveModuleNode>(nh, pnh);
+}
+}  // namespace mybot_control_nodes
+
+#ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "swerve_module", body);
+  return runNode(argc, argv, "swerve_module", [] {
+    const auto node = mybot_control_nodes::makeSwerveModule(ros::NodeHandle(), ros::NodeHandle("~"));
+    ros::spin();
+  });
 }
+#endif

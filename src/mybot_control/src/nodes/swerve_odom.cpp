@@ -15,17 +15,19 @@
 
 #include "mybot_control/SetPose.h"
 #include "mybot_control/ros_params.hpp"
+#include "mybot_control/step_scheduler.hpp"
 #include "mybot_control/swerve_odometry.hpp"
 #include "mybot_control/swerve_ros.hpp"
+#include "swerve_nodes.hpp"
 
 using namespace mybot_control;
 
-namespace
+namespace mybot_control_nodes
 {
 class SwerveOdomNode
 {
 public:
-  SwerveOdomNode() : pnh_("~")
+  SwerveOdomNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)
   {
     const ParamReader p(pnh_);
     const SwerveGeometry g = loadSwerveGeometry(p, true, true);
@@ -45,7 +47,7 @@ public:
       p.fail("odom_frame_id", "and base_frame_id must be non-empty and different");
     enable_tf_ = p.boolean("enable_odom_tf", true);
     const double rate = p.nonNegative("publish_rate", 50.0);
-    min_interval_ = rate > 0.0 ? 1.0 / rate : 0.0;
+    publish_gate_ = RateGate(rate);
     const auto pose_cov = p.numbers("pose_covariance_diagonal", 6);
     const auto twist_cov = p.numbers("twist_covariance_diagonal", 6);
     for (std::size_t k = 0; k < 6; ++k)
@@ -99,7 +101,6 @@ private:
       ROS_WARN("swerve_odom: time went backwards (%.3f -> %.3f s); restarting from the current pose",
                last_stamp_.toSec(), stamp.toSec());
       odom_->resetEncoders();
-      last_publish_ = ros::Time();
     }
     last_stamp_ = stamp;
     for (std::size_t i = 0; i < wheels_.size(); ++i)
@@ -109,9 +110,8 @@ private:
     }
     if (!odom_->update(wheels_, pivots_, stamp.toSec(), use_imu_ ? yaw_ : std::nullopt))
       return;
-    if (!last_publish_.isZero() && (stamp - last_publish_).toSec() < min_interval_ - 1e-6)
+    if (!publish_gate_.due(stamp.toSec()))
       return;
-    last_publish_ = stamp;
     publish(stamp);
   }
 
@@ -128,8 +128,8 @@ private:
     msg_.twist.twist.linear.x = t.vx;
     msg_.twist.twist.linear.y = t.vy;
     msg_.twist.twist.angular.z = t.wz;
-    odom_pub_.publish(msg_);
-    twist_pub_.publish(msg_.twist.twist);
+    publishShared(odom_pub_, msg_);
+    publishShared(twist_pub_, msg_.twist.twist);
     if (!enable_tf_)
       return;
     geometry_msgs::TransformStamped tf;
@@ -167,8 +167,8 @@ private:
   std::string odom_frame_, base_frame_;
   bool enable_tf_ = true, use_imu_ = false;
   std::optional<double> yaw_;
-  double min_interval_ = 0.02;
-  ros::Time last_stamp_, last_publish_;
+  RateGate publish_gate_{50.0};
+  ros::Time last_stamp_;
   nav_msgs::Odometry msg_;
   ros::Publisher odom_pub_, twist_pub_;
   ros::Subscriber sub_, imu_sub_;
@@ -176,14 +176,19 @@ private:
   tf2_ros::TransformBroadcaster broadcaster_;
 };
 
-void body()
-{
-  SwerveOdomNode node;
-  ros::spin();
-}
-}  // namespace
 
+std::shared_ptr<void> makeSwerveOdom(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
+{
+  return std::make_shared<SwerveOdomNode>(nh, pnh);
+}
+}  // namespace mybot_control_nodes
+
+#ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "swerve_odom", body);
+  return runNode(argc, argv, "swerve_odom", [] {
+    const auto node = mybot_control_nodes::makeSwerveOdom(ros::NodeHandle(), ros::NodeHandle("~"));
+    ros::spin();
+  });
 }
+#endif

@@ -41,3 +41,42 @@ TEST(StepScheduler, TimeJumpsAreBounded)
   EXPECT_TRUE(s.onTick(50.0, dt));  // long pause: at most 5 periods
   EXPECT_DOUBLE_EQ(dt, 0.1);
 }
+
+namespace
+{
+// Messages from a source at `source_hz` with +/- jitter (deterministic), for `seconds`.
+int passed(mybot_control::RateGate& g, double source_hz, double jitter, double seconds, double t0 = 0.0)
+{
+  int n = 0;
+  const int count = static_cast<int>(seconds * source_hz);
+  for (int i = 0; i < count; ++i)
+  {
+    const double t = t0 + i / source_hz + ((i * 7919) % 11 - 5) / 5.0 * jitter;
+    n += g.due(t) ? 1 : 0;
+  }
+  return n;
+}
+}  // namespace
+
+TEST(RateGate, SameRateSourceWithJitterKeepsEveryMessage)
+{
+  mybot_control::RateGate g(50.0);
+  EXPECT_EQ(passed(g, 50.0, 0.0002, 10.0), 500);  // +/- 1 % of the period
+}
+
+TEST(RateGate, FasterSourcesAreThinnedToTheRate)
+{
+  mybot_control::RateGate g100(50.0), g60(50.0);
+  EXPECT_EQ(passed(g100, 100.0, 0.0, 10.0), 500);
+  EXPECT_NEAR(passed(g60, 60.0, 0.0, 10.0), 500, 1);
+}
+
+TEST(RateGate, SlowerSourcesPassAndTimeResetsRestart)
+{
+  mybot_control::RateGate g(50.0), off(0.0);
+  EXPECT_EQ(passed(g, 20.0, 0.0, 10.0), 200);
+  EXPECT_TRUE(g.due(1.0));  // sim time went back to 1 s
+  EXPECT_FALSE(g.due(1.005));
+  EXPECT_TRUE(g.due(1.02));
+  EXPECT_EQ(passed(off, 100.0, 0.0, 1.0), 100);  // rate 0: every message
+}

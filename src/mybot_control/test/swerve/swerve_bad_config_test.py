@@ -14,12 +14,12 @@ COV = [0.001, 0.001, 1e6, 1e6, 1e6, 0.03]
 class SwerveBadConfigTest(unittest.TestCase):
     counter = 0
 
-    def run_node(self, node, params, timeout=30.0):
+    def run_node(self, node, params, timeout=30.0, command=None):
         SwerveBadConfigTest.counter += 1
         name = 'bad_%s_%d' % (node, SwerveBadConfigTest.counter)
         for key, value in params.items():
             rospy.set_param('/%s/%s' % (name, key), value)
-        proc = subprocess.Popen(['rosrun', 'mybot_control', node, '__name:=' + name],
+        proc = subprocess.Popen((command or ['rosrun', 'mybot_control', node]) + ['__name:=' + name],
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         try:
             out, _ = proc.communicate(timeout=timeout)
@@ -57,6 +57,14 @@ class SwerveBadConfigTest(unittest.TestCase):
     def test_odom_zero_wheel_radius(self):
         self.expect_failure('swerve_odom', {'wheel_radius': 0.0, 'pose_covariance_diagonal': COV,
                                             'twist_covariance_diagonal': COV}, 'wheel_radius')
+
+    def test_nodelet_refuses_a_bad_configuration(self):
+        """The nodelet build of a node (swerve_control.launch's default) fails to load with the same message."""
+        code, out = self.run_node('swerve_module', {'wheel_radius': 0.05, 'pivot_pid': PID},
+                                  command=['rosrun', 'nodelet', 'nodelet', 'standalone', 'mybot_control/SwerveModule'])
+        self.assertNotEqual(code, 0, out)
+        self.assertIn('drive_pid', out)
+        self.assertIn('required', out)
 
     def test_good_configuration_starts(self):
         """The same nodes with sane parameters keep running (so the failures above are specific)."""

@@ -1,0 +1,35 @@
+// Runs a node object as a nodelet. A bad configuration (ParamError) fails the load with the
+// node's one-line message.
+#pragma once
+
+#include <nodelet/nodelet.h>
+
+#include <memory>
+#include <stdexcept>
+
+#include "mybot_control/ros_params.hpp"
+
+namespace mybot_control
+{
+using NodeFactory = std::shared_ptr<void> (*)(const ros::NodeHandle&, const ros::NodeHandle&);
+
+template <NodeFactory make>
+class NodeletHost : public nodelet::Nodelet
+{
+private:
+  void onInit() override
+  {
+    try
+    {
+      node_ = make(getNodeHandle(), getPrivateNodeHandle());
+    }
+    catch (const ParamError& e)
+    {
+      NODELET_FATAL("%s: %s", getName().c_str(), e.what());
+      throw std::runtime_error(getName() + ": " + e.what());
+    }
+  }
+
+  std::shared_ptr<void> node_;
+};
+}  // namespace mybot_control
