@@ -19,7 +19,6 @@ import sys
 import threading
 import time
 
-import actionlib
 import rosgraph
 import numpy as np
 import rospy
@@ -29,6 +28,8 @@ from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import OccupancyGrid, Odometry
 from rosgraph_msgs.msg import Clock
+
+from mybot_navigation.action_client import SimpleActionClient
 
 
 def yaw_of(q):
@@ -216,7 +217,7 @@ def run_navigation(args, rec, result):
              60.0, "AMCL to publish map -> odom at the initial pose")
     # Before this, AMCL sat at its default pose: not a localization error to report (nor to draw).
     result["localized_from"] = rospy.Time.now().to_sec()
-    client = actionlib.SimpleActionClient("move_base", MoveBaseAction)
+    client = SimpleActionClient("move_base", MoveBaseAction)
     if not client.wait_for_server(rospy.Duration(60)):
         raise RuntimeError("no move_base action server")
     goals = []
