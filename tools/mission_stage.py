@@ -19,6 +19,7 @@ import sys
 import threading
 import time
 
+import actionlib
 import rosgraph
 import numpy as np
 import rospy
@@ -28,8 +29,6 @@ from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import OccupancyGrid, Odometry
 from rosgraph_msgs.msg import Clock
-
-from mybot_navigation.action_client import SimpleActionClient
 
 
 def yaw_of(q):
@@ -217,7 +216,7 @@ def run_navigation(args, rec, result):
              60.0, "AMCL to publish map -> odom at the initial pose")
     # Before this, AMCL sat at its default pose: not a localization error to report (nor to draw).
     result["localized_from"] = rospy.Time.now().to_sec()
-    client = SimpleActionClient("move_base", MoveBaseAction)
+    client = actionlib.SimpleActionClient("move_base", MoveBaseAction)
     if not client.wait_for_server(rospy.Duration(60)):
         raise RuntimeError("no move_base action server")
     goals = []
