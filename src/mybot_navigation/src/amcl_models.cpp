@@ -172,9 +172,8 @@ std::vector<size_t> LikelihoodField::beamIndices(size_t count) const
 double LikelihoodField::maxWeight(const LaserScanData& scan) const
 {
   const double pz = params_.z_hit + params_.z_rand / scan.range_max;
-  const size_t count = scan.readings.size();
   double p = 1.0;
-  for (size_t i = 0; i < count; i += beamStep(count, params_.max_beams))
+  for (size_t i : beamIndices(scan.readings.size()))  // the beams weight() uses
     if (scan.readings[i].range < scan.range_max)
       p += pz * pz * pz;
   return p;
