@@ -312,15 +312,26 @@ def collisions(truth_yaml, traj, origin, radius):
 
 
 def score_map(map_yaml, truth_yaml, traj_npz, out_prefix):
-    traj = np.load(traj_npz)["traj"]
+    """Scores the saved map and the SLAM trajectory against ground truth. The trajectory is the
+    SLAM node's keyframes after its last optimisation (what the map was rendered from); its best
+    rigid fit to the truth also places the map. Online estimates drift before a loop closure
+    corrects them and would misplace a good map. Falls back to the online estimate."""
+    kf = out_prefix + "_keyframes.npz"
+    if os.path.exists(kf) and len(np.load(kf)["est"]) >= 10:
+        est_rows, gt_rows, source = np.load(kf)["est"], np.load(kf)["gt"], "keyframes"
+    else:
+        traj = np.load(traj_npz)["traj"]
+        est_rows, gt_rows, source = traj[:, [0, 4, 5, 6]], traj[:, [0, 1, 2, 3]], "online estimate"
     est, gt = out_prefix + "_est.txt", out_prefix + "_gt.txt"
-    np.savetxt(est, traj[:, [0, 4, 5, 6]], header="stamp x y yaw (estimate, map frame)")
-    np.savetxt(gt, traj[:, [0, 1, 2, 3]], header="stamp x y yaw (ground truth, map frame)")
+    np.savetxt(est, est_rows, header="stamp x y yaw (SLAM %s, map frame)" % source)
+    np.savetxt(gt, gt_rows, header="stamp x y yaw (ground truth, map frame)")
     res = subprocess.run(["rosrun", "mybot_navigation", "slam_score", "--map", map_yaml, "--truth", truth_yaml,
                           "--traj", est, "--truth-traj", gt], capture_output=True, text=True)
     if res.returncode != 0:
-        return {"error": res.stderr.strip()}
-    return {k: float(v) for k, v in (line.split() for line in res.stdout.strip().splitlines())}
+        return {"error": res.stderr.strip(), "trajectory": source}
+    out = {k: float(v) for k, v in (line.split() for line in res.stdout.strip().splitlines())}
+    out["trajectory"] = source
+    return out
 
 
 def plot(robot, out, truth_yaml, map_origin, map_yaml, traj_map, traj_nav, goals_map, frontier_goals):
@@ -339,8 +350,12 @@ def plot(robot, out, truth_yaml, map_origin, map_yaml, traj_map, traj_nav, goals
                   extent=(ox, ox + grid.shape[1] * res, oy, oy + grid.shape[0] * res))
         if traj is not None and len(traj):
             ax.plot(traj[:, 1], traj[:, 2], "g-", lw=2, label="ground truth")
-            ax.plot(traj[:, 4], traj[:, 5], "r--", lw=1, label="estimate (map frame)")
+            ax.plot(traj[:, 4], traj[:, 5], "r--", lw=1, label="online estimate (map frame)")
             ax.plot(traj[0, 1], traj[0, 2], "go", ms=8)
+        kf = os.path.join(out, robot + "_mapping_keyframes.npz")
+        if title.startswith("mapping") and os.path.exists(kf):
+            est = np.load(kf)["est"]
+            ax.plot(est[:, 1], est[:, 2], "b:", lw=1, label="SLAM keyframes, final")
         if title.startswith("navigation"):
             for i, g in enumerate(goals_map):
                 ax.plot(g[0], g[1], "b*", ms=14)
@@ -439,9 +454,12 @@ def run_mapping(robot, args, world, truth_yaml, out, common, summary):
                                                      ms.get("align_yaw_rad", 0.0)))
     summary["coverage"] = coverage(truth_yaml, map_prefix + ".yaml", summary["map_origin"], (mx, my),
                                    ROBOT_RADIUS[robot], building)
-    log("%s: map precision %.3f, recall %.3f, coverage %.3f, trajectory ATE %.3f m RMS, %d collision samples" % (
-        robot, ms.get("precision", math.nan), ms.get("recall", math.nan), summary["coverage"],
-        ms.get("ate_rmse_m", math.nan), summary["mapping_collisions"]))
+    online = mapping.get("trajectory_error", {})
+    log("%s: map precision %.3f, recall %.3f, coverage %.3f, SLAM trajectory ATE %.3f m RMS (%s), online pose "
+        "error %.3f m RMS / %.3f m max, %d collision samples" % (
+            robot, ms.get("precision", math.nan), ms.get("recall", math.nan), summary["coverage"],
+            ms.get("ate_rmse_m", math.nan), ms.get("trajectory", "?"), online.get("rms_m", math.nan),
+            online.get("max_m", math.nan), summary["mapping_collisions"]))
 
     mapping_ok = (ms.get("precision", 0) >= thresholds["precision"]
                   and ms.get("recall", 0) >= thresholds["recall"]
@@ -532,9 +550,13 @@ def write_report(out, summaries, wall_s):
                              "trajectory's best fit; goals and localization errors are in the map's frame" % (
                                  ms.get("align_x_m", 0.0), ms.get("align_y_m", 0.0),
                                  math.degrees(ms.get("align_yaw_rad", 0.0))))
-            lines.append("- SLAM trajectory: ATE %.3f m RMS, RPE %.3f m / %.4f rad RMS" % (
-                ms.get("ate_rmse_m", math.nan), ms.get("rpe_translation_rms_m", math.nan),
+            lines.append("- SLAM trajectory (%s after the last optimisation): ATE %.3f m RMS, RPE %.3f m / %.4f rad RMS" % (
+                ms.get("trajectory", "?"), ms.get("ate_rmse_m", math.nan), ms.get("rpe_translation_rms_m", math.nan),
                 ms.get("rpe_rotation_rms_rad", math.nan)))
+            online = m.get("trajectory_error", {})
+            lines.append("- online pose estimate while exploring (map -> base tf vs ground truth): %.3f m RMS, "
+                         "%.3f m max, %.2f deg RMS" % (online.get("rms_m", math.nan), online.get("max_m", math.nan),
+                                                       online.get("rms_deg", math.nan)))
         if not n:
             lines += ["- navigation stage not run (--mapping-only)", "- collisions (ground-truth clearance check): mapping %s samples" % s.get("mapping_collisions"), ""]
             continue

@@ -27,7 +27,7 @@ import tf2_ros
 from actionlib_msgs.msg import GoalStatus
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
-from nav_msgs.msg import OccupancyGrid, Odometry
+from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from rosgraph_msgs.msg import Clock
 
 
@@ -55,6 +55,7 @@ class Recorder:
         self.T = (wx, wy, wyaw)
         self.gt = None
         self.gts = collections.deque(maxlen=500)  # (stamp, pose in the map frame)
+        self.gt_history = []  # (stamp s, x, y, yaw) of every ground-truth message, map frame
         self.lock = threading.Lock()  # subscriber and timer threads
         self.odoms = collections.deque(maxlen=200)  # (stamp, x, y, yaw)
         self.rows = []  # t, gt x y yaw, est x y yaw, odom x y yaw
@@ -79,6 +80,7 @@ class Recorder:
         self.gt = self.world_to_map(p.position.x, p.position.y, yaw_of(p.orientation))
         with self.lock:
             self.gts.append((msg.header.stamp, self.gt))
+            self.gt_history.append((msg.header.stamp.to_sec(),) + tuple(self.gt))
 
     def _on_cmd(self, msg):
         self.max_vy = max(self.max_vy, abs(msg.linear.y))
@@ -96,6 +98,26 @@ class Recorder:
             self.tf_error = type(e).__name__
             return None
         return (t.transform.translation.x, t.transform.translation.y, yaw_of(t.transform.rotation))
+
+    def truth_at(self, stamps):
+        """Ground truth (x, y, yaw) at each stamp, interpolated between the two messages around
+        it (50 Hz: a turning robot's yaw moves a degree between them); NaN where there are none
+        within 50 ms."""
+        with self.lock:
+            h = np.array(self.gt_history, dtype=float).reshape(-1, 4)
+        out = np.full((len(stamps), 3), np.nan)
+        if len(h) < 2:
+            return out
+        hi = np.clip(np.searchsorted(h[:, 0], stamps), 1, len(h) - 1)
+        lo = hi - 1
+        span = np.maximum(h[hi, 0] - h[lo, 0], 1e-9)
+        f = np.clip((stamps - h[lo, 0]) / span, 0.0, 1.0)
+        dyaw = np.arctan2(np.sin(h[hi, 3] - h[lo, 3]), np.cos(h[hi, 3] - h[lo, 3]))
+        interp = np.column_stack([h[lo, 1] + f * (h[hi, 1] - h[lo, 1]), h[lo, 2] + f * (h[hi, 2] - h[lo, 2]),
+                                  np.arctan2(np.sin(h[lo, 3] + f * dyaw), np.cos(h[lo, 3] + f * dyaw))])
+        near = (stamps >= h[lo, 0] - 0.05) & (stamps <= h[hi, 0] + 0.05) & (span <= 0.1)
+        out[near] = interp[near]
+        return out
 
     def _odom_at(self, t):
         if not self.odoms:
@@ -189,6 +211,25 @@ def run_mapping(args, rec, result):
     if saver.returncode != 0:
         raise RuntimeError("map_saver failed: " + (saver.stderr or saver.stdout)[-500:])
     log("map saved to %s.yaml / .pgm" % args.map_out)
+    save_keyframes(args, rec, result)
+
+
+def save_keyframes(args, rec, result):
+    """The SLAM node's keyframe poses after its last optimisation (what the saved map was
+    rendered from) beside the ground truth at the same stamps: the trajectory a SLAM run is
+    scored by, while the online estimate shows what the robot believed as it went."""
+    try:
+        path = rospy.wait_for_message("slam/trajectory", Path, timeout=10.0)
+    except rospy.ROSException:
+        result["keyframes"] = 0
+        log("no slam/trajectory received: the map is scored by the online estimate")
+        return
+    est = np.array([(p.header.stamp.to_sec(), p.pose.position.x, p.pose.position.y, yaw_of(p.pose.orientation))
+                    for p in path.poses], dtype=float).reshape(-1, 4)
+    gt = rec.truth_at(est[:, 0])
+    ok = np.isfinite(gt).all(axis=1)
+    result["keyframes"] = int(ok.sum())
+    np.savez(args.out + "/" + args.name + "_keyframes.npz", est=est[ok], gt=np.column_stack([est[ok, 0], gt[ok]]))
 
 
 def send_initial_pose(x, y, yaw):

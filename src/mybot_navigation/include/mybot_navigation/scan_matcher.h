@@ -81,9 +81,9 @@ double scorePose(const MatchField& field, const std::vector<Point2D>& points, co
 double translationConstraintRatio(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& pose);
 
 // Gauss-Newton on sum (1 - f(T p))^2 with bilinear interpolation; stays within max_step of start.
-// prior / translation_weight pull the translation towards `prior` (0: no prior).
+// prior / translation_weight / rotation_weight pull the pose towards `prior` (0: no prior).
 Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& start,
                   int iterations = 10, double max_step = 0.1, const Pose2D* prior = nullptr,
-                  double translation_weight = 0.0);
+                  double translation_weight = 0.0, double rotation_weight = 0.0);
 
 }  // namespace mybot_navigation

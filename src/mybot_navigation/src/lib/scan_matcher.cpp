@@ -252,7 +252,8 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
               normalizeAngle(request.initial.theta + (best.angle - n_angles) * angle_step)};
   if (request.refine)
   {
-    const Pose2D refined = refinePose(field, points, pose, 10, res, &request.initial, request.translation_weight);
+    const Pose2D refined = refinePose(field, points, pose, 10, res, &request.initial, request.translation_weight,
+                                      request.rotation_weight);
     if (scorePose(field, points, refined) >= scorePose(field, points, pose) * 0.98)
       pose = refined;
   }
@@ -279,9 +280,10 @@ double translationConstraintRatio(const MatchField& field, const std::vector<Poi
 }
 
 Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& start, int iterations,
-                  double max_step, const Pose2D* prior, double translation_weight)
+                  double max_step, const Pose2D* prior, double translation_weight, double rotation_weight)
 {
   const double w = prior ? translation_weight * static_cast<double>(points.size()) : 0.0;
+  const double wr = prior ? rotation_weight * static_cast<double>(points.size()) : 0.0;
   Pose2D pose = start;
   for (int it = 0; it < iterations; ++it)
   {
@@ -305,6 +307,11 @@ Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, c
       H(1, 1) += w;
       g.x() += w * (pose.x - prior->x);
       g.y() += w * (pose.y - prior->y);
+    }
+    if (wr > 0.0)
+    {
+      H(2, 2) += wr;
+      g.z() += wr * normalizeAngle(pose.theta - prior->theta);
     }
     H.diagonal() += Eigen::Vector3d(1e-3, 1e-3, 1e-3) * (H.trace() / 3.0 + 1e-9);  // LM damping
     const Eigen::Vector3d delta = -H.ldlt().solve(g);

@@ -9,6 +9,7 @@
 #include <message_filters/subscriber.h>
 #include <nav_msgs/GetMap.h>
 #include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Path.h>
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_ros/buffer.h>
@@ -75,6 +76,8 @@ public:
     p.search_window_angular = param(pnh_, "search_window_angular", 0.35, non_negative, "an angle >= 0 (rad)");
     p.match_translation_weight = param(pnh_, "match_translation_weight", p.match_translation_weight, non_negative,
                                        "a number >= 0 (score per m^2)");
+    p.match_rotation_weight = param(pnh_, "match_rotation_weight", p.match_rotation_weight, non_negative,
+                                    "a number >= 0 (score per rad^2)");
     p.min_match_score = param(pnh_, "min_match_score", 0.35, [](double v) { return v >= 0 && v < 1; }, "in [0, 1)");
     p.loop_closure = param(pnh_, "loop_closure", true, [](bool) { return true; }, "a bool");
     p.loop_search_radius = param(pnh_, "loop_search_radius", 4.0, positive, "a positive distance (m)");
@@ -107,6 +110,9 @@ public:
     map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
     meta_pub_ = nh_.advertise<nav_msgs::MapMetaData>("map_metadata", 1, true);
     map_srv_ = nh_.advertiseService("dynamic_map", &SlamNode::mapService, this);
+    // The keyframe poses as the pose graph now has them (after every loop closure): what the map
+    // was rendered from, for scoring a run against ground truth and for rviz.
+    path_pub_ = pnh_.advertise<nav_msgs::Path>("trajectory", 1, true);
 
     scan_sub_.subscribe(nh_, "scan", 5);
     scan_filter_ = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(scan_sub_, tf_buffer_, odom_frame_,
@@ -263,11 +269,29 @@ private:
     msg.info.map_load_time = stamp;
     map_pub_.publish(msg);
     meta_pub_.publish(msg.info);
+    publishTrajectory(stamp);
     published_ = true;
     published_version_ = slam_->mapVersion();
     last_map_publish_ = stamp.toSec();
     ROS_DEBUG("slam: published %dx%d map (%d keyframes, %d loop closures)", msg.info.width, msg.info.height,
               slam_->stats().keyframes, slam_->stats().loop_closures);
+  }
+
+  void publishTrajectory(const ros::Time& stamp)
+  {
+    nav_msgs::Path path;
+    path.header.frame_id = map_frame_;
+    path.header.stamp = stamp;
+    path.poses.reserve(slam_->keyframes().size());
+    for (const Keyframe& k : slam_->keyframes())
+    {
+      geometry_msgs::PoseStamped p;
+      p.header.frame_id = map_frame_;
+      p.header.stamp.fromSec(k.stamp);
+      p.pose = toPoseMsg(k.pose);
+      path.poses.push_back(p);
+    }
+    path_pub_.publish(path);
   }
 
   bool mapService(nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& res)
@@ -306,7 +330,7 @@ private:
   tf2_ros::TransformBroadcaster broadcaster_;
   message_filters::Subscriber<sensor_msgs::LaserScan> scan_sub_;
   std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
-  ros::Publisher map_pub_, meta_pub_;
+  ros::Publisher map_pub_, meta_pub_, path_pub_;
   ros::ServiceServer map_srv_;
   ros::Timer tf_timer_;
   std::string base_frame_, odom_frame_, map_frame_;
