@@ -20,7 +20,18 @@ foreach(node diffdrive_controller wheel_controller diffdrive_odom twist_mux)
   add_dependencies(${node} ${PROJECT_NAME}_generate_messages_cpp)
   install(TARGETS ${node} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
-install(TARGETS mybot_control_lib mybot_control_ros
+# The node objects without main(), for the nodelets and diffdrive_chain (all in one process).
+add_library(mybot_diffdrive_nodes src/nodes/twist_mux.cpp src/nodes/diffdrive_controller.cpp
+  src/nodes/wheel_controller.cpp src/nodes/diffdrive_odom.cpp)
+target_compile_definitions(mybot_diffdrive_nodes PRIVATE MYBOT_CONTROL_NODE_LIBRARY)
+target_link_libraries(mybot_diffdrive_nodes mybot_control_ros mybot_control_lib ${catkin_LIBRARIES})
+add_dependencies(mybot_diffdrive_nodes ${PROJECT_NAME}_generate_messages_cpp)
+add_library(mybot_diffdrive_nodelets src/nodes/diffdrive_nodelets.cpp)
+target_link_libraries(mybot_diffdrive_nodelets mybot_diffdrive_nodes ${catkin_LIBRARIES})
+add_executable(diffdrive_chain src/nodes/diffdrive_chain.cpp)
+target_link_libraries(diffdrive_chain mybot_diffdrive_nodes ${catkin_LIBRARIES})
+install(TARGETS diffdrive_chain RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(TARGETS mybot_control_lib mybot_control_ros mybot_diffdrive_nodes mybot_diffdrive_nodelets
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 install(DIRECTORY include/mybot_control/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION}
@@ -49,11 +60,15 @@ if(CATKIN_ENABLE_TESTING)
   set(MYBOT_CONTROL_ROSTESTS diffdrive_chain diffdrive_limits diffdrive_frames bad_config twist_mux)
   foreach(t ${MYBOT_CONTROL_ROSTESTS})
     add_rostest(test/rostest/${t}.test DEPENDENCIES loopback_wheels diffdrive_controller wheel_controller
-      diffdrive_odom twist_mux)
+      diffdrive_odom twist_mux diffdrive_chain mybot_diffdrive_nodelets)
   endforeach()
+  # The same loopback suite with the three nodes loaded as nodelets into one manager.
+  add_rostest(test/rostest/diffdrive_chain.test ARGS process:=nodelets DEPENDENCIES loopback_wheels
+    mybot_diffdrive_nodelets)
   # In the simulator (mybot, joint-command mode) against ground truth.
-  foreach(args "mode:=square" "mode:=step" "mode:=weak\;pid_on:=true" "mode:=weak\;pid_on:=false")
+  # square runs the four nodes in one process (diffdrive_chain), the others as separate nodes.
+  foreach(args "mode:=square\;process:=chain" "mode:=step" "mode:=weak\;pid_on:=true" "mode:=weak\;pid_on:=false")
     add_rostest(test/rostest/sim_chain.test ARGS ${args} DEPENDENCIES diffdrive_controller wheel_controller
-      diffdrive_odom twist_mux)
+      diffdrive_odom twist_mux diffdrive_chain mybot_diffdrive_nodelets)
   endforeach()
 endif()

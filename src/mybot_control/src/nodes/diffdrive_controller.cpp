@@ -6,6 +6,7 @@
 #include <std_msgs/Float32.h>
 
 #include "mybot_control/kinematics.hpp"
+#include "diffdrive_nodes.hpp"
 #include "mybot_control/ros_params.hpp"
 #include "mybot_control/speed_limiter.hpp"
 #include "mybot_control/step_scheduler.hpp"
@@ -17,7 +18,7 @@ namespace
 class DiffDriveControllerNode
 {
 public:
-  DiffDriveControllerNode() : pnh_("~")
+  DiffDriveControllerNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)
   {
     const ParamReader p(pnh_);
     const std::string left = p.string("left_wheel", "left_wheel_hinge");
@@ -109,14 +110,22 @@ private:
   ros::Timer timer_;
 };
 
-void body()
-{
-  DiffDriveControllerNode node;
-  ros::spin();
-}
 }  // namespace
 
+namespace mybot_control_nodes
+{
+std::shared_ptr<void> makeDiffDriveController(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
+{
+  return std::make_shared<DiffDriveControllerNode>(nh, pnh);
+}
+}  // namespace mybot_control_nodes
+
+#ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "diffdrive_controller", body);
+  return runNode(argc, argv, "diffdrive_controller", [] {
+    const auto node = mybot_control_nodes::makeDiffDriveController(ros::NodeHandle(), ros::NodeHandle("~"));
+    ros::spin();
+  });
 }
+#endif

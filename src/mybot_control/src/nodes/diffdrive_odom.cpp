@@ -13,6 +13,7 @@
 
 #include "mybot_control/SetPose.h"
 #include "mybot_control/odometry.hpp"
+#include "diffdrive_nodes.hpp"
 #include "mybot_control/ros_params.hpp"
 #include "mybot_control/step_scheduler.hpp"
 
@@ -23,7 +24,7 @@ namespace
 class DiffDriveOdomNode
 {
 public:
-  DiffDriveOdomNode() : pnh_("~")
+  DiffDriveOdomNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)
   {
     const ParamReader p(pnh_);
     left_joint_ = p.string("left_wheel", "left_wheel_hinge");
@@ -173,14 +174,22 @@ private:
   tf2_ros::TransformBroadcaster broadcaster_;
 };
 
-void body()
-{
-  DiffDriveOdomNode node;
-  ros::spin();
-}
 }  // namespace
 
+namespace mybot_control_nodes
+{
+std::shared_ptr<void> makeDiffDriveOdom(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
+{
+  return std::make_shared<DiffDriveOdomNode>(nh, pnh);
+}
+}  // namespace mybot_control_nodes
+
+#ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "diffdrive_odom", body);
+  return runNode(argc, argv, "diffdrive_odom", [] {
+    const auto node = mybot_control_nodes::makeDiffDriveOdom(ros::NodeHandle(), ros::NodeHandle("~"));
+    ros::spin();
+  });
 }
+#endif

@@ -7,6 +7,7 @@
 #include <std_msgs/Bool.h>
 #include <std_msgs/String.h>
 
+#include "diffdrive_nodes.hpp"
 #include "mybot_control/ros_params.hpp"
 #include "mybot_control/twist_mux.hpp"
 
@@ -85,7 +86,7 @@ std::vector<MuxSource> loadSources(const ParamReader& p, const std::string& key,
 class TwistMuxNode
 {
 public:
-  TwistMuxNode() : pnh_("~")
+  TwistMuxNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)
   {
     const ParamReader p(pnh_);
     for (const auto& s : loadSources(p, "topics", true))
@@ -154,7 +155,7 @@ private:
     diagnostic_msgs::DiagnosticArray arr;
     arr.header.stamp = ros::Time::now();
     diagnostic_msgs::DiagnosticStatus st;
-    st.name = ros::this_node::getName() + ": twist mux";
+    st.name = pnh_.getNamespace() + ": twist mux";
     st.hardware_id = "none";
     const int active = mux_.active(now);
     const int lock = mux_.lockPriority(now);
@@ -186,14 +187,22 @@ private:
   ros::Timer check_timer_, diag_timer_;
 };
 
-void body()
-{
-  TwistMuxNode node;
-  ros::spin();
-}
 }  // namespace
 
+namespace mybot_control_nodes
+{
+std::shared_ptr<void> makeTwistMux(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
+{
+  return std::make_shared<TwistMuxNode>(nh, pnh);
+}
+}  // namespace mybot_control_nodes
+
+#ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "twist_mux", body);
+  return runNode(argc, argv, "twist_mux", [] {
+    const auto node = mybot_control_nodes::makeTwistMux(ros::NodeHandle(), ros::NodeHandle("~"));
+    ros::spin();
+  });
 }
+#endif

@@ -12,6 +12,7 @@
 
 #include "mybot_control/odometry.hpp"
 #include "mybot_control/pid.hpp"
+#include "diffdrive_nodes.hpp"
 #include "mybot_control/ros_params.hpp"
 #include "mybot_control/step_scheduler.hpp"
 
@@ -48,7 +49,7 @@ void publish(ros::Publisher& pub, double value)
 class WheelControllerNode
 {
 public:
-  WheelControllerNode() : pnh_("~")
+  WheelControllerNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)
   {
     const ParamReader p(pnh_);
     wheels_[0].joint = p.string("left_wheel", "left_wheel_hinge");
@@ -230,14 +231,22 @@ private:
   ros::Timer timer_;
 };
 
-void body()
-{
-  WheelControllerNode node;
-  ros::spin();
-}
 }  // namespace
 
+namespace mybot_control_nodes
+{
+std::shared_ptr<void> makeWheelController(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
+{
+  return std::make_shared<WheelControllerNode>(nh, pnh);
+}
+}  // namespace mybot_control_nodes
+
+#ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "wheel_controller", body);
+  return runNode(argc, argv, "wheel_controller", [] {
+    const auto node = mybot_control_nodes::makeWheelController(ros::NodeHandle(), ros::NodeHandle("~"));
+    ros::spin();
+  });
 }
+#endif
