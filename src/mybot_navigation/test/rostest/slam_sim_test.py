@@ -184,10 +184,13 @@ class SlamSimTest(unittest.TestCase):
             open_loop = self.score(self.fetch_map("open/dynamic_map"), "open",
                                    self.keyframe_samples("open/slam/trajectory"))
             rospy.loginfo("slam_sim_test: closed %s, open %s", closed, open_loop)
-            self.assertLess(closed["ate_rmse_m"], open_loop["ate_rmse_m"])
-            self.assertGreater(closed["precision"], open_loop["precision"])
-            self.assertGreater(closed["recall"], open_loop["recall"])
+            # Margins (defaults: just "better"): the gating test asks for a clear win, as the
+            # library test does, so that noise in either run cannot decide it.
+            self.assertLess(closed["ate_rmse_m"], rospy.get_param("~max_ate_ratio", 1.0) * open_loop["ate_rmse_m"])
+            self.assertGreater(closed["precision"], open_loop["precision"] + rospy.get_param("~min_precision_gain", 0.0))
+            self.assertGreater(closed["recall"], open_loop["recall"] + rospy.get_param("~min_recall_gain", 0.0))
             self.assertGreaterEqual(closed["precision"], rospy.get_param("~min_precision", 0.8))
+            self.assertGreaterEqual(closed["recall"], rospy.get_param("~min_recall", 0.0))
 
 
 if __name__ == "__main__":
