@@ -226,8 +226,10 @@ private:
     ScanConversionStats stats;
     const RangeScan rs = convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min,
                                        range_max, max_urange_, g, &stats);
+    // Throttled hard: some lasers mark every dropout NaN (REP 117), and the scan is still used.
     if (stats.invalid > 0)
-      ROS_DEBUG_THROTTLE(5.0, "slam: %d invalid readings (NaN/-inf/below range_min) ignored", stats.invalid);
+      ROS_WARN_THROTTLE(30.0, "slam: scan at %.3f has %d invalid readings (NaN/-inf/below range_min): ignored",
+                        stamp, stats.invalid);
     const SlamStats before = slam_->stats();
     const ScanOutcome outcome = slam_->addScan(stamp, odom, rs);
     const SlamStats& after = slam_->stats();
