@@ -294,21 +294,21 @@ def pick_goals(truth_yaml, map_yaml, map_origin, start_xy, n, clearance, seed=7)
     return goals
 
 
-def collisions(truth_yaml, traj, origin, radius):
-    """Ground-truth contact check: samples where an obstacle of the world lies
-    within the robot's inscribed radius of its true centre."""
-    from scipy import ndimage
-    grid, meta = load_map(truth_yaml)
-    res, (ox, oy) = meta["resolution"], meta["origin"][:2]
-    dist = ndimage.distance_transform_edt(grid != 100) * res
-    count = 0
-    c, s = math.cos(origin[2]), math.sin(origin[2])
-    for row in traj:
-        x, y = origin[0] + c * row[1] - s * row[2], origin[1] + s * row[1] + c * row[2]  # map -> world
-        r, col = int((y - oy) / res), int((x - ox) / res)
-        if 0 <= r < grid.shape[0] and 0 <= col < grid.shape[1] and dist[r, col] < radius:
-            count += 1
-    return count
+def contact_count(stage):
+    """The physics engine's contact count of a stage (steps in contact with an obstacle), or None
+    when the stage did not report one."""
+    c = stage.get("contacts")
+    return None if c is None else c["contact_steps"]
+
+
+def contact_text(stage):
+    c = stage.get("contacts")
+    if c is None:
+        return "not measured"
+    if c["contact_steps"] == 0:
+        return "none"
+    return "%.3f s in contact, first '%s' at %.1f s, %.1f mm deep at most" % (
+        c["contact_s"], c["first_model"], c["first_s"], 1000 * c["max_depth_m"])
 
 
 def score_map(map_yaml, truth_yaml, traj_npz, out_prefix):
@@ -445,7 +445,7 @@ def run_mapping(robot, args, world, truth_yaml, out, common, summary):
     traj_map = np.load(os.path.join(out, robot + "_mapping_traj.npz"))["traj"]
     summary["map_score"] = score_map(map_prefix + ".yaml", truth_yaml, os.path.join(out, robot + "_mapping_traj.npz"),
                                      os.path.join(out, robot + "_mapping"))
-    summary["mapping_collisions"] = collisions(truth_yaml, traj_map, (mx, my, myaw), ROBOT_RADIUS[robot] * 0.6)
+    summary["mapping_collisions"] = contact_count(mapping)
     ms = summary["map_score"]
     # The saved map's frame in the world, as the SLAM trajectory's best fit to the ground truth
     # places it: a map a few tenths of a degree off the world is still a good map, and goals
@@ -456,10 +456,10 @@ def run_mapping(robot, args, world, truth_yaml, out, common, summary):
                                    ROBOT_RADIUS[robot], building)
     online = mapping.get("trajectory_error", {})
     log("%s: map precision %.3f, recall %.3f, coverage %.3f, SLAM trajectory ATE %.3f m RMS (%s), online pose "
-        "error %.3f m RMS / %.3f m max, %d collision samples" % (
+        "error %.3f m RMS / %.3f m max, contacts: %s" % (
             robot, ms.get("precision", math.nan), ms.get("recall", math.nan), summary["coverage"],
             ms.get("ate_rmse_m", math.nan), ms.get("trajectory", "?"), online.get("rms_m", math.nan),
-            online.get("max_m", math.nan), summary["mapping_collisions"]))
+            online.get("max_m", math.nan), contact_text(mapping)))
 
     mapping_ok = (ms.get("precision", 0) >= thresholds["precision"]
                   and ms.get("recall", 0) >= thresholds["recall"]
@@ -521,10 +521,10 @@ def run_robot(robot, args, world, truth_yaml, out):
             # Before AMCL took the initial pose its estimate is the map origin: not drawn.
             traj_nav = traj_nav.copy()
             traj_nav[traj_nav[:, 0] < nav["localized_from"], 4:7] = np.nan
-        summary["navigation_collisions"] = collisions(truth_yaml, traj_nav, frame, ROBOT_RADIUS[robot] * 0.6)
     plot(robot, out, truth_yaml, (mx, my, myaw), map_prefix + ".yaml", traj_map, traj_nav, goals_map,
          frontier_goals_from_log(os.path.join(out, robot + "_mapping_explore.log")))
-    ok = mapping_ok and bool(nav.get("ok")) and summary.get("navigation_collisions", 1) == 0
+    summary["navigation_collisions"] = contact_count(nav)
+    ok = mapping_ok and bool(nav.get("ok")) and summary["navigation_collisions"] == 0
     if robot == "swerve" and nav.get("max_sideways_cmd_mps", 0.0) < 0.05:
         log("swerve: navigation never moved sideways: the holonomic planner is not being used")
         ok = False
@@ -558,23 +558,24 @@ def write_report(out, summaries, wall_s):
                          "%.3f m max, %.2f deg RMS" % (online.get("rms_m", math.nan), online.get("max_m", math.nan),
                                                        online.get("rms_deg", math.nan)))
         if not n:
-            lines += ["- navigation stage not run (--mapping-only)", "- collisions (ground-truth clearance check): mapping %s samples" % s.get("mapping_collisions"), ""]
+            lines += ["- navigation stage not run (--mapping-only)", "- contacts with obstacles (physics engine): "
+                      "mapping %s" % contact_text(m), ""]
             continue
         te = n.get("trajectory_error", {})
         lines.append("- localization (AMCL vs ground truth): %.3f m RMS, %.3f m max, %.2f deg RMS" % (
             te.get("rms_m", math.nan), te.get("max_m", math.nan), te.get("rms_deg", math.nan)))
         goals = n.get("goals", [])
-        lines.append("- goals reached: %d / %d; navigation %.0f s sim, %.0f s wall, %.1f m driven, "
-                     "largest sideways command %.2f m/s" % (
+        lines.append("- goals reached: %d / %d; navigation %.0f s sim, %.0f s wall, %.1f m driven, %.1f m of it "
+                     "sideways (ground truth, body frame), largest sideways command %.2f m/s" % (
                          sum(g["reached"] for g in goals), len(goals), n.get("sim_s", math.nan),
-                         n.get("wall_s", math.nan), n.get("distance_m", math.nan),
+                         n.get("wall_s", math.nan), n.get("distance_m", math.nan), n.get("sideways_m", math.nan),
                          n.get("max_sideways_cmd_mps", math.nan)))
         for i, g in enumerate(goals):
             lines.append("  - goal %d (%.2f, %.2f): %s, %.3f m / %.1f deg from it, %.0f s" % (
                 i + 1, g["goal"][0], g["goal"][1], "reached" if g["reached"] else "NOT reached: " + g["text"],
                 g["position_error_m"], g["yaw_error_deg"], g["sim_s"]))
-        lines.append("- collisions (ground-truth clearance check): mapping %s, navigation %s samples" % (
-            s.get("mapping_collisions"), s.get("navigation_collisions")))
+        lines.append("- contacts with obstacles (physics engine, every step): mapping %s; navigation %s" % (
+            contact_text(m) if m else "-", contact_text(n)))
         if n.get("error"):
             lines.append("- navigation error: " + n["error"])
         lines.append("")

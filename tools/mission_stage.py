@@ -30,6 +30,9 @@ from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from rosgraph_msgs.msg import Clock
 
+from mybot_gazebo_lite.msg import ModelContacts
+from mybot_navigation.trajectory import sideways_distance
+
 
 def yaw_of(q):
     return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
@@ -67,6 +70,8 @@ class Recorder:
         rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=20)
         self.max_vy = 0.0  # sideways command: a holonomic robot should use it
         rospy.Subscriber("cmd_vel", Twist, self._on_cmd, queue_size=20)
+        self.contacts = None  # the simulator's count for the (only) robot
+        rospy.Subscriber("/gazebo/model_contacts", ModelContacts, self._on_contacts, queue_size=10)
         rospy.Timer(rospy.Duration(1.0 / rate), self._sample)
 
     def world_to_map(self, x, y, yaw):
@@ -81,6 +86,18 @@ class Recorder:
         with self.lock:
             self.gts.append((msg.header.stamp, self.gt))
             self.gt_history.append((msg.header.stamp.to_sec(),) + tuple(self.gt))
+
+    def _on_contacts(self, msg):
+        self.contacts = msg
+
+    def contact_report(self, timeout=30.0):
+        """The physics engine's contact count up to the last ground-truth sample."""
+        end = self.gt_history[-1][0] if self.gt_history else 0.0
+        wait_for(lambda: self.contacts is not None and self.contacts.header.stamp.to_sec() >= end, timeout,
+                 "/gazebo/model_contacts")
+        c = self.contacts
+        return {"contact_steps": int(c.contact_steps), "contact_s": c.contact_time, "max_depth_m": c.max_depth,
+                "first_s": c.first_time, "first_model": c.first_model}
 
     def _on_cmd(self, msg):
         self.max_vy = max(self.max_vy, abs(msg.linear.y))
@@ -340,6 +357,9 @@ def main():
         result["trajectory_error"] = rec.errors(result.get("localized_from"))
         result["distance_m"] = path_length(a)
         result["max_sideways_cmd_mps"] = rec.max_vy
+        with rec.lock:
+            result["sideways_m"], result["driven_m"] = sideways_distance(list(rec.gt_history))
+        result["contacts"] = rec.contact_report()
         result["samples_skipped"] = dict(rec.skipped)
         result["sim_s"] = rospy.Time.now().to_sec() - sim0
         np.savez(args.out + "/" + args.name + "_traj.npz", traj=a)

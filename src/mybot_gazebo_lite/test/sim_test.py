@@ -21,6 +21,7 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
+from mybot_gazebo_lite.msg import ModelContacts
 from mybot_gazebo_lite.srv import GetModelState
 
 WALL_TIMEOUT = 60.0
@@ -236,6 +237,9 @@ class WallTests(unittest.TestCase):
 
     def test_laser_range_to_wall(self):
         self.r.settle(0.5)
+        contacts = rospy.wait_for_message('/gazebo/model_contacts', ModelContacts, timeout=30)
+        self.assertEqual(contacts.model_name, 'mybot')
+        self.assertEqual((contacts.contact_steps, contacts.first_time), (0, -1.0), 'resting on the ground is no contact')
         self.r.wait(lambda: self.r.scan is not None, 'scan')
         with self.r.lock:
             scan = self.r.scan
@@ -268,6 +272,11 @@ class WallTests(unittest.TestCase):
         self.assertGreater(x, 4.0)
         self.assertLess(abs(z), 0.1)
         self.assertLess(math.hypot(v.x, v.y), 0.05)
+        contacts = rospy.wait_for_message('/gazebo/model_contacts', ModelContacts, timeout=30)
+        # Pushing for seconds: in contact for most of them (at rest afterwards it may just touch).
+        self.assertEqual(contacts.first_model, 'wall_east', str(contacts))
+        self.assertGreater(contacts.contact_time, 0.5, str(contacts))
+        self.assertGreater(contacts.max_depth, 0.0)
 
 
 class MultiRobotTests(unittest.TestCase):

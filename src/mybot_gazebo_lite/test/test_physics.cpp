@@ -81,6 +81,38 @@ TEST(Physics, PositionCommandReachesTarget) {
   EXPECT_NEAR(r.jointPosition("left_wheel_hinge"), 1.0, 0.01);
 }
 
+TEST(Physics, CountsContactsWithObstaclesNotTheGround) {
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
+  WorldSpec world = flatWorld();
+  WorldModel wall;
+  wall.name = "wall";
+  wall.pose.setOrigin(btVector3(1.5, 0, 0.25));
+  WorldLink l;
+  l.name = "link";
+  Shape box;
+  box.size = btVector3(0.2, 2.0, 0.5);
+  l.shapes.push_back(box);
+  wall.links.push_back(l);
+  world.models.push_back(wall);
+  PhysicsWorld w(world, {});
+  Robot& r = w.addRobot(spec, "bot", "", btTransform::getIdentity());
+  run(w, 1.0);  // settled on the ground plane: no contact
+  EXPECT_EQ(r.contacts().steps, 0u);
+  EXPECT_TRUE(r.contacts().now.empty());
+  r.commandVelocity("left_wheel_hinge", 5.0, 20);
+  r.commandVelocity("right_wheel_hinge", 5.0, 20);
+  run(w, 3.0);  // 0.5 m/s: reaches the wall's face (x = 1.4) within 3 s and pushes
+  EXPECT_GT(r.contacts().steps, 100u);
+  EXPECT_EQ(r.contacts().first_model, "wall");
+  EXPECT_GT(r.contacts().first_time, 1.0);
+  EXPECT_GT(r.contacts().max_depth, 0.0);
+  ASSERT_EQ(r.contacts().now.size(), 1u);
+  EXPECT_EQ(r.contacts().now[0], "wall");
+  w.resetWorld();
+  EXPECT_EQ(r.contacts().steps, 0u);
+  EXPECT_LT(r.contacts().first_time, 0.0);
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

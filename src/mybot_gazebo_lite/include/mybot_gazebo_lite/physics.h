@@ -70,6 +70,17 @@ class Robot {
   btMultiBody* multibody() const { return mb_; }
   const std::vector<btCollisionObject*>& colliders() const { return colliders_; }
 
+  // Penetrating contacts with world models and other robots (never the ground plane), counted
+  // by the physics engine at every step since spawn or the last world reset.
+  struct Contacts {
+    uint64_t steps = 0;            // steps with at least one contact
+    double max_depth = 0;          // deepest penetration (m)
+    double first_time = -1;        // sim time of the first contact (s), -1 = none yet
+    std::string first_model;       // what it touched first
+    std::vector<std::string> now;  // what it touches at the last step
+  };
+  const Contacts& contacts() const { return contacts_; }
+
  private:
   friend class PhysicsWorld;
   std::string name_, ns_;
@@ -82,6 +93,7 @@ class Robot {
   std::map<std::string, size_t> joint_index_;
   std::vector<btCollisionObject*> colliders_;
   std::vector<btCollisionShape*> shapes_;
+  Contacts contacts_;
   std::vector<btMultiBodyConstraint*> constraints_;
   std::vector<std::unique_ptr<std::vector<double>>> child_mu_;
 };
@@ -134,6 +146,9 @@ class PhysicsWorld {
 
  private:
   void addWorldModel(const WorldModel& m);
+  void updateContacts();
+  Robot* robotOf(const btCollisionObject* o) const;
+  std::string modelOf(const btCollisionObject* o) const;  // "" for the ground plane
   void syncRobotTransforms(Robot& r);
   void setRobotPose(Robot& r, const btTransform& root_pose, const btVector3& lin, const btVector3& ang);
   btCollisionShape* buildShape(const Shape& s, bool dynamic_body, std::vector<btCollisionShape*>& owned,
@@ -154,6 +169,7 @@ class PhysicsWorld {
     btCollisionObject* obj;
     btRigidBody* body;  // null for static
     btTransform initial;
+    bool ground;  // a plane: wheels touch it all the time
   };
   std::vector<WorldBody> world_bodies_;
   std::vector<btCollisionShape*> world_shapes_;

@@ -269,7 +269,7 @@ void PhysicsWorld::addWorldModel(const WorldModel& m) {
     }
     if (shape == compound) obj->setUserPointer(mus.get());
     world_mu_.push_back(std::move(mus));
-    world_bodies_.push_back({m.name, obj, body, tf});
+    world_bodies_.push_back({m.name, obj, body, tf, has_plane});
   }
 }
 
@@ -501,11 +501,57 @@ void PhysicsWorld::step() {
   world_->stepSimulation(dt, 0, dt);
   ++steps_;
   time_ = steps_ * dt + 0.0;
+  updateContacts();
+}
+
+Robot* PhysicsWorld::robotOf(const btCollisionObject* o) const {
+  const auto* c = btMultiBodyLinkCollider::upcast(o);
+  if (!c) return nullptr;
+  for (const auto& r : robots_)
+    if (r->mb_ == c->m_multiBody) return r.get();
+  return nullptr;
+}
+
+std::string PhysicsWorld::modelOf(const btCollisionObject* o) const {
+  if (Robot* r = robotOf(o)) return r->name_;
+  for (const auto& wb : world_bodies_)
+    if (wb.obj == o) return wb.ground ? std::string() : wb.model;
+  return "?";
+}
+
+void PhysicsWorld::updateContacts() {
+  for (auto& r : robots_) r->contacts_.now.clear();
+  const int n = dispatcher_->getNumManifolds();
+  for (int i = 0; i < n; ++i) {
+    const btPersistentManifold* m = dispatcher_->getManifoldByIndexInternal(i);
+    // Points within the contact margin are kept before bodies touch: only penetration counts.
+    double depth = 0;
+    for (int k = 0; k < m->getNumContacts(); ++k) depth = std::max(depth, -double(m->getContactPoint(k).getDistance()));
+    if (depth <= 0) continue;
+    Robot* ra = robotOf(m->getBody0());
+    Robot* rb = robotOf(m->getBody1());
+    if ((!ra && !rb) || ra == rb) continue;  // world-world, or a robot's own links
+    for (auto [r, other] : {std::make_pair(ra, m->getBody1()), std::make_pair(rb, m->getBody0())}) {
+      if (!r) continue;
+      std::string what = modelOf(other);
+      if (what.empty()) continue;
+      auto& c = r->contacts_;
+      if (std::find(c.now.begin(), c.now.end(), what) == c.now.end()) c.now.push_back(what);
+      c.max_depth = std::max(c.max_depth, depth);
+      if (c.first_time < 0) {
+        c.first_time = time_;
+        c.first_model = what;
+      }
+    }
+  }
+  for (auto& r : robots_)
+    if (!r->contacts_.now.empty()) ++r->contacts_.steps;
 }
 
 void PhysicsWorld::resetWorld() {
   for (auto& rp : robots_) {
     Robot& r = *rp;
+    r.contacts_ = Robot::Contacts();
     for (int i = 0; i < r.mb_->getNumLinks(); ++i) {
       r.mb_->setJointPos(i, 0);
       r.mb_->setJointVel(i, 0);

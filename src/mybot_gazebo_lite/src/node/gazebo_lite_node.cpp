@@ -4,6 +4,7 @@
 
 #include "mybot_gazebo_lite/DeleteModel.h"
 #include "mybot_gazebo_lite/GetModelState.h"
+#include "mybot_gazebo_lite/ModelContacts.h"
 #include "mybot_gazebo_lite/SetModelState.h"
 #include "mybot_gazebo_lite/SpawnModel.h"
 #include "mybot_gazebo_lite/parsing.h"
@@ -58,6 +59,7 @@ class SimNode {
     rng_.seed(seed);
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
     ros::NodeHandle g("/gazebo");
+    contacts_pub_ = g.advertise<ModelContacts>("model_contacts", 10);
     srvs_.push_back(g.advertiseService("reset_world", &SimNode::resetWorld, this));
     srvs_.push_back(g.advertiseService("reset_simulation", &SimNode::resetSimulation, this));
     srvs_.push_back(g.advertiseService("pause_physics", &SimNode::pause, this));
@@ -91,6 +93,7 @@ class SimNode {
       for (auto& m : models_)
         for (auto& p : m.plugins) p->update(t);
       publishClock(false);
+      if (t + 1e-9 >= last_contacts_ + kContactsPeriod) publishContacts();
       if (rtf_ > 0) {
         // Pace against the wall clock from an anchor so errors do not accumulate.
         ros::WallTime target = wall0_ + ros::WallDuration((t - sim0_) / rtf_);
@@ -107,7 +110,8 @@ class SimNode {
   }
 
  private:
-  static constexpr double kMaxLagWall = 0.02;  // s; about one control period of the nodes
+  static constexpr double kMaxLagWall = 0.02;
+  static constexpr double kContactsPeriod = 0.1;  // s of sim time  // s; about one control period of the nodes
   struct ModelEntry {
     std::string name;
     std::vector<std::unique_ptr<SimPlugin>> plugins;
@@ -120,6 +124,24 @@ class SimNode {
   void anchor() {
     wall0_ = ros::WallTime::now();
     sim0_ = world_->time();
+  }
+  void publishContacts() {
+    last_contacts_ = world_->time();
+    if (contacts_pub_.getNumSubscribers() == 0) return;
+    for (Robot* r : world_->robots()) {
+      const auto& c = r->contacts();
+      ModelContacts m;
+      m.header.stamp = ros::Time(world_->time());
+      m.header.frame_id = "world";
+      m.model_name = r->name();
+      m.touching = c.now;
+      m.contact_steps = c.steps;
+      m.contact_time = c.steps * world_->stepSize();
+      m.max_depth = c.max_depth;
+      m.first_time = c.first_time;
+      m.first_model = c.first_model;
+      contacts_pub_.publish(m);
+    }
   }
   void publishClock(bool force) {
     double t = world_->time();
@@ -140,6 +162,7 @@ class SimNode {
     resetWorld(a, b);
     world_->resetTime();
     last_clock_ = -1;
+    last_contacts_ = -1;
     publishClock(true);
     anchor();
     return true;
@@ -278,10 +301,10 @@ class SimNode {
   std::unique_ptr<StaticSliceCache> slices_;
   std::vector<ModelEntry> models_;
   std::vector<ros::ServiceServer> srvs_;
-  ros::Publisher clock_pub_;
+  ros::Publisher clock_pub_, contacts_pub_;
   tf2_ros::TransformBroadcaster tfb_;
   std::mt19937 rng_;
-  double rtf_ = 1, clock_hz_ = 1000, last_clock_ = -1, sim0_ = 0;
+  double rtf_ = 1, clock_hz_ = 1000, last_clock_ = -1, last_contacts_ = -1, sim0_ = 0;
   bool paused_ = false;
   ros::WallTime wall0_;
 };
