@@ -525,8 +525,9 @@ def run_robot(robot, args, world, truth_yaml, out):
          frontier_goals_from_log(os.path.join(out, robot + "_mapping_explore.log")))
     summary["navigation_collisions"] = contact_count(nav)
     ok = mapping_ok and bool(nav.get("ok")) and summary["navigation_collisions"] == 0
-    if robot == "swerve" and nav.get("max_sideways_cmd_mps", 0.0) < 0.05:
-        log("swerve: navigation never moved sideways: the holonomic planner is not being used")
+    if robot == "swerve" and nav.get("sideways_m", 0.0) < 0.05 * nav.get("driven_m", 0.0):
+        log("swerve: navigation drove %.1f m of %.1f m sideways (< 5 %%): the holonomic planner is not being used"
+            % (nav.get("sideways_m", 0.0), nav.get("driven_m", 0.0)))
         ok = False
     return summary, ok
 

@@ -33,6 +33,8 @@ std::string validate(const LocalPlannerParams& p)
     e << "xy_goal_tolerance and yaw_goal_tolerance must be > 0";
   else if (p.path_distance_bias < 0 || p.goal_distance_bias < 0 || p.occdist_scale < 0)
     e << "path_distance_bias, goal_distance_bias and occdist_scale must be >= 0";
+  else if (!(p.holonomic_align_scale >= 0.0 && p.holonomic_align_scale <= 1.0))
+    e << "holonomic_align_scale must be in [0, 1] (got " << p.holonomic_align_scale << ")";
   return e.str();
 }
 
@@ -382,17 +384,18 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
           if (!lookup(path_dist, end.x, end.y, pd) || !lookup(goal_dist_map, end.x, end.y, gd))
             continue;
           double cost = params_.path_distance_bias * pd + params_.goal_distance_bias * gd + params_.occdist_scale * occ;
-          // DWA's alignment and goal-front costs at a point ahead of the trajectory's end. They make
-          // the robot face along the path; a holonomic robot keeps its heading and moves sideways.
-          if (!near_goal && !params_.holonomic_robot)
+          // DWA's alignment and goal-front costs at a point ahead of the trajectory's end: they make
+          // the robot face along the path (for a holonomic robot, holonomic_align_scale of them).
+          const double align = params_.holonomic_robot ? params_.holonomic_align_scale : 1.0;
+          if (!near_goal && align > 0.0)
           {
             const double fx = end.x + params_.forward_point_distance * std::cos(end.theta);
             const double fy = end.y + params_.forward_point_distance * std::sin(end.theta);
             double fpd, fgd;
             if (lookup(path_dist, fx, fy, fpd) && lookup(goal_dist_map, fx, fy, fgd))
-              cost += params_.path_distance_bias * fpd + params_.goal_distance_bias * fgd;
+              cost += align * (params_.path_distance_bias * fpd + params_.goal_distance_bias * fgd);
             else
-              cost += (params_.path_distance_bias + params_.goal_distance_bias) * reach;
+              cost += align * (params_.path_distance_bias + params_.goal_distance_bias) * reach;
           }
           if (!free)
             cost += kStillGrazingCost;  // any trajectory that comes free is better

@@ -146,6 +146,7 @@ LocalPlannerParams readLocalPlanner(const ros::NodeHandle& nh, double controller
   d("goal_distance_bias", p.goal_distance_bias);
   d("occdist_scale", p.occdist_scale);
   d("forward_point_distance", p.forward_point_distance);
+  d("holonomic_align_scale", p.holonomic_align_scale);
   d("oscillation_reset_dist", p.oscillation_reset_dist);
   d("oscillation_reset_angle", p.oscillation_reset_angle);
   d("xy_goal_tolerance", p.xy_goal_tolerance);

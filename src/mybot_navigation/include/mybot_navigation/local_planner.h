@@ -35,6 +35,10 @@ struct LocalPlannerParams
   // Scoring
   double path_distance_bias = 32.0, goal_distance_bias = 24.0, occdist_scale = 0.01;
   double forward_point_distance = 0.325;
+  // A holonomic robot's share of DWA's alignment costs (facing along the path): 0 keeps its
+  // heading and strafes wherever the path goes, 1 scores it as a diff-drive robot. In between
+  // it turns to drive forward (faster, laser ahead) on long stretches and strafes for offsets.
+  double holonomic_align_scale = 0.0;
   double oscillation_reset_dist = 0.05, oscillation_reset_angle = 0.2;
   // Goal
   double xy_goal_tolerance = 0.1, yaw_goal_tolerance = 0.05;

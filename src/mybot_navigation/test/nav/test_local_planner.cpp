@@ -333,6 +333,28 @@ TEST(LocalPlanner, HolonomicRobotStrafesToASidewaysGoal)
   EXPECT_GT(r.cmd.vy, 0.1);
 }
 
+TEST(LocalPlanner, HolonomicAlignScaleTurnsTheRobotAlongALongPath)
+{
+  const GridMap world = makeWorld(8.0, 8.0, 0.05, {});
+  const Costmap cm = staticCostmap(world, true);
+  // A long path to the robot's left, or to its right: with half the alignment cost it moves
+  // towards the path at once (strafing) and turns to face along it.
+  LocalPlannerParams p = holonomicParams();
+  p.holonomic_align_scale = 0.5;
+  for (double side : {1.0, -1.0})
+  {
+    LocalPlanner lp(p);
+    lp.setPlan(straightPlan({4.0, 4.0 - 3.0 * side, side * M_PI / 2}, 0.05, 100));
+    const LocalResult r = lp.computeVelocity(cm, {4.0, 4.0 - 3.0 * side, 0.0}, {});
+    ASSERT_EQ(r.status, LocalStatus::Moving) << "side " << side;
+    EXPECT_GT(side * r.cmd.vy, 0.1) << "side " << side;
+    EXPECT_GT(side * r.cmd.wz, 0.2) << "side " << side;
+  }
+  LocalPlannerParams bad = holonomicParams();
+  bad.holonomic_align_scale = 1.5;
+  EXPECT_NE(validate(bad).find("holonomic_align_scale"), std::string::npos);
+}
+
 TEST(Navigator, DiffDriveReachesGoalsInTheOffice)
 {
   NavStack st(officeWorld(0.05), diffParams(), false, [] {
