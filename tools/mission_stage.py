@@ -19,7 +19,6 @@ import sys
 import threading
 import time
 
-import actionlib
 import rosgraph
 import numpy as np
 import rospy
@@ -31,6 +30,7 @@ from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from rosgraph_msgs.msg import Clock
 
 from mybot_gazebo_lite.msg import ModelContacts
+from mybot_navigation.action_client import SimpleActionClient
 from mybot_navigation.trajectory import sideways_distance
 
 
@@ -264,18 +264,6 @@ def send_initial_pose(x, y, yaw):
     return pub
 
 
-class MoveBaseClient(actionlib.SimpleActionClient):
-    """SimpleActionClient without Noetic's spurious "Got a transition callback on a goal handle
-    that we're not tracking" error: the server's first status can arrive before send_goal has
-    stored the new handle (ros/actionlib#206). Only that early ACTIVE transition is dropped;
-    the terminal one arrives long after."""
-
-    def _handle_transition(self, gh):
-        if self.gh is None:
-            return
-        super()._handle_transition(gh)
-
-
 def run_navigation(args, rec, result):
     ix, iy, iyaw = args.initial_pose
     log("initial pose estimate (%.2f, %.2f, %.0f deg) given to AMCL" % (ix, iy, math.degrees(iyaw)))
@@ -286,7 +274,7 @@ def run_navigation(args, rec, result):
              60.0, "AMCL to publish map -> odom at the initial pose")
     # Before this, AMCL sat at its default pose: not a localization error to report (nor to draw).
     result["localized_from"] = rospy.Time.now().to_sec()
-    client = MoveBaseClient("move_base", MoveBaseAction)
+    client = SimpleActionClient("move_base", MoveBaseAction)
     if not client.wait_for_server(rospy.Duration(60)):
         raise RuntimeError("no move_base action server")
     goals = []

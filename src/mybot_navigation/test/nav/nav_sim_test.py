@@ -18,7 +18,6 @@ import tempfile
 import time
 import unittest
 
-import actionlib
 import numpy as np
 import rospy
 import rostest
@@ -32,6 +31,7 @@ from PIL import Image
 from std_srvs.srv import Empty
 
 from mybot_gazebo_lite.msg import ModelContacts, ModelState
+from mybot_navigation.action_client import SimpleActionClient
 from mybot_navigation.trajectory import sideways_distance
 from mybot_gazebo_lite.srv import SetModelState
 
@@ -171,7 +171,7 @@ class NavSimTest(unittest.TestCase):
         return d[cell(goal)] * self.res
 
     def action_client(self):
-        client = actionlib.SimpleActionClient("move_base", MoveBaseAction)
+        client = SimpleActionClient("move_base", MoveBaseAction)
         self.assertTrue(client.wait_for_server(rospy.Duration(60)), "move_base action server not up")
         return client
 

@@ -13,7 +13,6 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-import actionlib
 import rospkg
 import rospy
 import tf2_ros
@@ -24,6 +23,8 @@ from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import OccupancyGrid, Path
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Bool, Float32, Float64
+
+from mybot_navigation.action_client import SimpleActionClient
 
 from . import config as web_config
 from . import views
@@ -105,7 +106,7 @@ class RosBackend:
             rospy.Subscriber("scan", LaserScan, self._on_scan, queue_size=1),
             rospy.Subscriber("plan", Path, self._on_plan, queue_size=1),
         ]
-        self.move_base = actionlib.SimpleActionClient(cfg.move_base_action, MoveBaseAction)
+        self.move_base = SimpleActionClient(cfg.move_base_action, MoveBaseAction)
         # Goals go out on a worker: waiting for the action server must not stall the page.
         self._goal_worker = ThreadPoolExecutor(max_workers=1)
         self._publish_lock()
@@ -190,9 +191,10 @@ class RosBackend:
         if not self.move_base.wait_for_server(rospy.Duration(2.0)):
             self._set_goal_status("NO ACTION SERVER (%s)" % rospy.resolve_name(self.cfg.move_base_action))
             return
+        # Before send_goal: a fast server's ACTIVE can arrive before send_goal returns.
+        self._set_goal_status("PENDING")
         self.move_base.send_goal(goal, done_cb=self._goal_done,
                                  active_cb=lambda: self._set_goal_status("ACTIVE"))
-        self._set_goal_status("PENDING")
 
     def _goal_done(self, state, _result):
         self._set_goal_status(GOAL_STATES.get(state, str(state)))
