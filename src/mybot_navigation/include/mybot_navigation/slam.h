@@ -37,6 +37,12 @@ struct SlamParams
   double match_point_spacing = 0.1;    // m, voxel filter of the points used for matching
   double sigma_xy = 0.02;              // m, sequential edge uncertainty
   double sigma_theta = 0.01;           // rad
+  // Odometry edges: each keyframe is also tied to the previous one by the odometry delta, with
+  // these standard deviations per keyframe (0 = no such edge, the chain is scan matches only).
+  // For odometry whose heading an IMU holds, a small odom_edge_sigma_theta keeps loop closures
+  // and the matcher from bending the map's heading, which far walls (30 m laser) amplify.
+  double odom_edge_sigma_xy = 0.0;     // m
+  double odom_edge_sigma_theta = 0.0;  // rad
 
   // Loop closure.
   bool loop_closure = true;

@@ -147,6 +147,16 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   graph_.addNode(keyframes_.back().pose);
   edge.to = index;
   graph_.addEdge(edge);
+  if (params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0)
+  {
+    PoseGraphEdge odom_edge;
+    odom_edge.from = edge.from;
+    odom_edge.to = index;
+    odom_edge.measurement = delta;
+    odom_edge.sigma_xy = params_.odom_edge_sigma_xy;
+    odom_edge.sigma_theta = params_.odom_edge_sigma_theta;
+    graph_.addEdge(odom_edge);
+  }
   global_.insertScan(keyframes_.back().pose, keyframes_.back().scan);
   insertIntoLocalMaps(index);
   ++stats_.keyframes;

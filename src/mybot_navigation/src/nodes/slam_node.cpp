@@ -78,6 +78,18 @@ public:
                                        "a number >= 0 (score per m^2)");
     p.match_rotation_weight = param(pnh_, "match_rotation_weight", p.match_rotation_weight, non_negative,
                                     "a number >= 0 (score per rad^2)");
+    p.odom_edge_sigma_xy = param(pnh_, "odom_edge_sigma_xy", p.odom_edge_sigma_xy, non_negative,
+                                 "a distance >= 0 (m per keyframe; 0 = no odometry edges)");
+    p.odom_edge_sigma_theta = param(pnh_, "odom_edge_sigma_theta", p.odom_edge_sigma_theta, non_negative,
+                                    "an angle >= 0 (rad per keyframe; 0 = no odometry edges)");
+    if ((p.odom_edge_sigma_xy > 0.0) != (p.odom_edge_sigma_theta > 0.0))
+    {
+      ROS_FATAL("slam: parameters ~odom_edge_sigma_xy (%g) and ~odom_edge_sigma_theta (%g) must both be positive "
+                "(odometry edges) or both 0 (none)",
+                p.odom_edge_sigma_xy, p.odom_edge_sigma_theta);
+      ros::shutdown();
+      std::exit(1);
+    }
     p.min_match_score = param(pnh_, "min_match_score", 0.35, [](double v) { return v >= 0 && v < 1; }, "in [0, 1)");
     p.loop_closure = param(pnh_, "loop_closure", true, [](bool) { return true; }, "a bool");
     p.loop_search_radius = param(pnh_, "loop_search_radius", 4.0, positive, "a positive distance (m)");
