@@ -143,7 +143,6 @@ void ParticleFilter::resample(const PoseGenerator& random_pose)
       lost_ = true;
     else if (ratio >= params_.recovery_release_ratio)
       lost_ = false;
-    if (getenv("XP_DBG")) fprintf(stderr, "XP n=%zu ratio=%.3f lost=%d\n", particles_.size(), ratio, (int)lost_);
     if (lost_)
       w_diff = 1.0 - ratio;
   }
