@@ -214,6 +214,11 @@ def building_box(truth_yaml):
     return [ox + c0 * res, oy + r0 * res, ox + (c1 + 1) * res, oy + (r1 + 1) * res]
 
 
+def numbers(values):
+    """Command-line numbers argparse reads back: str(-3e-06) would look like an option."""
+    return ["%.9f" % v for v in values]
+
+
 def box_in_map(box, map_origin):
     """A world-frame box's bounding box in the map frame."""
     corners = [world_to_map_frame((x, y, 0.0), map_origin)[:2] for x in box[0::2] for y in box[1::2]]
@@ -433,7 +438,7 @@ def run_mapping(robot, args, world, truth_yaml, out, common, summary):
     try:
         stage.run("mapping", "--map-out", map_prefix, "--budget", str(args.explore_budget),
                   "--boundary", *["%.3f" % v for v in boundary],
-                  "--robot-radius", str(ROBOT_RADIUS[robot] + 0.15), "--map-origin", str(mx), str(my), str(myaw),
+                  "--robot-radius", str(ROBOT_RADIUS[robot] + 0.15), "--map-origin", *numbers((mx, my, myaw)),
                   timeout=args.stage_timeout)
     finally:
         stage.close()
@@ -507,8 +512,8 @@ def run_robot(robot, args, world, truth_yaml, out):
                   dict(common, x=nx, y=ny, yaw=nyaw, map_file=map_prefix + ".yaml",
                        real_time_factor=args.nav_real_time_factor or nav_rtf), out)
     try:
-        stage.run("navigation", "--initial-pose", *[str(v) for v in init], "--goals", json.dumps(goals_map),
-                  "--map-origin", *[str(v) for v in frame], "--goal-timeout", str(args.goal_timeout),
+        stage.run("navigation", "--initial-pose", *numbers(init), "--goals", json.dumps(goals_map),
+                  "--map-origin", *numbers(frame), "--goal-timeout", str(args.goal_timeout),
                   timeout=args.stage_timeout)
     finally:
         stage.close()
