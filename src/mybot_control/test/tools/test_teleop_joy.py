@@ -7,7 +7,9 @@ import tempfile
 import threading
 import time
 import unittest
+from xmlrpc.client import ServerProxy
 
+import rosgraph
 import rospy
 import rostest
 from geometry_msgs.msg import Twist
@@ -38,6 +40,17 @@ class Collector:
                         return k, self.msgs[k]
             time.sleep(0.01)
         raise AssertionError("timed out waiting for %s; last: %s" % (what, self.msgs[-2:]))
+
+
+def connected(publisher, topic, subscriber):
+    """Whether `publisher` has a live connection carrying `topic` to `subscriber` (its bus info):
+    the master only knows who registered, not whether the TCP link is up yet."""
+    try:
+        uri = rosgraph.Master(rospy.get_name()).lookupNode(publisher)
+        code, _, info = ServerProxy(uri).getBusInfo(rospy.get_name())
+    except Exception:
+        return False
+    return code == 1 and any(c[1] == subscriber and c[2] == "o" and c[4] == topic and c[5] for c in info)
 
 
 def tw(m):
@@ -81,7 +94,9 @@ class TeleopJoyTest(unittest.TestCase):
         self.start_reader()
         # joy_reader holds the FIFO open; wait until both nodes are wired up
         end = time.monotonic() + TIMEOUT
-        while self.joy.sub.get_num_connections() == 0 or self.cmd.sub.get_num_connections() == 0:
+        # and teleop_joy is linked to joy_reader: a Joy sent before that is lost to it.
+        while (self.joy.sub.get_num_connections() == 0 or self.cmd.sub.get_num_connections() == 0
+               or not connected("/joy_reader", "/joy", "/teleop_joy")):
             self.assertLess(time.monotonic(), end, "joy_reader/teleop_joy did not connect")
             time.sleep(0.05)
         # initial-state burst: 6 buttons, 4 axes, all at rest
