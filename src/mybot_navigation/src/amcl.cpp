@@ -129,7 +129,13 @@ bool Amcl::processScan(const Pose2D& odom_pose, const LaserScanData& scan)
     return false;
   force_update_ = false;
 
-  filter_.correct([this, &scan](const Pose2D& p) { return field_.weight(p, scan); }, 1.0, field_.maxWeight(scan));
+  // The recovery statistic's ceiling counts the beams the map can judge from where the robot is
+  // believed to be: on a SLAM map, unseen shelf faces otherwise read as being lost (the demo's
+  // AMCL jumped 3.8 m on a random particle after such a false alarm).
+  const double ceiling = has_estimate_
+                             ? field_.maxWeightSeenFrom(compose(estimate_.mean, between(estimate_odom_pose_, odom_pose)), scan)
+                             : field_.maxWeight(scan);
+  filter_.correct([this, &scan](const Pose2D& p) { return field_.weight(p, scan); }, 1.0, ceiling);
   ++updates_;
   if (++resample_count_ % params_.resample_interval == 0)
   {

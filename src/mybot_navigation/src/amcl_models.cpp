@@ -113,8 +113,12 @@ void LikelihoodField::setMap(const GridMap& map)
   inverse_origin_ = inverse(map.info.origin);
   const size_t n = map.data.size();
   std::vector<uint8_t> seed(n);
+  known_.resize(n);
   for (size_t i = 0; i < n; ++i)
+  {
     seed[i] = map.data[i] >= params_.occupied_threshold ? 1 : 0;
+    known_[i] = map.data[i] != GridMap::kUnknown ? 1 : 0;
+  }
   dist_ = distanceTransform(seed, info_.width, info_.height);
   // Inside obstacles use the depth below the surface: amcl's field is 0 everywhere inside, so
   // with solid (thick) obstacles end points may sink into walls unpunished, which biases the
@@ -179,6 +183,35 @@ double LikelihoodField::maxWeight(const LaserScanData& scan) const
   return p;
 }
 
+long LikelihoodField::endCell(const Pose2D& sensor, double inv_res, const LaserReading& r) const
+{
+  const double a = sensor.theta + r.bearing;
+  const int cx = static_cast<int>(std::floor((sensor.x + r.range * std::cos(a)) * inv_res));
+  const int cy = static_cast<int>(std::floor((sensor.y + r.range * std::sin(a)) * inv_res));
+  if (cx < 0 || cy < 0 || cx >= info_.width || cy >= info_.height)
+    return -1;
+  return static_cast<long>(cy) * info_.width + cx;
+}
+
+double LikelihoodField::maxWeightSeenFrom(const Pose2D& robot, const LaserScanData& scan) const
+{
+  const Pose2D s = compose(inverse_origin_, compose(robot, scan.sensor_in_base));
+  const double inv_res = 1.0 / info_.resolution;
+  const double pz = params_.z_hit + params_.z_rand / scan.range_max;
+  int used = 0, known = 0;
+  for (size_t i : beamIndices(scan.readings.size()))
+  {
+    const LaserReading& r = scan.readings[i];
+    if (!(r.range < scan.range_max))
+      continue;
+    ++used;
+    const long cell = endCell(s, inv_res, r);
+    if (cell >= 0 && known_[static_cast<size_t>(cell)])
+      ++known;
+  }
+  return 1.0 + std::max(known, (used + 3) / 4) * pz * pz * pz;
+}
+
 double LikelihoodField::weight(const Pose2D& robot, const LaserScanData& scan) const
 {
   const Pose2D sensor = compose(robot, scan.sensor_in_base);
@@ -194,12 +227,8 @@ double LikelihoodField::weight(const Pose2D& robot, const LaserScanData& scan) c
     const LaserReading& r = scan.readings[i];
     if (!(r.range < scan.range_max))  // also skips NaN
       continue;
-    const double a = s.theta + r.bearing;
-    const int cx = static_cast<int>(std::floor((s.x + r.range * std::cos(a)) * inv_res));
-    const int cy = static_cast<int>(std::floor((s.y + r.range * std::sin(a)) * inv_res));
-    const float g = (cx < 0 || cy < 0 || cx >= info_.width || cy >= info_.height)
-                        ? gauss_off_map_
-                        : gauss_[static_cast<size_t>(cy) * info_.width + cx];
+    const long cell = endCell(s, inv_res, r);
+    const float g = cell < 0 ? gauss_off_map_ : gauss_[static_cast<size_t>(cell)];
     const double pz = params_.z_hit * g + z_rand_term;
     p += pz * pz * pz;
   }

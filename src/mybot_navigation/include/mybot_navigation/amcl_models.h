@@ -99,15 +99,23 @@ public:
   double weight(const Pose2D& robot, const LaserScanData& scan) const;
   // The weight of a pose that explains every beam the model uses (all end points on obstacles).
   double maxWeight(const LaserScanData& scan) const;
+  // The same, counting only the beams whose end points, seen from `robot`, fall on cells the
+  // map knows (free or occupied; at least a quarter of the beams). A beam that ends in unknown
+  // space, such as a shelf face SLAM never saw, says nothing about whether `robot` is right.
+  double maxWeightSeenFrom(const Pose2D& robot, const LaserScanData& scan) const;
   // Indices of the beams the model uses (amcl's integer step).
   std::vector<size_t> beamIndices(size_t count) const;
 
 private:
+  // The map cell index of a beam's end point (sensor pose relative to the map origin), -1 off the map.
+  long endCell(const Pose2D& sensor, double inv_res, const LaserReading& r) const;
+
   LaserModelParams params_;
   MapInfo info_;
   Pose2D inverse_origin_;
   std::vector<float> dist_;   // capped distance per cell
   std::vector<float> gauss_;  // exp(-d^2 / 2 sigma^2) per cell
+  std::vector<uint8_t> known_;  // 1 where the map is not unknown
   float gauss_off_map_ = 0.0f;
 };
 

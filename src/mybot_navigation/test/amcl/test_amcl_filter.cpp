@@ -1,7 +1,9 @@
 // Particle filter (KLD resampling, clustering, recovery) and AMCL end to end on synthetic drives.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "mybot_navigation/amcl.h"
 #include "mybot_navigation/ray_cast.h"
@@ -296,4 +298,80 @@ TEST(Amcl, RecoversFromKidnapping)
   } while (after.next(s));
   EXPECT_TRUE(lost);
   EXPECT_LT(err, 0.15);
+}
+
+namespace
+{
+// Tracks the office loop in a world with furniture the map lacks: `unseen` is filled into the
+// map's copy as unknown (as SLAM leaves what it never saw) or as free (a stale map). Returns the
+// lowest w_fast / w_slow ratio after the filter settled, and whether recovery ever fired.
+struct UnseenRun
+{
+  double min_ratio = 1e9;
+  bool lost = false;
+  double max_err = 0.0;
+};
+
+UnseenRun trackPastUnmappedFurniture(int8_t unseen)
+{
+  const std::vector<Rect> extra{{3.2, 2.4, 4.2, 3.0}, {6.6, 0.5, 7.6, 1.5}, {9.5, 5.6, 10.2, 6.3},
+                                {0.2, 2.0, 0.8, 3.6}, {10.5, 0.5, 11.5, 1.6}, {1.0, 5.5, 2.0, 6.2},
+                                {4.5, 8.5, 5.5, 9.3},   {7.0, 8.6, 7.8, 9.4}};
+  const GridMap office = officeWorld(0.02);
+  GridMap world = office;
+  for (const Rect& r : extra)
+    for (double y = r.y0; y < r.y1; y += 0.01)
+      for (double x = r.x0; x < r.x1; x += 0.01)
+      {
+        int cx, cy;
+        if (world.worldToCell(x, y, cx, cy))
+          world.at(cx, cy) = GridMap::kOccupied;
+      }
+  GridMap map = officeWorld(0.05);
+  for (const Rect& r : extra)  // the furniture and a 0.2 m band around it
+    for (double y = r.y0 - 0.2; y < r.y1 + 0.2; y += 0.025)
+      for (double x = r.x0 - 0.2; x < r.x1 + 0.2; x += 0.025)
+      {
+        int cx, cy;
+        if (map.worldToCell(x, y, cx, cy) && map.at(cx, cy) != GridMap::kOccupied)
+          map.at(cx, cy) = unseen;
+      }
+  LaserSpec laser;
+  OdometryNoise noise;
+  noise.alpha_trans = noise.alpha_rot = 0.05;
+  DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 9);
+  DriveSample s;
+  EXPECT_TRUE(drive.next(s));
+  AmclParams p = trackingParams(s.truth);
+  p.filter.alpha_slow = 0.001;
+  p.filter.alpha_fast = 0.1;
+  Amcl amcl(p);
+  amcl.setMap(map);
+  UnseenRun run;
+  do
+  {
+    if (!amcl.processScan(s.odom, toScan(s.ranges, laser)))
+      continue;
+    run.max_err = std::max(run.max_err, poseError(compose(amcl.mapToOdom(), s.odom), s.truth));
+    if (amcl.updates() > 10)
+      run.min_ratio = std::min(run.min_ratio, amcl.filter().wFast() / amcl.filter().wSlow());
+    run.lost = run.lost || amcl.filter().lost();
+  } while (drive.next(s));
+  return run;
+}
+}  // namespace
+
+TEST(Amcl, FurnitureInUnknownMapSpaceIsNoReasonToThinkItLost)
+{
+  // Beams ending where the map knows nothing do not count against the fit.
+  const UnseenRun unknown = trackPastUnmappedFurniture(GridMap::kUnknown);
+  // The same furniture on free map cells does: the map says the beams should have gone on.
+  const UnseenRun free = trackPastUnmappedFurniture(GridMap::kFree);
+  RecordProperty("min_ratio_unknown", std::to_string(unknown.min_ratio));
+  RecordProperty("min_ratio_free", std::to_string(free.min_ratio));
+  std::printf("min w_fast/w_slow: unknown %.3f (lost %d, err %.3f), free %.3f (lost %d, err %.3f)\n",
+              unknown.min_ratio, unknown.lost, unknown.max_err, free.min_ratio, free.lost, free.max_err);
+  EXPECT_FALSE(unknown.lost);
+  EXPECT_LT(unknown.max_err, 0.15);
+  EXPECT_GT(unknown.min_ratio, free.min_ratio + 0.1);
 }
