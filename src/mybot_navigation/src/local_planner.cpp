@@ -296,28 +296,13 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   // kEscapeDistance of the start on a trajectory that comes free (an edge pushed into a wall
   // backs out). Nothing tunnels through a wall.
   constexpr double kEscapeDistance = 0.15;  // m
-  constexpr double kEscapeShrink = 0.06;    // m, about a cell plus the footprint padding
   constexpr double kStillGrazingCost = 1e4;
   const bool start_in_collision = cm.footprintCost(pose) < 0;
   // The least shrink that clears the start: no trajectory may graze deeper than the robot
   // already does, or the planner would steer into shelf corners in narrow gaps.
   // Empty when even kEscapeShrink does not clear the start: only the short escape applies.
-  std::vector<Point2D> shrunk;
-  for (int step = 1; start_in_collision && step <= 3; ++step)
-  {
-    std::vector<Point2D> candidate;
-    for (const Point2D& v : cm.footprint())
-    {
-      const double r = std::hypot(v.x, v.y);
-      const double k = r > 0.0 ? std::max(0.0, r - step * kEscapeShrink / 3.0 * std::sqrt(2.0)) / r : 0.0;
-      candidate.push_back({v.x * k, v.y * k});
-    }
-    if (cm.polygonCost(pose, candidate) >= 0)
-    {
-      shrunk = std::move(candidate);
-      break;
-    }
-  }
+  const std::vector<Point2D> shrunk = start_in_collision ? cm.footprintClearing(pose, kEscapeShrink)
+                                                         : std::vector<Point2D>();
   LocalResult best;
   best.cost = std::numeric_limits<double>::infinity();
   int n_samples = 0, n_valid = 0;

@@ -144,6 +144,17 @@ void Navigator::startRecovery(double now, const Pose2D& pose, Trigger trigger)
   state_ = NavState::Clearing;
   recovery_started_ = false;
   recovery_start_ = pose;
+  // Recoveries are most needed where the footprint already touches something (a shelf end the
+  // robot rounded too tightly): there every check would fail at the start pose and nothing would
+  // move. They move instead while the footprint, shrunk just enough to clear the start, stays clear.
+  recovery_footprint_.clear();
+  if (local_.footprintCost(pose) < 0)
+    recovery_footprint_ = local_.footprintClearing(pose, kEscapeShrink);
+}
+
+bool Navigator::clearForRecovery(const Pose2D& p) const
+{
+  return recovery_footprint_.empty() ? local_.footprintCost(p) >= 0 : local_.polygonCost(p, recovery_footprint_) >= 0;
 }
 
 bool Navigator::runRecovery(const Pose2D& pose, const Velocity2D& vel, NavOutput& out)
@@ -185,7 +196,7 @@ bool Navigator::runRecovery(const Pose2D& pose, const Velocity2D& vel, NavOutput
       const double v = std::min(lp.max_vel_theta, std::max(lp.min_vel_theta, std::sqrt(2.0 * lp.acc_lim_theta * left)));
       // Stop early if the footprint would hit something while turning.
       for (double a = 0.0; a <= std::min(left, v * lp.sim_time); a += lp.angular_sim_granularity)
-        if (local_.footprintCost({pose.x, pose.y, pose.theta + a}) < 0)
+        if (!clearForRecovery({pose.x, pose.y, pose.theta + a}))
           return true;
       out.cmd.wz = v;
       return false;
@@ -201,7 +212,7 @@ bool Navigator::runRecovery(const Pose2D& pose, const Velocity2D& vel, NavOutput
       for (double d = 0.0; d <= 0.1 + params_.backup_speed * 0.5; d += local_.resolution())
       {
         const Pose2D p{pose.x - d * std::cos(pose.theta), pose.y - d * std::sin(pose.theta), pose.theta};
-        if (local_.footprintCost(p) < 0)
+        if (!clearForRecovery(p))
           return true;  // blocked behind as well
       }
       out.cmd.vx = -params_.backup_speed;

@@ -97,6 +97,10 @@ public:
   double footprintCost(const Pose2D& pose) const;
   // The same check for any polygon (robot frame), by its outline only.
   double polygonCost(const Pose2D& pose, const std::vector<Point2D>& polygon) const;
+  // For a footprint that already touches an obstacle at `pose`: the footprint shrunk towards its
+  // centre by the least of max_shrink / 3, 2/3, max_shrink (m, per axis) that clears `pose`;
+  // empty if none does. Escapes move while staying clear with it, so they graze no deeper.
+  std::vector<Point2D> footprintClearing(const Pose2D& pose, double max_shrink) const;
 
   const std::vector<Point2D>& footprint() const { return footprint_; }
   double inscribedRadius() const { return inscribed_; }

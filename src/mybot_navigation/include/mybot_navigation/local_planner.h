@@ -18,6 +18,10 @@ struct Velocity2D
   double vx = 0.0, vy = 0.0, wz = 0.0;
 };
 
+// How far a footprint that already touches an obstacle may be shrunk for escaping (m): about a
+// cell plus the footprint padding (see Costmap::footprintClearing).
+constexpr double kEscapeShrink = 0.06;
+
 struct LocalPlannerParams
 {
   // Velocity and acceleration limits (dwa_local_planner names and defaults).

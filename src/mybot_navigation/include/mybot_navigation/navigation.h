@@ -90,6 +90,8 @@ private:
   void startRecovery(double now, const Pose2D& pose, Trigger trigger);
   // Runs the current recovery; true when it has finished.
   bool runRecovery(const Pose2D& pose, const Velocity2D& vel, NavOutput& out);
+  // Whether a rotate or back-up recovery may move the robot to `p`.
+  bool clearForRecovery(const Pose2D& p) const;
   void abort(const std::string& reason);
 
   NavigatorParams params_;
@@ -113,6 +115,7 @@ private:
   // Recovery progress
   bool recovery_started_ = false;
   Pose2D recovery_start_;
+  std::vector<Point2D> recovery_footprint_;  // empty unless the recovery started in contact
   double rotated_ = 0.0, last_theta_ = 0.0;
 };
 

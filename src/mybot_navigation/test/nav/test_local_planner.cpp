@@ -92,6 +92,24 @@ struct NavStack
     global.setStaticMap(world);
     local.setStaticMap(world);
   }
+  NavStack(const GridMap& w, const LocalPlannerParams& lp, const CostmapParams& cp, const NavigatorParams& np)
+    : world(w)
+    , global([&] {
+      CostmapParams g = cp;
+      g.rolling_window = false;
+      return g;
+    }())
+    , local([&] {
+      CostmapParams l = cp;
+      l.rolling_window = true;
+      return l;
+    }())
+    , controller(lp)
+    , nav(np, global, local, planner, controller)
+  {
+    global.setStaticMap(world);
+    local.setStaticMap(world);
+  }
   GridMap world;
   Costmap global, local;
   GlobalPlanner planner;
@@ -451,4 +469,43 @@ TEST(LocalPlanner, DrivesOffAShelfItsSideGrazes)
     came_free = cm.footprintCost(p) >= 0.0;
   }
   EXPECT_TRUE(came_free);
+}
+
+TEST(Navigator, MybotLeavesAShelfEndItRoundedTightly)
+{
+  // The factory demo's stall (twice on 2026-11-25): mybot came round the end of a shelf with the
+  // corner 0.26 m from its centre, about 2 cm outside its padded footprint, and from then on
+  // every goal ended in "failed to find a valid control" while it stood still. mybot's configs:
+  // the 0.46 x 0.36 m footprint with 0.04 m padding, inflation 0.5 m, and its DWA parameters.
+  CostmapParams cp;
+  cp.footprint = {{0.25, 0.18}, {0.25, -0.18}, {-0.21, -0.18}, {-0.21, 0.18}};
+  cp.footprint_padding = 0.04;
+  cp.inflation_radius = 0.5;
+  cp.cost_scaling_factor = 5.0;
+  cp.width = cp.height = 4.0;
+  LocalPlannerParams lp = diffParams();
+  lp.acc_lim_x = 1.0;
+  lp.acc_lim_theta = 2.5;
+  lp.vx_samples = 10;
+  lp.path_distance_bias = 32.0;
+  lp.goal_distance_bias = 24.0;
+  lp.occdist_scale = 0.02;
+  lp.forward_point_distance = 0.325;
+  NavigatorParams np;
+  np.planner_frequency = 1.0;
+  np.planner_patience = 5.0;
+  np.controller_patience = 8.0;
+  np.oscillation_timeout = 15.0;
+  np.oscillation_distance = 0.2;
+  // Shelves 5 and 6 of factory.world, shifted by (+4, +1): the gap between them is x 4..5.
+  const GridMap world = makeWorld(10.0, 4.0, 0.05, {{0.0, 2.1, 4.0, 2.9}, {5.0, 2.1, 9.0, 2.9}});
+  for (const double dx : {0.0, 0.02, -0.02})
+  {
+    NavStack st(world, lp, cp, np);
+    const Pose2D start{4.26 + dx, 2.17, -1.75};
+    const Pose2D goal{3.38, 1.68, -2.5};
+    const ClosedLoopResult r = runToGoal(st, start, goal, 120.0);
+    EXPECT_EQ(r.state, NavState::Succeeded) << "dx " << dx << ": " << r.message << " at " << r.final_pose.x << ","
+                                            << r.final_pose.y << " t=" << r.time;
+  }
 }
