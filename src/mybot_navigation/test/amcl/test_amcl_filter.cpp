@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "mybot_navigation/amcl.h"
 #include "mybot_navigation/ray_cast.h"
@@ -369,8 +368,6 @@ TEST(Amcl, FurnitureInUnknownMapSpaceIsNoReasonToThinkItLost)
   const UnseenRun free = trackPastUnmappedFurniture(GridMap::kFree);
   RecordProperty("min_ratio_unknown", std::to_string(unknown.min_ratio));
   RecordProperty("min_ratio_free", std::to_string(free.min_ratio));
-  std::printf("min w_fast/w_slow: unknown %.3f (lost %d, err %.3f), free %.3f (lost %d, err %.3f)\n",
-              unknown.min_ratio, unknown.lost, unknown.max_err, free.min_ratio, free.lost, free.max_err);
   EXPECT_FALSE(unknown.lost);
   EXPECT_LT(unknown.max_err, 0.15);
   EXPECT_GT(unknown.min_ratio, free.min_ratio + 0.1);
