@@ -315,14 +315,22 @@ class NavSimTest(unittest.TestCase):
         # Compared at equal stamps (a wall-clock lag would show as error at 5x real time); the
         # first ~settle s let the filter converge from the initial spread.
         settle = self.log[0][0] + rospy.get_param("~settle", 5.0)
-        errs = []
-        for s in self.log[::4]:
+        errs, moving = [], []
+        for s, nxt in zip(self.log[::4], self.log[1::4]):
             est = self.amcl_pose(s[0]) if s[0] > settle else None
             if est:
-                errs.append((math.hypot(est[0] - s[1], est[1] - s[2]), normalize(est[2] - s[3])))
+                ex, ey = est[0] - s[1], est[1] - s[2]
+                errs.append((math.hypot(ex, ey), normalize(est[2] - s[3])))
+                # Signed error along the direction of travel: a bias there means the estimate leads or lags.
+                step = math.hypot(nxt[1] - s[1], nxt[2] - s[2])
+                if step > 1e-4:
+                    moving.append((ex * (nxt[1] - s[1]) + ey * (nxt[2] - s[2])) / step)
         rms_xy = math.sqrt(sum(e[0] ** 2 for e in errs) / len(errs))
         rms_yaw = math.sqrt(sum(e[1] ** 2 for e in errs) / len(errs))
-        rospy.loginfo("AMCL RMS error %.3f m, %.2f deg over %d samples", rms_xy, math.degrees(rms_yaw), len(errs))
+        rospy.loginfo("AMCL RMS error %.3f m, %.2f deg over %d samples (largest %.3f m, %.2f deg); mean error along "
+                      "the direction of travel %+.3f m over %d moving samples", rms_xy, math.degrees(rms_yaw), len(errs),
+                      max(e[0] for e in errs), math.degrees(max(abs(e[1]) for e in errs)),
+                      sum(moving) / max(1, len(moving)), len(moving))
         self.assertLess(rms_xy, max_rms_xy)
         self.assertLess(rms_yaw, max_rms_yaw)
         if rospy.get_param("~expect_strafe", False):
