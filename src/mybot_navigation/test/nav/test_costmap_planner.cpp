@@ -162,6 +162,24 @@ TEST(Costmap, FootprintCostDetectsCollisions)
   EXPECT_EQ(cm.footprintCost({-3.0, 2.0, 0.0}), -3.0);
 }
 
+TEST(Costmap, FootprintEdgeClippingAnObstacleCornerIsAHit)
+{
+  // One lethal cell [3.0, 3.05) x [2.0, 2.05). The triangle's long edge (x + y = 5.099) cuts
+  // 1.4 mm of the cell's corner: every cell an edge passes through counts, however little of it
+  // (sampling the edge every quarter cell stepped over this one).
+  Costmap cm(circleParams());
+  cm.setStaticMap(makeWorld(6.0, 4.0, 0.05, {{3.0, 2.0, 3.05, 2.05}}));
+  cm.updateCosts();
+  const Pose2D pose{3.1, 2.1, 0.0};
+  auto triangle = [&](double sum) {
+    // World corners (2.9, sum - 2.9), (3.2, sum - 3.2), (3.2, 2.199), in the robot frame.
+    return std::vector<Point2D>{{2.9 - pose.x, sum - 2.9 - pose.y}, {3.2 - pose.x, sum - 3.2 - pose.y},
+                                {3.2 - pose.x, 2.199 - pose.y}};
+  };
+  EXPECT_EQ(cm.polygonCost(pose, triangle(5.099)), -1.0);
+  EXPECT_GE(cm.polygonCost(pose, triangle(5.101)), 0.0);  // 1 mm clear of the corner
+}
+
 TEST(Costmap, OccupancyTranslationTable)
 {
   Costmap cm(circleParams());
