@@ -64,32 +64,6 @@ double pointSegmentDistance(const Point2D& p, const Point2D& a, const Point2D& b
   return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
 }
 
-// Calls visit(x, y) for each grid cell a segment (in cell units) passes through, in order from
-// the first end (Amanatides & Woo's traversal), until visit returns false.
-template <class Visit>
-void forEachCellOnSegment(double x0, double y0, double x1, double y1, Visit&& visit)
-{
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  int x = static_cast<int>(std::floor(x0)), y = static_cast<int>(std::floor(y0));
-  const int x_end = static_cast<int>(std::floor(x1)), y_end = static_cast<int>(std::floor(y1));
-  const double dx = x1 - x0, dy = y1 - y0;
-  const int sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
-  // Parameter t (0..1 along the segment) per cell crossed, and at the next x / y cell boundary.
-  const double t_dx = dx != 0 ? std::abs(1.0 / dx) : kInf, t_dy = dy != 0 ? std::abs(1.0 / dy) : kInf;
-  double t_x = dx > 0 ? (x + 1 - x0) * t_dx : dx < 0 ? (x0 - x) * t_dx : kInf;
-  double t_y = dy > 0 ? (y + 1 - y0) * t_dy : dy < 0 ? (y0 - y) * t_dy : kInf;
-  if (!visit(x, y))
-    return;
-  for (int steps = std::abs(x_end - x) + std::abs(y_end - y); steps > 0; --steps)
-  {
-    if (t_x < t_y)
-      t_x += t_dx, x += sx;
-    else
-      t_y += t_dy, y += sy;
-    if (!visit(x, y))
-      return;
-  }
-}
 }  // namespace
 
 double inscribedRadius(const std::vector<Point2D>& polygon)
@@ -419,7 +393,7 @@ double Costmap::polygonCost(const Pose2D& pose, const std::vector<Point2D>& poly
     // (costmap_2d's) strays up to a cell off the edge, so along a shelf face a pose and the next
     // few flip between touching and not, and a robot standing there had every move rejected
     // although its own pose passed (the factory demo's stalls at shelf ends).
-    forEachCellOnSegment(a.x / res, a.y / res, b.x / res, b.y / res, [&](int x, int y) {
+    traceSegment(a.x / res, a.y / res, b.x / res, b.y / res, [&](int x, int y) {
       if (!inside(x, y))
         return !(hit = true);
       const uint8_t c = cost(x, y);

@@ -44,6 +44,26 @@ TEST(RayCast, LineVisitsEndpointsInOrder)
   EXPECT_EQ(cells.back(), std::make_pair(5, 2));
 }
 
+TEST(RayCast, SegmentVisitsEveryCellItCrosses)
+{
+  // y = 1 is crossed at x = 0.6: cell (0, 1) is on the segment, though a line from cell (0, 0) to
+  // cell (1, 1) skips it; both directions give the same cells, in order.
+  const std::vector<std::pair<int, int>> expected{{0, 0}, {0, 1}, {1, 1}};
+  std::vector<std::pair<int, int>> cells;
+  traceSegment(0.2, 0.95, 1.8, 1.15, [&](int x, int y) {
+    cells.emplace_back(x, y);
+    return true;
+  });
+  EXPECT_EQ(cells, expected);
+  cells.clear();
+  traceSegment(1.8, 1.15, 0.2, 0.95, [&](int x, int y) {
+    cells.emplace_back(x, y);
+    return true;
+  });
+  const std::vector<std::pair<int, int>> reversed(expected.rbegin(), expected.rend());
+  EXPECT_EQ(cells, reversed);
+}
+
 TEST(RangeScan, InvalidReadingsAreClassified)
 {
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();

@@ -1,8 +1,9 @@
-// Grid ray traversal (Bresenham) and range casting against a static map.
+// Grid traversal (Bresenham between cells; exact for segments) and range casting against a static map.
 #pragma once
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <vector>
 
 #include "mybot_navigation/grid_map.h"
@@ -35,6 +36,34 @@ void traceLine(int x0, int y0, int x1, int y1, Visitor&& visit)
       err += dx;
       y0 += sy;
     }
+  }
+}
+
+// Visits every cell a segment given in cell units (x / resolution) passes through, however little
+// of it, in order from the first end (Amanatides & Woo); traceLine's Bresenham line between the
+// end cells strays up to a cell off the true segment. The visitor returns false to stop early.
+template <class Visit>
+void traceSegment(double x0, double y0, double x1, double y1, Visit&& visit)
+{
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  int x = static_cast<int>(std::floor(x0)), y = static_cast<int>(std::floor(y0));
+  const int x_end = static_cast<int>(std::floor(x1)), y_end = static_cast<int>(std::floor(y1));
+  const double dx = x1 - x0, dy = y1 - y0;
+  const int sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
+  // Parameter t (0..1 along the segment) per cell crossed, and at the next x / y cell boundary.
+  const double t_dx = dx != 0 ? std::abs(1.0 / dx) : kInf, t_dy = dy != 0 ? std::abs(1.0 / dy) : kInf;
+  double t_x = dx > 0 ? (x + 1 - x0) * t_dx : dx < 0 ? (x0 - x) * t_dx : kInf;
+  double t_y = dy > 0 ? (y + 1 - y0) * t_dy : dy < 0 ? (y0 - y) * t_dy : kInf;
+  if (!visit(x, y))
+    return;
+  for (int steps = std::abs(x_end - x) + std::abs(y_end - y); steps > 0; --steps)
+  {
+    if (t_x < t_y)
+      t_x += t_dx, x += sx;
+    else
+      t_y += t_dy, y += sy;
+    if (!visit(x, y))
+      return;
   }
 }
 
