@@ -2,6 +2,7 @@
 // curvature-preserving wheel desaturation. Host side of the diff-drive chain.
 #include <geometry_msgs/Twist.h>
 #include <geometry_msgs/TwistStamped.h>
+#include <mybot_lockstep/participant.h>
 #include <ros/ros.h>
 #include <std_msgs/Float32.h>
 
@@ -36,8 +37,8 @@ public:
     right_pub_ = nh_.advertise<std_msgs::Float32>("rwheel_tangent_vel_target", 10);
     if (publish_cmd_)
       cmd_out_pub_ = pnh_.advertise<geometry_msgs::TwistStamped>("cmd_vel_out", 10);
-    cmd_sub_ = nh_.subscribe("cmd_vel", 10, &DiffDriveControllerNode::onCmd, this, ros::TransportHints().tcpNoDelay());
-    timer_ = nh_.createTimer(ros::Duration(1.0 / rate), &DiffDriveControllerNode::onTimer, this);
+    cmd_sub_ = mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(nh_, "cmd_vel", 10, [this](const geometry_msgs::Twist& m) { onCmd(m); }, ros::TransportHints().tcpNoDelay());
+    timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / rate, [this](const ros::TimerEvent& e) { onTimer(e); });
     ROS_INFO("diffdrive_controller: wheel_separation %.4f m, %.0f Hz, cmd_vel_timeout %.2f s", g.separation, rate,
              cmd_vel_timeout_);
   }
@@ -107,7 +108,7 @@ private:
   ros::Time last_cmd_, last_step_;
   ros::Publisher left_pub_, right_pub_, cmd_out_pub_;
   ros::Subscriber cmd_sub_;
-  ros::Timer timer_;
+  mybot_lockstep::Timer timer_;
 };
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
+#include <mybot_lockstep/participant.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <std_srvs/Trigger.h>
@@ -60,7 +61,7 @@ public:
 
     odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odom", 20);
     twist_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel_enc", 20);
-    sub_ = nh_.subscribe("joint_states", 50, &DiffDriveOdomNode::onJointStates, this, ros::TransportHints().tcpNoDelay());
+    sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(nh_, "joint_states", 50, [this](const sensor_msgs::JointState& m) { onJointStates(m); }, ros::TransportHints().tcpNoDelay());
     reset_srv_ = pnh_.advertiseService("reset_odometry", &DiffDriveOdomNode::onReset, this);
     set_srv_ = pnh_.advertiseService("set_pose", &DiffDriveOdomNode::onSetPose, this);
     ROS_INFO("diffdrive_odom: separation %.4f m, radius %.4f/%.4f m, %s -> %s%s", g.separation, g.left_radius,

@@ -2,6 +2,7 @@
 // node's one-line message.
 #pragma once
 
+#include <mybot_lockstep/participant.h>
 #include <nodelet/nodelet.h>
 
 #include <memory>
@@ -19,6 +20,9 @@ class NodeletHost : public nodelet::Nodelet
 private:
   void onInit() override
   {
+    // A nodelet's callbacks run on the manager's worker threads, which lockstep's tick-driven
+    // timers (run from the global queue) would race with: a manager does not take part.
+    mybot_lockstep::Participant::optOut("a nodelet manager: callbacks on worker threads");
     try
     {
       node_ = make(getNodeHandle(), getPrivateNodeHandle());

@@ -5,6 +5,7 @@
 // while any module is more than angle_error_threshold from its requested angle.
 #include <geometry_msgs/Twist.h>
 #include <geometry_msgs/TwistStamped.h>
+#include <mybot_lockstep/participant.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <std_msgs/Float64.h>
@@ -59,7 +60,7 @@ public:
       const std::string ns = "swerve_" + geometry_.modules[i] + "/";
       angle_pubs_[i] = nh_.advertise<std_msgs::Float64>(ns + "rqst_pivot_angle", 10);
       speed_pubs_[i] = nh_.advertise<std_msgs::Float64>(ns + "rqst_wheel_speed", 10);
-      angle_subs_.push_back(nh_.subscribe<std_msgs::Float64>(
+      angle_subs_.push_back(mybot_lockstep::Participant::instance().subscribe<std_msgs::Float64>(nh_, 
           ns + "pivot_angle", 10, [this, i](const std_msgs::Float64::ConstPtr& m) {
             if (!std::isfinite(m->data))
               return;
@@ -73,14 +74,14 @@ public:
               headings_initialised_ = true;
             }
           },
-          ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
+          ros::TransportHints().tcpNoDelay()));
     }
     if (field_relative_)
-      imu_sub_ = nh_.subscribe("imu", 10, &SwerveControllerNode::onImu, this);
+      imu_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::Imu>(nh_, "imu", 10, [this](const sensor_msgs::Imu& m) { onImu(m); });
     if (publish_cmd_)
       cmd_out_pub_ = pnh_.advertise<geometry_msgs::TwistStamped>("cmd_vel_out", 10);
-    cmd_sub_ = nh_.subscribe("cmd_vel", 10, &SwerveControllerNode::onCmd, this, ros::TransportHints().tcpNoDelay());
-    timer_ = nh_.createTimer(ros::Duration(period_), &SwerveControllerNode::onTimer, this);
+    cmd_sub_ = mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(nh_, "cmd_vel", 10, [this](const geometry_msgs::Twist& m) { onCmd(m); }, ros::TransportHints().tcpNoDelay());
+    timer_ = mybot_lockstep::Participant::instance().createTimer(period_, [this](const ros::TimerEvent& e) { onTimer(e); });
     ROS_INFO("swerve_controller: %zu modules, %.0f Hz, cmd_vel_timeout %.2f s, angle_error_threshold %.3f rad%s", n,
              rate, cmd_vel_timeout_, angle_error_threshold_, field_relative_ ? ", field-relative" : "");
   }
@@ -206,7 +207,7 @@ private:
   std::vector<ros::Subscriber> angle_subs_;
   ros::Publisher cmd_out_pub_;
   ros::Subscriber cmd_sub_, imu_sub_;
-  ros::Timer timer_;
+  mybot_lockstep::Timer timer_;
 };
 
 

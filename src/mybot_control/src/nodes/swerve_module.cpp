@@ -7,6 +7,7 @@
 //              <joint>/command (the simulator's joint-command interface);
 //   interface: mock   -> no hardware: a first-order actuator model per joint, integrated on a
 //              timer, and the node publishes joint_states itself (for the odometry).
+#include <mybot_lockstep/participant.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Float64.h>
@@ -99,7 +100,7 @@ public:
         mod.pivot_cmd_pub = nh_.advertise<std_msgs::Float64>(geometry_.pivot_joints[i] + "/command", 10);
         mod.wheel_cmd_pub = nh_.advertise<std_msgs::Float64>(geometry_.wheel_joints[i] + "/command", 10);
       }
-      mod.angle_sub = nh_.subscribe<std_msgs::Float64>(
+      mod.angle_sub = mybot_lockstep::Participant::instance().subscribe<std_msgs::Float64>(nh_, 
           ns + "rqst_pivot_angle", 10,
           [this, i](const std_msgs::Float64::ConstPtr& msg) {
             if (std::isfinite(msg->data))
@@ -108,8 +109,8 @@ public:
               modules_[i].have_angle_request = true;
             }
           },
-          ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
-      mod.speed_sub = nh_.subscribe<std_msgs::Float64>(
+          ros::TransportHints().tcpNoDelay());
+      mod.speed_sub = mybot_lockstep::Participant::instance().subscribe<std_msgs::Float64>(nh_, 
           ns + "rqst_wheel_speed", 10,
           [this, i](const std_msgs::Float64::ConstPtr& msg) {
             if (std::isfinite(msg->data))
@@ -118,7 +119,7 @@ public:
               modules_[i].last_speed_request = ros::Time::now();
             }
           },
-          ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+          ros::TransportHints().tcpNoDelay());
     }
 
     std::vector<std::string> joints;
@@ -133,12 +134,12 @@ public:
       joint_state_.position.assign(joints.size(), 0.0);
       joint_state_.velocity.assign(joints.size(), 0.0);
       joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
-      timer_ = nh_.createTimer(ros::Duration(1.0 / rate), &SwerveModuleNode::onMockTimer, this);
+      timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / rate, [this](const ros::TimerEvent& e) { onMockTimer(e); });
     }
     else
     {
       index_ = JointIndex(joints);
-      joint_sub_ = nh_.subscribe("joint_states", 10, &SwerveModuleNode::onJointStates, this,
+      joint_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(nh_, "joint_states", 10, [this](const sensor_msgs::JointState& m) { onJointStates(m); },
                                  ros::TransportHints().tcpNoDelay());
     }
     ROS_INFO("swerve_module: %zu modules, interface %s, wheel_radius %.4f m", n, interface.c_str(),
@@ -239,7 +240,7 @@ private:
   sensor_msgs::JointState joint_state_;
   ros::Publisher joint_state_pub_;
   ros::Subscriber joint_sub_;
-  ros::Timer timer_;
+  mybot_lockstep::Timer timer_;
 };
 
 

@@ -5,6 +5,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
+#include <mybot_lockstep/participant.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
@@ -74,9 +75,9 @@ public:
 
     odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odom", 20);
     twist_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel_enc", 20);
-    sub_ = nh_.subscribe("joint_states", 50, &SwerveOdomNode::onJointStates, this, ros::TransportHints().tcpNoDelay());
+    sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(nh_, "joint_states", 50, [this](const sensor_msgs::JointState& m) { onJointStates(m); }, ros::TransportHints().tcpNoDelay());
     if (use_imu_)
-      imu_sub_ = nh_.subscribe("imu", 50, &SwerveOdomNode::onImu, this, ros::TransportHints().tcpNoDelay());
+      imu_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::Imu>(nh_, "imu", 50, [this](const sensor_msgs::Imu& m) { onImu(m); }, ros::TransportHints().tcpNoDelay());
     reset_srv_ = pnh_.advertiseService("reset_odometry", &SwerveOdomNode::onReset, this);
     set_srv_ = pnh_.advertiseService("set_pose", &SwerveOdomNode::onSetPose, this);
     ROS_INFO("swerve_odom: %zu modules, wheel_radius %.4f m, %s -> %s%s%s", g.modules.size(), g.wheel_radius,

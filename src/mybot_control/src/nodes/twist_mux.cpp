@@ -3,6 +3,7 @@
 // (~publish_zero_on_timeout), so nothing keeps moving on a stale command.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/Twist.h>
+#include <mybot_lockstep/participant.h>
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/String.h>
@@ -104,18 +105,18 @@ public:
     active_pub_ = pnh_.advertise<std_msgs::String>("active", 1, true);
     diag_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 5);
     for (std::size_t k = 0; k < mux_.topics().size(); ++k)
-      subs_.push_back(nh_.subscribe<geometry_msgs::Twist>(
+      subs_.push_back(mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(nh_, 
           mux_.topics()[k].topic, 10,
-          [this, k](const geometry_msgs::Twist::ConstPtr& m) { onTwist(static_cast<int>(k), *m); }, ros::VoidConstPtr(),
+          [this, k](const geometry_msgs::Twist::ConstPtr& m) { onTwist(static_cast<int>(k), *m); }, 
           ros::TransportHints().tcpNoDelay()));
     for (std::size_t k = 0; k < mux_.locks().size(); ++k)
-      subs_.push_back(nh_.subscribe<std_msgs::Bool>(
+      subs_.push_back(mybot_lockstep::Participant::instance().subscribe<std_msgs::Bool>(nh_, 
           mux_.locks()[k].topic, 10, [this, k](const std_msgs::Bool::ConstPtr& m) {
             mux_.lockReceived(static_cast<int>(k), m->data, ros::Time::now().toSec());
             check();
           }));
-    check_timer_ = nh_.createTimer(ros::Duration(1.0 / check_rate), [this](const ros::TimerEvent&) { check(); });
-    diag_timer_ = nh_.createTimer(ros::Duration(1.0 / diag_rate), [this](const ros::TimerEvent&) { diagnostics(); });
+    check_timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / check_rate, [this](const ros::TimerEvent&) { check(); });
+    diag_timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / diag_rate, [this](const ros::TimerEvent&) { diagnostics(); });
     announce("idle");
   }
 
@@ -184,7 +185,7 @@ private:
   std::string active_name_;
   ros::Publisher out_pub_, active_pub_, diag_pub_;
   std::vector<ros::Subscriber> subs_;
-  ros::Timer check_timer_, diag_timer_;
+  mybot_lockstep::Timer check_timer_, diag_timer_;
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 // *_angular_vel_target (rad/s) -> PID against the encoder speed (pid_on) -> *_angular_vel_control
 // -> *_angular_vel_motor, and in the simulator the Float64 joint velocity commands.
 // Publishes *_angular_vel_enc and *_tangent_vel_enc from stamped joint_states positions.
+#include <mybot_lockstep/participant.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Float32.h>
@@ -92,14 +93,14 @@ public:
       if (joint_commands_)
         w.joint_cmd_pub = nh_.advertise<std_msgs::Float64>(
             p.string(k == 0 ? "left_command_topic" : "right_command_topic", w.joint + "/command"), 10);
-      w.target_sub = nh_.subscribe<std_msgs::Float32>(
+      w.target_sub = mybot_lockstep::Participant::instance().subscribe<std_msgs::Float32>(nh_, 
           w.prefix + "_tangent_vel_target", 10,
-          [this, k](const std_msgs::Float32::ConstPtr& m) { onTarget(k, m->data); }, ros::VoidConstPtr(),
+          [this, k](const std_msgs::Float32::ConstPtr& m) { onTarget(k, m->data); }, 
           ros::TransportHints().tcpNoDelay());
     }
-    joint_sub_ = nh_.subscribe("joint_states", 20, &WheelControllerNode::onJointStates, this,
+    joint_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(nh_, "joint_states", 20, [this](const sensor_msgs::JointState& m) { onJointStates(m); },
                                ros::TransportHints().tcpNoDelay());
-    timer_ = nh_.createTimer(ros::Duration(period_), &WheelControllerNode::onTimer, this);
+    timer_ = mybot_lockstep::Participant::instance().createTimer(period_, [this](const ros::TimerEvent& e) { onTimer(e); });
     ROS_INFO("wheel_controller: radius %.4f/%.4f m, %.0f Hz, pid_on %s, output %s", wheels_[0].radius,
              wheels_[1].radius, rate, pid_on_ ? "true" : "false", interface.c_str());
   }
@@ -228,7 +229,7 @@ private:
   double response_time_ = 0.0;
   bool pid_on_ = true, joint_commands_ = false;
   ros::Subscriber joint_sub_;
-  ros::Timer timer_;
+  mybot_lockstep::Timer timer_;
 };
 
 }  // namespace

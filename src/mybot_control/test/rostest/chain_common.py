@@ -8,6 +8,8 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from std_srvs.srv import Trigger
 
+from mybot_lockstep import participant
+
 
 def yaw_of(q):
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
@@ -22,8 +24,10 @@ class Chain:
         self.lock = threading.Lock()
         self.odom = None
         self.odom_count = 0
-        self.pub = rospy.Publisher(cmd_topic, Twist, queue_size=10)
-        rospy.Subscriber(odom_topic, Odometry, self._on_odom, queue_size=50)
+        # A lockstep participant under the simulator: sim time waits for this test's commands.
+        self.ls = participant()
+        self.pub = self.ls.Publisher(cmd_topic, Twist, queue_size=10)
+        self.ls.Subscriber(odom_topic, Odometry, self._on_odom, queue_size=50)
 
     def _on_odom(self, msg):
         with self.lock:
@@ -33,16 +37,18 @@ class Chain:
     def wait_for(self, condition, timeout, what):
         """Wait (ROS time) until condition() is true; fail with `what` on timeout."""
         deadline = rospy.get_time() + timeout
-        wall_deadline = rospy.Time.now()  # noqa: F841 (keeps the intent: ROS time only)
         while not rospy.is_shutdown():
             if condition():
                 return
             if rospy.get_time() > deadline:
                 raise AssertionError('timed out waiting for ' + what)
-            rospy.sleep(0.01)
+            self.ls.sleep(0.01)
         raise AssertionError('shut down while waiting for ' + what)
 
     def wait_ready(self):
+        if self.ls.active:  # sim time waits for this test: its start is the same every run
+            assert self.ls.wait_for(lambda: self.odom is not None, 60.0), 'no odom received'
+            return
         # Wall-clock bound only for the start-up (clock may not run yet).
         import time
         t0 = time.time()
@@ -67,7 +73,7 @@ class Chain:
         msg.linear.x = vx
         msg.angular.z = wz
         end = rospy.get_time() + duration
-        r = rospy.Rate(rate)
+        r = self.ls.Rate(rate)
         while rospy.get_time() < end and not rospy.is_shutdown():
             self.pub.publish(msg)
             r.sleep()
@@ -87,6 +93,7 @@ class Chain:
         self.wait_for(still, timeout, 'the robot to stop')
 
     def reset_odom(self, service='diffdrive_odom/reset_odometry'):
+        self.ls.release()  # a blocking call: do not hold the simulation meanwhile
         rospy.wait_for_service(service, timeout=30.0)
         assert rospy.ServiceProxy(service, Trigger)().success
         n = self.odom_count

@@ -15,12 +15,13 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import Float32
 
 from chain_common import Chain, wrap, yaw_of
+from mybot_lockstep import participant
 
 
 class GroundTruth:
     def __init__(self):
         self.msg = None
-        rospy.Subscriber('ground_truth/odom', Odometry, self._cb, queue_size=20)
+        participant().Subscriber('ground_truth/odom', Odometry, self._cb, queue_size=20)
 
     def _cb(self, m):
         self.msg = m
@@ -54,7 +55,7 @@ class SimTest(unittest.TestCase):
         chain.wait_for(lambda: self.gt.msg is not None, 30.0, 'ground truth')
         chain.wait_stopped(timeout=30.0)
         odom0, gt0 = chain.pose(), self.gt.pose()
-        rate = rospy.Rate(50)
+        rate = participant().Rate(50)
         for side in range(4):
             start = chain.pose()
             while not rospy.is_shutdown():  # 2 m forward, slowing near the end
@@ -93,14 +94,14 @@ class SimTest(unittest.TestCase):
     def run_step(self):
         lock = threading.Lock()
         enc = []
-        rospy.Subscriber('lwheel_angular_vel_enc', Float32,
+        participant().Subscriber('lwheel_angular_vel_enc', Float32,
                          lambda m: (lock.acquire(), enc.append((rospy.get_time(), m.data)), lock.release()))
-        pubs = [rospy.Publisher(t, Float32, queue_size=10) for t in
+        pubs = [participant().Publisher(t, Float32, queue_size=10) for t in
                 ('lwheel_tangent_vel_target', 'rwheel_tangent_vel_target')]
         chain = Chain()
         chain.wait_for(lambda: len(enc) > 10, 60.0, 'encoder speeds')
         radius = 0.1
-        rate = rospy.Rate(50)
+        rate = participant().Rate(50)
         t0 = rospy.get_time()
         while rospy.get_time() - t0 < 2.0:
             for p in pubs:
@@ -126,7 +127,7 @@ class SimTest(unittest.TestCase):
         chain.wait_for(lambda: self.gt.msg is not None, 30.0, 'ground truth')
         chain.wait_stopped(timeout=30.0)
         gt0 = self.gt.pose()
-        rate = rospy.Rate(50)
+        rate = participant().Rate(50)
         while not rospy.is_shutdown():
             p = relative(gt0, self.gt.pose())
             if math.hypot(p[0], p[1]) >= 2.0:

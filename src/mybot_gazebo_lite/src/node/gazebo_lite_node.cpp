@@ -16,7 +16,9 @@
 #include <std_srvs/Empty.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <memory>
 #include <thread>
 
@@ -35,10 +37,31 @@ class SimNode {
     paused_ = pnh_.param("paused", false);
     clock_hz_ = pnh_.param("pub_clock_frequency", 1000.0);
     int seed = pnh_.param("seed", 0);
+    const bool lockstep = pnh_.param("lockstep", false);
+    const double period = pnh_.param("lockstep_period", 0.01);
+    const double timeout = pnh_.param("lockstep_timeout", 10.0);
+    // A list of node names, or one string of names separated by spaces or commas.
+    std::string names;
+    if (pnh_.getParam("lockstep_wait_for", names)) {
+      std::replace(names.begin(), names.end(), ',', ' ');
+      std::istringstream in(names);
+      for (std::string n; in >> n;) wait_for_.push_back(n);
+    } else if (pnh_.hasParam("lockstep_wait_for") && !pnh_.getParam("lockstep_wait_for", wait_for_)) {
+      return bad("lockstep_wait_for", "expected a list of node names or a string of them");
+    }
     if (!(step > 0 && step <= 0.01)) return bad("max_step_size", "must be in (0, 0.01] s");
     if (iters < 1) return bad("solver_iterations", "must be >= 1");
     if (!(rtf_ >= 0) || !std::isfinite(rtf_)) return bad("real_time_factor", "must be >= 0 (0 = as fast as possible)");
     if (clock_hz_ < 0) return bad("pub_clock_frequency", "must be >= 0 (0 = every step)");
+    if (lockstep) {
+      steps_per_period_ = static_cast<int>(std::lround(period / step));
+      if (!(period > 0) || steps_per_period_ < 1 || std::fabs(steps_per_period_ * step - period) > 1e-9)
+        return bad("lockstep_period", "must be a positive whole multiple of max_step_size (" + std::to_string(step) +
+                                          " s), got " + std::to_string(period));
+      if (!(timeout > 0) || !std::isfinite(timeout)) return bad("lockstep_timeout", "must be > 0 s of wall time");
+      for (auto& n : wait_for_)
+        if (!n.empty() && n[0] != '/') n = "/" + n;
+    }
     WorldSpec spec;
     try {
       if (world_file.empty()) {
@@ -68,13 +91,55 @@ class SimNode {
     srvs_.push_back(g.advertiseService("delete_model", &SimNode::remove, this));
     srvs_.push_back(g.advertiseService("get_model_state", &SimNode::getState, this));
     srvs_.push_back(g.advertiseService("set_model_state", &SimNode::setState, this));
+    if (lockstep) lockstep_ = std::make_unique<mybot_lockstep::Coordinator>(timeout, ros::getGlobalCallbackQueue());
     publishClock(true);
-    ROS_INFO("gazebo_lite: world '%s' (%zu models), step %.4f s, real_time_factor %g%s", spec.name.c_str(),
-             spec.models.size(), step, rtf_, paused_ ? ", paused" : "");
+    ROS_INFO("gazebo_lite: world '%s' (%zu models), step %.4f s, real_time_factor %g%s%s", spec.name.c_str(),
+             spec.models.size(), step, rtf_, paused_ ? ", paused" : "",
+             lockstep ? (", lockstep every " + std::to_string(period) + " s").c_str() : "");
     return true;
   }
 
+  // Lockstep: one period per turn. Time advances only when every participant has finished
+  // the previous period (mybot_lockstep's README has the protocol).
+  void runLockstep() {
+    auto* queue = ros::getGlobalCallbackQueue();
+    waitForNamedParticipants();  // begins the first period
+    anchor();
+    ros::WallTime next_tick = ros::WallTime::now();
+    while (ros::ok()) {
+      if (paused_) {
+        // Time stands; the current period is published again now and then so nodes that start
+        // meanwhile join before time moves (waitForParticipants then waits for them too).
+        const ros::WallTime now = ros::WallTime::now();
+        if (now >= next_tick) {
+          publishClock(true);
+          lockstep_->republish();
+          next_tick = now + ros::WallDuration(0.1);
+        }
+        queue->callAvailable(ros::WallDuration(0.005));
+        anchor();
+        continue;
+      }
+      if (!lockstep_->waitForParticipants()) return;
+      if (paused_) continue;  // paused while it waited
+      double t = world_->time();
+      for (int i = 0; i < steps_per_period_; ++i) {
+        for (auto& m : models_)
+          for (auto& p : m.plugins) p->preStep(t);
+        world_->step();
+        t = world_->time();
+        for (auto& m : models_)
+          for (auto& p : m.plugins) p->update(t);
+        if (t + 1e-9 >= last_contacts_ + kContactsPeriod) publishContacts();
+      }
+      publishClock(true);
+      lockstep_->beginPeriod(ros::Time(t));
+      pace(t);
+    }
+  }
+
   void run() {
+    if (lockstep_) return runLockstep();
     auto* queue = ros::getGlobalCallbackQueue();
     anchor();
     while (ros::ok()) {
@@ -94,18 +159,7 @@ class SimNode {
         for (auto& p : m.plugins) p->update(t);
       publishClock(false);
       if (t + 1e-9 >= last_contacts_ + kContactsPeriod) publishContacts();
-      if (rtf_ > 0) {
-        // Pace against the wall clock from an anchor so errors do not accumulate.
-        ros::WallTime target = wall0_ + ros::WallDuration((t - sim0_) / rtf_);
-        ros::WallTime now = ros::WallTime::now();
-        if (target > now) {
-          std::this_thread::sleep_for(std::chrono::nanoseconds((target - now).toNSec()));
-        } else if ((now - target).toSec() > kMaxLagWall) {
-          // Behind (a starved CPU): run slower than asked, as Gazebo does, rather than catch up in
-          // a burst that the controllers, themselves starved, would see as open-loop time.
-          anchor();
-        }
-      }
+      pace(t);
     }
   }
 
@@ -120,6 +174,46 @@ class SimNode {
   bool bad(const std::string& param, const std::string& msg) {
     ROS_FATAL("gazebo_lite: parameter ~%s: %s", param.c_str(), msg.c_str());
     return false;
+  }
+  // real_time_factor is an upper bound: never run ahead of the wall clock times it.
+  void pace(double t) {
+    if (!(rtf_ > 0)) return;
+    // Pace against the wall clock from an anchor so errors do not accumulate.
+    ros::WallTime target = wall0_ + ros::WallDuration((t - sim0_) / rtf_);
+    ros::WallTime now = ros::WallTime::now();
+    if (target > now) {
+      std::this_thread::sleep_for(std::chrono::nanoseconds((target - now).toNSec()));
+    } else if ((now - target).toSec() > kMaxLagWall) {
+      // Behind (a starved CPU): run slower than asked, as Gazebo does, rather than catch up in
+      // a burst that the controllers, themselves starved, would see as open-loop time.
+      anchor();
+    }
+  }
+  // ~lockstep_wait_for: time does not start until these nodes take part, so a test's start
+  // does not depend on how fast its nodes came up.
+  void waitForNamedParticipants() {
+    auto* queue = ros::getGlobalCallbackQueue();
+    lockstep_->beginPeriod(ros::Time(world_->time()));
+    ros::WallTime next_tick = ros::WallTime::now(), next_note = next_tick + ros::WallDuration(10.0);
+    for (;;) {
+      std::vector<std::string> missing;
+      for (const auto& n : wait_for_)
+        if (!lockstep_->has(n)) missing.push_back(n);
+      if (missing.empty() || !ros::ok()) return;
+      queue->callAvailable(ros::WallDuration(0.01));
+      const ros::WallTime now = ros::WallTime::now();
+      if (now >= next_tick) {  // the same period again, for nodes that connect late
+        publishClock(true);
+        lockstep_->republish();
+        next_tick = now + ros::WallDuration(0.1);
+      }
+      if (now >= next_note) {
+        std::string names;
+        for (const auto& n : missing) names += " " + n;
+        ROS_WARN("gazebo_lite: lockstep_wait_for: still waiting for%s", names.c_str());
+        next_note = now + ros::WallDuration(10.0);
+      }
+    }
   }
   void anchor() {
     wall0_ = ros::WallTime::now();
@@ -173,6 +267,7 @@ class SimNode {
   }
   bool unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     paused_ = false;
+    if (lockstep_) lockstep_->requireConnections();
     anchor();
     return true;
   }
@@ -213,6 +308,7 @@ class SimNode {
           ctx.tf = &tfb_;
           ctx.slices = slices_.get();
           ctx.rng = &rng_;
+          ctx.lockstep = lockstep_.get();
           if (auto plugin = createPlugin(ctx)) entry.plugins.push_back(std::move(plugin));
         }
       } catch (...) {
@@ -220,6 +316,7 @@ class SimNode {
         throw;
       }
       models_.push_back(std::move(entry));
+      if (lockstep_) lockstep_->requireConnections();  // its command inputs must connect first
       res.success = true;
       res.status_message = "spawned '" + req.model_name + "'";
       ROS_INFO("gazebo_lite: spawned '%s' (namespace '%s') with %zu plugins", req.model_name.c_str(), ns.c_str(),
@@ -307,6 +404,9 @@ class SimNode {
   double rtf_ = 1, clock_hz_ = 1000, last_clock_ = -1, last_contacts_ = -1, sim0_ = 0;
   bool paused_ = false;
   ros::WallTime wall0_;
+  std::unique_ptr<mybot_lockstep::Coordinator> lockstep_;
+  std::vector<std::string> wait_for_;
+  int steps_per_period_ = 10;
 };
 
 }  // namespace mybot_gazebo_lite

@@ -185,7 +185,8 @@ class DiffDrive : public SimPlugin {
     base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
     base_link_ = p.str("robotBaseFrame", "base_footprint");
     if (!c.robot->hasLink(base_link_)) base_link_ = c.robot->spec().root;
-    sub_ = nh.subscribe(p.str("commandTopic", "cmd_vel"), 1, &DiffDrive::onCmd, this);
+    sub_ = subscribeCommand<geometry_msgs::Twist>(c, nh, p.str("commandTopic", "cmd_vel"),
+                                                  [this](const geometry_msgs::Twist::ConstPtr& m) { onCmd(m); });
     odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
     if (publish_wheel_js_) js_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 1);
     hold();
@@ -414,8 +415,8 @@ class JointCommand : public SimPlugin {
       e->gain = jp.num("gain", 1.0);
       if (!(e->gain > 0)) jp.fail("joint/gain", "must be positive");
       Entry* raw = e.get();
-      e->sub = nh.subscribe<std_msgs::Float64>(jp.str("topicName", e->name + "/command"), 1,
-                                               [this, raw](const std_msgs::Float64::ConstPtr& m) { onCmd(raw, m->data); });
+      e->sub = subscribeCommand<std_msgs::Float64>(c, nh, jp.str("topicName", e->name + "/command"),
+                                                   [this, raw](const std_msgs::Float64::ConstPtr& m) { onCmd(raw, m->data); });
       entries_.push_back(std::move(e));
     }
     reset();

@@ -6,6 +6,7 @@
 #include "mybot_gazebo_lite/physics.h"
 #include "mybot_gazebo_lite/raycast2d.h"
 
+#include <mybot_lockstep/coordinator.h>
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 
@@ -38,7 +39,17 @@ struct PluginContext {
   tf2_ros::TransformBroadcaster* tf;
   StaticSliceCache* slices;
   std::mt19937* rng;
+  mybot_lockstep::Coordinator* lockstep = nullptr;  // set when the simulation runs in lockstep
 };
+
+// A command input. Under lockstep it is counted (the period waits until every command a
+// participant sent for it is handled) and queued deep enough that none is dropped; otherwise
+// only the latest matters (queue of 1).
+template <class M, class F>
+ros::Subscriber subscribeCommand(const PluginContext& c, ros::NodeHandle& nh, const std::string& topic, F cb) {
+  if (c.lockstep) return c.lockstep->subscribe<M>(nh, topic, 100, cb);
+  return nh.subscribe<M>(topic, 1, boost::function<void(const typename M::ConstPtr&)>(cb));
+}
 
 class SimPlugin {
  public:

@@ -1,0 +1,135 @@
+// Makes a roscpp node a lockstep participant: the simulator does not start period k+1 until
+// this process has handled, for period k, every message sent to it on the topics it
+// subscribed through subscribe() and has run its timers made with createTimer().
+//
+//   auto& ls = mybot_lockstep::Participant::instance();
+//   sub_ = ls.subscribe<sensor_msgs::JointState>(nh, "joint_states", 10, [this](const auto& m) { ... });
+//   timer_ = ls.createTimer(0.02, [this](const ros::TimerEvent& e) { ... });
+//
+// Lockstep is on when the parameters /use_sim_time and /lockstep are both true (the
+// simulator's launch files set them); otherwise subscribe() is nh.subscribe() and
+// createTimer() a ros::Timer, so the same node runs on a real robot unchanged. One
+// participant per process: the nodes of a chain or nodelet-free group share it.
+// The protocol is described in mybot_lockstep's README.
+#pragma once
+
+#include <ros/ros.h>
+
+#include <deque>
+#include <functional>
+#include <map>
+#include <set>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <type_traits>
+
+#include "mybot_lockstep/Ack.h"
+#include "mybot_lockstep/Tick.h"
+#include "mybot_lockstep/barrier.h"
+
+namespace mybot_lockstep
+{
+
+// The outgoing connections of this process and the messages written on each
+// (roscpp's per-connection publisher statistics).
+std::vector<Link> collectSent();
+
+// True when /use_sim_time and /lockstep are both set.
+bool lockstepRequested();
+
+class Participant;
+
+// A periodic timer: tick-driven under lockstep, a ros::Timer otherwise. Stops when destroyed.
+class Timer
+{
+public:
+  Timer() = default;
+  Timer(Timer&&) noexcept;
+  Timer& operator=(Timer&&) noexcept;
+  ~Timer();
+  void stop();
+
+private:
+  friend class Participant;
+  int id_ = -1;
+  ros::Timer ros_timer_;
+};
+
+class Participant
+{
+public:
+  static Participant& instance();
+  bool active() const { return active_; }
+  // Keeps this process out of lockstep (call before the first instance()): nodelet managers,
+  // whose callbacks run on worker threads the tick-driven timers cannot join.
+  static void optOut(const std::string& why);
+
+  Timer createTimer(double period, const std::function<void(const ros::TimerEvent&)>& cb);
+
+  // Subscribes through lockstep. `cb` takes `const M&` or `const M::ConstPtr&`. Under
+  // lockstep the message is not handed to `cb` when it arrives but when its period is
+  // processed: once everything owed to this process for the period is in and /clock has
+  // reached the period's time, callbacks run in a fixed order (by topic, then publisher,
+  // then arrival), then the timers, then whatever those published to this process.
+  template <class M, class F>
+  ros::Subscriber subscribe(ros::NodeHandle& nh, const std::string& topic, uint32_t queue_size, F cb,
+                            const ros::TransportHints& hints = ros::TransportHints())
+  {
+    auto call = [cb](const boost::shared_ptr<M const>& m) {
+      if constexpr (std::is_invocable_v<F, const boost::shared_ptr<M const>&>)
+        cb(m);
+      else
+        cb(*m);
+    };
+    if (!active_)
+      return nh.subscribe<M>(topic, queue_size, boost::function<void(const boost::shared_ptr<M const>&)>(call),
+                             ros::VoidConstPtr(), hints);
+    const std::string resolved = nh.resolveName(topic);
+    {
+      std::lock_guard<std::recursive_mutex> lock(mutex_);
+      ledger_.count(resolved);
+    }
+    ros::SubscribeOptions ops;
+    ops.template initByFullCallbackType<const ros::MessageEvent<M const>&>(
+        topic, queue_size, [this, resolved, call](const ros::MessageEvent<M const>& e) {
+          const boost::shared_ptr<M const> m = e.getConstMessage();
+          arrived(resolved, e.getPublisherName(), [call, m] { call(m); });
+        });
+    ops.transport_hints = hints;
+    return nh.subscribe(ops);
+  }
+
+  ~Participant();
+
+private:
+  friend class Timer;
+  Participant();
+  void onTick(const Tick::ConstPtr& tick);
+  void arrived(const std::string& topic, const std::string& source, std::function<void()> handle);
+  void runPeriod();
+  void tryFinish();
+  void onWatchdog(const ros::WallTimerEvent&);
+  void removeTimer(int id);
+
+  std::recursive_mutex mutex_;
+  bool active_ = false, finishing_ = false;
+  std::string self_;
+  Ledger ledger_;
+  TickTimers timers_;
+  Tick::ConstPtr pending_;
+  Ack last_ack_;
+  // Messages waiting for their period, by (topic, publisher): a fixed order across connections.
+  std::map<std::pair<std::string, std::string>, std::deque<std::function<void()>>> inbox_;
+  std::map<std::pair<std::string, std::string>, std::uint64_t> taken_;
+  std::set<std::string> participants_;
+  std::vector<Link> expected_;
+  ros::WallTime pending_since_;
+  double forgive_after_ = 2.0;
+  ros::NodeHandle nh_;
+  ros::Subscriber tick_sub_;
+  ros::Publisher ack_pub_;
+  ros::WallTimer watchdog_;
+};
+
+}  // namespace mybot_lockstep

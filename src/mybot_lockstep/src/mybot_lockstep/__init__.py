@@ -1,0 +1,258 @@
+"""Makes a rospy node a lockstep participant (the Python twin of participant.h).
+
+    ls = mybot_lockstep.Participant()
+    ls.Subscriber('ground_truth/odom', Odometry, cb)      # counted input
+    pub = ls.Publisher('cmd_vel', Twist)                    # synchronous under lockstep
+    rate = ls.Rate(50)
+    while not rospy.is_shutdown():
+        pub.publish(...)
+        rate.sleep()                                        # the period is done: time may advance
+
+The simulator does not start period k+1 until this node has handled every message sent to it
+on its counted subscriptions, run its timers (ls.Timer), and, if its main thread was woken for
+period k, until that thread sleeps again through ls.sleep / ls.Rate / ls.wait_for (as Webots'
+robot_step). A main thread that has not slept through the helper yet, or has called release(),
+does not hold the simulation.
+
+Lockstep is on when /use_sim_time and /lockstep are both true; otherwise every call is the
+plain rospy one, so the same code runs against a real robot.
+"""
+import threading
+import time
+import warnings
+
+import rospy
+from rospy.impl.registration import get_topic_manager
+
+from mybot_lockstep.msg import Ack, LinkCount, Tick
+
+__all__ = ['Participant', 'participant', 'lockstep_requested']
+
+
+def lockstep_requested():
+    return bool(rospy.get_param('/use_sim_time', False)) and bool(rospy.get_param('/lockstep', False))
+
+
+def _sent_links(me):
+    """Per outgoing connection of this process: messages written (or queued) so far."""
+    out = []
+    tm = get_topic_manager()
+    for topic, impl in list(tm.pubs.items()):
+        for c in list(impl.connections):
+            n = c.stat_num_msg + len(getattr(c, '_queue', ()))
+            out.append(LinkCount(topic=topic, source=me, destination=c.endpoint_id, count=n))
+    return out
+
+
+class _Rate:
+    def __init__(self, ls, hz):
+        self._ls = ls
+        self._period = rospy.Duration(1.0 / hz)
+        self._last = None
+
+    def sleep(self):
+        now = rospy.get_rostime()
+        if self._last is None or now < self._last or now - self._last > self._period * 2:
+            self._last = now
+        self._last = self._last + self._period
+        self._ls.sleep_until(self._last)
+
+
+class Participant:
+    def __init__(self, forgive_after=2.0):
+        self.active = lockstep_requested()
+        self._me = rospy.get_name()
+        self._cond = threading.Condition()
+        self._handled = {}  # (topic, source) -> messages received
+        self._inbox = {}  # (topic, source) -> [(callback, msg)] waiting for their period
+        self._taken = {}  # (topic, source) -> messages handed to their callback
+        self._forgiven = {}  # (topic, source) -> messages given up as lost
+        self._counted = {}  # topic -> subscriptions to it
+        self._timers = []  # [period_ns, next_ns, callback]
+        self._wake = None  # rospy.Time the main thread sleeps until
+        self._held = None  # the tick the main thread was woken for and has not finished
+        self._last_ack = None
+        self._forgive_after = forgive_after
+        if not self.active:
+            return
+        self._ack_pub = rospy.Publisher('/lockstep/ack', Ack, queue_size=100)
+        rospy.Subscriber('/lockstep/tick', Tick, self._on_tick, queue_size=100, tcp_nodelay=True)
+        rospy.loginfo('lockstep: %s takes part (simulated time waits for it)', self._me)
+
+    # --- inputs and outputs -----------------------------------------------------------------
+    def Subscriber(self, topic, data_class, callback, queue_size=None, **kw):
+        """rospy.Subscriber through lockstep: under lockstep the message is handed to `callback`
+        when its period is processed (in the tick's thread, ordered by topic, then publisher,
+        then arrival), once everything owed to this node for the period is in."""
+        if not self.active:
+            return rospy.Subscriber(topic, data_class, callback, queue_size=queue_size, **kw)
+        resolved = rospy.resolve_name(topic)
+        with self._cond:  # two subscriptions to a topic each receive every message
+            self._counted[resolved] = self._counted.get(resolved, 0) + 1
+
+        def arrived(msg):
+            source = msg._connection_header.get('callerid', '') if hasattr(msg, '_connection_header') else ''
+            with self._cond:
+                key = (resolved, source)
+                self._inbox.setdefault(key, []).append((callback, msg))
+                self._handled[key] = self._handled.get(key, 0) + 1
+                self._cond.notify_all()
+
+        return rospy.Subscriber(topic, data_class, arrived, queue_size=queue_size, **kw)
+
+    def Publisher(self, topic, data_class, queue_size=10, **kw):
+        """rospy.Publisher; synchronous under lockstep, so its counts are exact at each Ack."""
+        if not self.active:
+            return rospy.Publisher(topic, data_class, queue_size=queue_size, **kw)
+        with warnings.catch_warnings():
+            warnings.simplefilter('ignore')
+            return rospy.Publisher(topic, data_class, queue_size=None, **kw)
+
+    def Timer(self, period, callback):
+        """A periodic callback at the whole multiples of `period` (rospy.Duration or seconds)."""
+        if not self.active:
+            return rospy.Timer(period if isinstance(period, rospy.Duration) else rospy.Duration(period), callback)
+        p = (period if isinstance(period, rospy.Duration) else rospy.Duration(period)).to_nsec()
+        now = rospy.get_rostime().to_nsec()
+        with self._cond:
+            self._timers.append([p, (now // p + 1) * p, callback])
+
+    # --- the main thread --------------------------------------------------------------------
+    def Rate(self, hz):
+        return _Rate(self, hz) if self.active else rospy.Rate(hz)
+
+    def sleep(self, duration):
+        if not self.active:
+            rospy.sleep(duration)
+            return
+        d = duration if isinstance(duration, rospy.Duration) else rospy.Duration(duration)
+        self.sleep_until(rospy.get_rostime() + d)
+
+    def sleep_until(self, t):
+        """Finishes the current period (if the main thread held one) and waits for sim time t."""
+        if not self.active:
+            rospy.sleep(max(0.0, (t - rospy.get_rostime()).to_sec()))
+            return
+        with self._cond:
+            self._wake = t
+            if self._held is not None:
+                held, self._held = self._held, None
+                self._ack(held)
+            while self._wake is not None and not rospy.is_shutdown():
+                self._cond.wait(0.1)
+        if rospy.is_shutdown():
+            raise rospy.ROSInterruptException('shutdown')
+
+    def wait_for(self, predicate, timeout, period=0.02):
+        """Sleeps in steps of `period` of sim time until predicate() or `timeout` s of sim time."""
+        end = rospy.get_rostime() + rospy.Duration(timeout)
+        while not predicate():
+            if rospy.get_rostime() > end:
+                return False
+            self.sleep(period)
+        return True
+
+    def release(self):
+        """The main thread stops holding the simulation (before a blocking call of its own)."""
+        if not self.active:
+            return
+        with self._cond:
+            if self._held is not None:
+                held, self._held = self._held, None
+                self._ack(held)
+
+    # --- the tick thread --------------------------------------------------------------------
+    def _unmet(self, expected):
+        for l in expected:
+            if self._handled.get((l.topic, l.source), 0) < l.count:
+                return l
+        return None
+
+    def _on_tick(self, tick):
+        with self._cond:
+            last = self._last_ack.seq if self._last_ack is not None else 0
+            if (self._held is not None and tick.seq <= self._held.seq) or tick.seq < last:
+                return
+            if tick.seq == last:  # republished while the simulator waits: a fresh Ack
+                self._last_ack.sent = _sent_links(self._me)
+                self._ack_pub.publish(self._last_ack)
+                return
+            expected = [LinkCount(topic=l.topic, source=l.source, destination=l.destination,
+                                  count=l.count * self._counted[l.topic])
+                        for l in tick.expected if l.destination == self._me and l.topic in self._counted]
+            deadline = time.monotonic() + self._forgive_after
+            while self._unmet(expected) is not None and time.monotonic() < deadline and not rospy.is_shutdown():
+                self._cond.wait(0.05)
+            missing = self._unmet(expected)
+            if missing is not None:
+                rospy.logwarn('lockstep: %s gives up waiting for %s from %s (%d of %d handled)', self._me,
+                              missing.topic, missing.source,
+                              self._handled.get((missing.topic, missing.source), 0), missing.count)
+                for l in expected:  # forgive: later periods expect only what comes after
+                    key = (l.topic, l.source)
+                    missing_n = l.count - self._handled.get(key, 0)
+                    if missing_n > 0:
+                        self._handled[key] = l.count
+                        self._forgiven[key] = self._forgiven.get(key, 0) + missing_n
+        # /clock is handled in rospy's own thread; what runs now must see the period's time.
+        deadline = time.monotonic() + self._forgive_after
+        while rospy.get_rostime() < tick.stamp and time.monotonic() < deadline and not rospy.is_shutdown():
+            time.sleep(0.0002)
+        # The period's messages first, in a fixed order. One from a participant is handed over
+        # in the period its publisher's Ack announced it, never earlier (it may arrive early).
+        participants = set(tick.participants)
+        due = {}
+        for l in expected:
+            key = (l.topic, l.source)
+            due[key] = max(due.get(key, 0), l.count)
+        batch = []
+        with self._cond:
+            for key in sorted(self._inbox):
+                queue = self._inbox[key]
+                if key[1] in participants:
+                    n = max(0, due.get(key, 0) - self._forgiven.get(key, 0) - self._taken.get(key, 0))
+                else:
+                    n = len(queue)
+                n = min(n, len(queue))
+                if n:
+                    batch.extend(queue[:n])
+                    del queue[:n]
+                    self._taken[key] = self._taken.get(key, 0) + n
+        for callback, msg in batch:
+            callback(msg)
+        now = tick.stamp.to_nsec()
+        with self._cond:
+            timers = list(self._timers)
+        for t in sorted(timers, key=lambda e: e[1]):
+            if now < t[1] - t[0]:  # time went backwards: start over from now
+                t[1] = (now // t[0] + 1) * t[0]
+            if t[1] <= now:
+                due = t[1]
+                t[1] = due + t[0] if due + t[0] > now else (now // t[0] + 1) * t[0]
+                ev = rospy.timer.TimerEvent(None, None, rospy.Time(due // 10**9, due % 10**9), tick.stamp, None)
+                t[2](ev)
+        with self._cond:
+            if self._wake is not None and tick.stamp >= self._wake:
+                self._wake = None
+                self._held = tick  # the main thread runs this period; it acks when it sleeps again
+                self._cond.notify_all()
+                return
+            self._ack(tick)
+
+    def _ack(self, tick):
+        ack = Ack(node=self._me, seq=tick.seq, leaving=False, sent=_sent_links(self._me))
+        self._ack_pub.publish(ack)
+        self._last_ack = ack
+
+
+_instance = None
+_instance_lock = threading.Lock()
+
+
+def participant():
+    """The process's Participant (one per process, as in C++), made on first use after init_node."""
+    global _instance
+    with _instance_lock:
+        if _instance is None:
+            _instance = Participant()
+        return _instance
