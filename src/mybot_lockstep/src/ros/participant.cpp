@@ -95,7 +95,13 @@ bool lockstepRequested()
   return sim && lockstep;
 }
 
-Timer::Timer(Timer&& o) noexcept : id_(o.id_), ros_timer_(std::move(o.ros_timer_)) { o.id_ = -1; }
+// ros::Timer has no move: a "moved" one is a copy sharing the timer, which the source's
+// stop() would stop. Hand it over and leave the source empty.
+Timer::Timer(Timer&& o) noexcept : id_(o.id_), ros_timer_(o.ros_timer_)
+{
+  o.id_ = -1;
+  o.ros_timer_ = ros::Timer();
+}
 
 Timer& Timer::operator=(Timer&& o) noexcept
 {
@@ -103,8 +109,9 @@ Timer& Timer::operator=(Timer&& o) noexcept
   {
     stop();
     id_ = o.id_;
-    ros_timer_ = std::move(o.ros_timer_);
+    ros_timer_ = o.ros_timer_;
     o.id_ = -1;
+    o.ros_timer_ = ros::Timer();
   }
   return *this;
 }
