@@ -122,7 +122,8 @@ public:
   int add(std::int64_t period_ns, std::int64_t now_ns, Callback cb);
   void remove(int id);
   // Fires every timer due at or before now_ns, earliest due first (ties: creation order).
-  void run(std::int64_t now_ns);
+  // Returns how many fired.
+  int run(std::int64_t now_ns);
   std::size_t size() const { return timers_.size(); }
 
 private:

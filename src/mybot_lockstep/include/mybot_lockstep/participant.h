@@ -32,8 +32,10 @@ namespace mybot_lockstep
 {
 
 // The outgoing connections of this process and the messages written on each
-// (roscpp's per-connection publisher statistics).
-std::vector<Link> collectSent();
+// (roscpp's per-connection publisher statistics). flush: first let roscpp's poll thread hand
+// over what was published so far (two wake-ups of that thread); without it, messages
+// published moments ago may not be counted yet.
+std::vector<Link> collectSent(bool flush = true);
 
 // True when /use_sim_time and /lockstep are both set.
 bool lockstepRequested();
@@ -107,7 +109,7 @@ private:
   Participant();
   void onTick(const Tick::ConstPtr& tick);
   void arrived(const std::string& topic, const std::string& source, std::function<void()> handle);
-  void runPeriod();
+  bool runPeriod();  // true if anything ran
   void tryFinish();
   void onWatchdog(const ros::WallTimerEvent&);
   void removeTimer(int id);
@@ -123,6 +125,7 @@ private:
   std::map<std::pair<std::string, std::string>, std::deque<std::function<void()>>> inbox_;
   std::map<std::pair<std::string, std::string>, std::uint64_t> taken_;
   std::set<std::string> participants_;
+  std::uint64_t arrivals_ = 0;  // messages received through subscribe(), ever
   std::vector<Link> expected_;
   ros::WallTime pending_since_;
   double forgive_after_ = 2.0;

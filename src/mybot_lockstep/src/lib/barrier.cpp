@@ -178,8 +178,9 @@ int TickTimers::add(std::int64_t period_ns, std::int64_t now_ns, Callback cb)
 
 void TickTimers::remove(int id) { timers_.erase(id); }
 
-void TickTimers::run(std::int64_t now_ns)
+int TickTimers::run(std::int64_t now_ns)
 {
+  int count = 0;
   if (now_ns < last_now_)  // time went backwards: every timer starts over from now
     for (auto& kv : timers_)
       kv.second.next = nextMultiple(kv.second.period, now_ns);
@@ -197,8 +198,9 @@ void TickTimers::run(std::int64_t now_ns)
         best_due = e.next;
       }
     if (best < 0)
-      return;
+      return count;
     fired.insert(best);
+    ++count;
     Entry& e = timers_[best];
     const std::int64_t due = e.next;
     e.next = due + e.period;

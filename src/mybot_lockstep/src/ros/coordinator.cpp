@@ -105,9 +105,12 @@ bool Coordinator::waitForParticipants()
 {
   const ros::WallTime start = ros::WallTime::now();
   ros::WallTime next_check = start, next_settle = start;
+  bool first = true;
   while (ros::ok())
   {
-    queue_->callAvailable(ros::WallDuration(0.001));
+    // The first look does not wait: with nobody to wait for, a period costs no idle time.
+    queue_->callAvailable(first ? ros::WallDuration() : ros::WallDuration(0.001));
+    first = false;
     const ros::WallTime now = ros::WallTime::now();
     if (now >= next_check)
     {
@@ -161,8 +164,11 @@ void Coordinator::beginPeriod(const ros::Time& t)
   tick_->stamp = t;
   tick_->participants = roster_.names();
   tick_->participants.push_back(self_);
-  for (const Link& l : roster_.expectations(collectSent()))
-    tick_->expected.push_back(toMsg(l));
+  // Counting what was sent costs two wake-ups of roscpp's poll thread: only when someone
+  // is owed anything.
+  if (roster_.size() > 0)
+    for (const Link& l : roster_.expectations(collectSent()))
+      tick_->expected.push_back(toMsg(l));
   tick_pub_.publish(tick_);
 }
 

@@ -45,9 +45,10 @@ void flushPublishQueues()
 }
 }  // namespace
 
-std::vector<Link> collectSent()
+std::vector<Link> collectSent(bool flush)
 {
-  flushPublishQueues();
+  if (flush)
+    flushPublishQueues();
   std::vector<Link> out;
   const std::string self = ros::this_node::getName();
   ros::V_string topics;
@@ -222,6 +223,7 @@ void Participant::arrived(const std::string& topic, const std::string& source, s
   std::lock_guard<std::recursive_mutex> lock(mutex_);
   inbox_[{topic, source}].push_back(std::move(handle));
   ledger_.received(topic, source);
+  ++arrivals_;
   if (pending_)
     tryFinish();
 }
@@ -229,7 +231,7 @@ void Participant::arrived(const std::string& topic, const std::string& source, s
 // Everything this process does for one period, in an order that does not depend on when
 // messages arrived: the waiting messages, the timers, then what those published to this
 // process itself (intra-process deliveries pass through roscpp's queue), until nothing is left.
-void Participant::runPeriod()
+bool Participant::runPeriod()
 {
   // A message from another process is handled in the period its publisher's Ack announced
   // it, never earlier (it may arrive early, as the scheduler pleases); one this process sent
@@ -253,21 +255,28 @@ void Participant::runPeriod()
     }
     return any;
   };
-  drainInbox();  // the period's measurements first, so the timers act on them
-  timers_.run(pending_->stamp.toNSec());
+  bool work = drainInbox();  // the period's measurements first, so the timers act on them
+  work = timers_.run(pending_->stamp.toNSec()) > 0 || work;
+  bool any = work;
   for (int round = 0; round < 100; ++round)
   {
+    if (!work)
+      return any;
     // What the callbacks above published to this process: a message published by reference
     // reaches even a subscriber in the same process through roscpp's poll thread, so let it
-    // pass first; then roscpp's queue, which may be called from inside a callback (as
-    // ros::spinOnce in a callback), hands it to our subscriptions.
+    // pass first; then roscpp's queue hands it to our subscriptions. callAvailable() may be
+    // called from inside a callback (as ros::spinOnce in a callback) and then calls whatever
+    // is pending; callOne() would not do (nested, it calls the outer batch's next callback,
+    // whichever that is), nor does isEmpty() tell (never true inside a callback).
     flushPublishQueues();
+    const std::uint64_t before = arrivals_;
     ros::getGlobalCallbackQueue()->callAvailable();
-    if (!drainInbox())
-      return;
+    work = drainInbox() || arrivals_ != before;
+    any = any || work;
   }
   ROS_WARN_THROTTLE(5.0, "lockstep: %s: messages to itself still arriving after 100 rounds in one period",
                     self_.c_str());
+  return any;
 }
 
 void Participant::tryFinish()
@@ -279,11 +288,12 @@ void Participant::tryFinish()
   const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(forgive_after_);
   while (ros::Time::now() < pending_->stamp && ros::WallTime::now() < give_up && ros::ok())
     std::this_thread::sleep_for(std::chrono::microseconds(50));
-  runPeriod();
+  // An idle period published nothing: the counts need no wake-up of roscpp's poll thread.
+  const bool work = runPeriod();
   Ack ack;
   ack.node = self_;
   ack.seq = pending_->seq;
-  for (const Link& l : collectSent())
+  for (const Link& l : collectSent(work))
     ack.sent.push_back(toMsg(l));
   ack_pub_.publish(ack);
   last_ack_ = ack;
