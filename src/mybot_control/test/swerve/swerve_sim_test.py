@@ -12,6 +12,7 @@ import threading
 import unittest
 
 import rospy
+from mybot_lockstep import participant
 import rostest
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
@@ -52,11 +53,13 @@ class SwerveSimTest(unittest.TestCase):
         cls.pivots = {}  # module -> unwrapped pivot joint position
         cls.pivot_log = None
         cls.odom_imu = None
-        cls.cmd = rospy.Publisher('cmd_vel', Twist, queue_size=10)
-        rospy.Subscriber('ground_truth/odom', Odometry, cls.on_gt, queue_size=50)
-        rospy.Subscriber('odom', Odometry, cls.on_odom, queue_size=50)
-        rospy.Subscriber('odom_imu', Odometry, cls.on_odom_imu, queue_size=50)
-        rospy.Subscriber('joint_states', JointState, cls.on_joints, queue_size=50)
+        # A lockstep participant: sim time waits for this test's commands and checks.
+        ls = participant()
+        cls.cmd = ls.Publisher('cmd_vel', Twist, queue_size=10)
+        ls.Subscriber('ground_truth/odom', Odometry, cls.on_gt, queue_size=50)
+        ls.Subscriber('odom', Odometry, cls.on_odom, queue_size=50)
+        ls.Subscriber('odom_imu', Odometry, cls.on_odom_imu, queue_size=50)
+        ls.Subscriber('joint_states', JointState, cls.on_joints, queue_size=50)
         cls.wait_for(lambda: cls.gt is not None and cls.odom is not None and len(cls.pivots) == 4, 30.0,
                      'ground truth, odom and joint_states')
 
@@ -96,7 +99,7 @@ class SwerveSimTest(unittest.TestCase):
     @staticmethod
     def wait_for(cond, timeout, what):
         deadline = rospy.Time.now() + rospy.Duration(timeout)
-        rate = rospy.Rate(100)
+        rate = participant().Rate(100)
         while not rospy.is_shutdown() and not cond():
             if rospy.Time.now() > deadline:
                 raise AssertionError('timed out waiting for ' + what)
@@ -110,7 +113,7 @@ class SwerveSimTest(unittest.TestCase):
     def drive(self, vx, vy, wz, duration, each=None):
         """Publish the twist at 50 Hz (sim time) for `duration` s."""
         end = rospy.Time.now() + rospy.Duration(duration)
-        rate = rospy.Rate(50)
+        rate = participant().Rate(50)
         while not rospy.is_shutdown() and rospy.Time.now() < end:
             self.send(vx, vy, wz)
             if each:
@@ -254,7 +257,7 @@ class SwerveSimTest(unittest.TestCase):
         o0, g0 = self.odom, self.gt
         goal = Pose(1.0, 0.5, 0.5)
         kp, kth, vmax, wmax = 1.5, 2.0, 0.4, 0.8
-        rate = rospy.Rate(50)
+        rate = participant().Rate(50)
         deadline = rospy.Time.now() + rospy.Duration(20.0)
         while not rospy.is_shutdown() and rospy.Time.now() < deadline:
             here = self.odom.relative_to(o0)
