@@ -67,7 +67,7 @@ if(CATKIN_ENABLE_TESTING)
     mybot_diffdrive_nodelets)
   # In the simulator (mybot, joint-command mode) against ground truth.
   # square runs the four nodes in one process (diffdrive_chain), the others as separate nodes.
-  foreach(args "mode:=square\;process:=chain" "mode:=step" "mode:=weak\;pid_on:=true" "mode:=weak\;pid_on:=false")
+  foreach(args "mode:=square\;process:=chain" "mode:=reset\;process:=chain" "mode:=step" "mode:=weak\;pid_on:=true" "mode:=weak\;pid_on:=false")
     add_rostest(test/rostest/sim_chain.test ARGS ${args} DEPENDENCIES diffdrive_controller wheel_controller
       diffdrive_odom twist_mux diffdrive_chain mybot_diffdrive_nodelets)
   endforeach()

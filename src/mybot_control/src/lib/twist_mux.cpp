@@ -68,7 +68,8 @@ int TwistMux::lockPriority(double t) const
     const auto& s = lock_state_[k];
     const double timeout = locks_[k].timeout;
     // A lock with a timeout is a heartbeat: silence engages it (as upstream twist_mux).
-    const bool silent = timeout > 0.0 && (!s.received || t - s.stamp > timeout);
+    // A stamp in the future means time went backwards: as silent as a stale one.
+    const bool silent = timeout > 0.0 && (!s.received || t - s.stamp > timeout || t < s.stamp);
     if (silent || (s.received && s.value))
       priority = std::max(priority, locks_[k].priority);
   }
@@ -81,7 +82,8 @@ bool TwistMux::topicAlive(int index, double t) const
   if (!s.received)
     return false;
   const double timeout = topics_[index].timeout;
-  return timeout <= 0.0 || t - s.stamp <= timeout;
+  // A message stamped after t came before time went backwards (a simulation reset): not alive.
+  return t >= s.stamp && (timeout <= 0.0 || t - s.stamp <= timeout);
 }
 
 int TwistMux::active(double t) const

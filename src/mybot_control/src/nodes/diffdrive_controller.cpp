@@ -73,7 +73,10 @@ private:
     if (now < last_step_)  // time went backwards (simulation reset): start over from rest
       limiter_.reset();
     last_step_ = now;
-    const bool timed_out = !have_cmd_ || (cmd_vel_timeout_ > 0.0 && (now - last_cmd_).toSec() > cmd_vel_timeout_);
+    // A command from before a jump back in time (simulation reset) is not fresh: it times out
+    // (otherwise now - last_cmd_ < 0 would keep it forever and the robot would drive itself).
+    const bool timed_out = !have_cmd_ || now < last_cmd_ ||
+                           (cmd_vel_timeout_ > 0.0 && (now - last_cmd_).toSec() > cmd_vel_timeout_);
     // On timeout the target is zero, still through the limiter: the robot ramps down.
     Twist2D twist = limiter_.limit(timed_out ? Twist2D{} : command_, dt);
     WheelVelocities wheels = kin_.toWheelTangent(twist);

@@ -206,7 +206,7 @@ private:
       const double angle = wrapAngle(m.pivot_position);
       const double rate = m.encoder.valid() ? m.encoder.velocity() : 0.0;
       // No angle request yet: hold the module where it is. Requests stopping: stop the wheel.
-      const bool stale = m.last_speed_request.isZero() ||
+      const bool stale = m.last_speed_request.isZero() || now < m.last_speed_request ||
                          (timeout_ > 0.0 && (now - m.last_speed_request).toSec() > timeout_);
       const SwerveModuleState request{stale ? 0.0 : m.rqst_speed, m.have_angle_request ? m.rqst_angle : angle};
       const auto out = m.ctl.update(request, angle, rate, dt);

@@ -161,7 +161,8 @@ private:
   {
     {
       double motor = 0.0;
-      const bool fresh = w.have_target && (now - w.target_stamp).toSec() <= timeout_;
+      // A target from before a jump back in time (simulation reset) is stale, not fresh.
+      const bool fresh = w.have_target && now >= w.target_stamp && (now - w.target_stamp).toSec() <= timeout_;
       const double target = fresh ? w.target_tangent / w.radius : 0.0;
       publish(w.target_pub, target);
       if (!fresh)

@@ -54,6 +54,18 @@ TEST(TwistMux, TimeoutFallBackAndZeroOnce)
   EXPECT_EQ(mux.active(0.8), NAV);
 }
 
+// reset_simulation sends the clock back: a source last heard "in the future" is not alive,
+// so the mux neither keeps it active nor lets it block a lower priority.
+TEST(TwistMux, TimeGoingBackwardsLeavesNoSourceAlive)
+{
+  TwistMux mux = exampleMux();
+  mux.topicReceived(JOY, 100.0);
+  EXPECT_EQ(mux.active(100.2), JOY);
+  EXPECT_EQ(mux.active(0.1), -1);   // clock reset to 0.1 s
+  mux.topicReceived(NAV, 0.2);
+  EXPECT_TRUE(mux.shouldForward(NAV, 0.2));  // the joystick's stale stamp does not outrank it
+}
+
 TEST(TwistMux, ZeroWhenOverriddenSourceFallsBack)
 {
   TwistMux mux = exampleMux();

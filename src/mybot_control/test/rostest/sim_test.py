@@ -90,6 +90,48 @@ class SimTest(unittest.TestCase):
         m.angular.z = wz
         chain.pub.publish(m)
 
+    # --- time going backwards --------------------------------------------------------------
+    def run_reset(self):
+        """Drive, reset the simulation (the clock goes back to 0, as in Gazebo) and command
+        nothing more: the robot must not move by itself, and the topics must flow again."""
+        import time as wall
+        from sensor_msgs.msg import JointState
+        from std_srvs.srv import Empty
+        ls = participant()
+        js = []
+        ls.Subscriber('joint_states', JointState, lambda m: js.append(m.header.stamp.to_sec()), queue_size=50)
+        chain = Chain(cmd_topic='nav_vel')
+        chain.wait_ready()
+        chain.wait_for(lambda: self.gt.msg is not None, 30.0, 'ground truth')
+        rate = ls.Rate(50)
+        end = rospy.get_time() + 3.0
+        while rospy.get_time() < end:  # driving at 0.4 m/s when the reset comes
+            self.pub(chain, 0.4, 0.0)
+            rate.sleep()
+        before = rospy.get_time()
+        ls.release()  # the service call and the wait for the clock are blocking calls of ours
+        rospy.wait_for_service('/gazebo/reset_simulation', 10.0)
+        rospy.ServiceProxy('/gazebo/reset_simulation', Empty)()
+        deadline = wall.monotonic() + 30.0
+        while rospy.get_time() >= before and wall.monotonic() < deadline:
+            wall.sleep(0.01)
+        self.assertLess(rospy.get_time(), before, 'the clock did not go back')
+        reset_at = rospy.get_time()
+        # Topics flow again within a second of sim time.
+        n_js, n_odom = len(js), chain.odom_count
+        ls.wait_for(lambda: len(js) > n_js + 2 and chain.odom_count > n_odom + 2 and self.gt.msg.header.stamp.to_sec() <= reset_at + 1.0, 1.0)
+        self.assertGreater(len(js), n_js + 2, 'joint_states silent after the reset')
+        self.assertGreater(chain.odom_count, n_odom + 2, 'odom silent after the reset')
+        self.assertLess(self.gt.msg.header.stamp.to_sec(), reset_at + 1.0, 'ground truth silent after the reset')
+        # Nothing commanded since the reset: nothing moves (a little settling at most).
+        ls.sleep(0.5)
+        p0 = self.gt.pose()
+        ls.sleep(3.0)
+        p1 = self.gt.pose()
+        moved = math.hypot(p1[0] - p0[0], p1[1] - p0[1])
+        rospy.loginfo('reset: moved %.4f m in 3 s of sim time after the reset with no command', moved)
+        self.assertLess(moved, 0.005, 'the robot drove by itself after the reset')
+
     # --- wheel PID step --------------------------------------------------------------
     def run_step(self):
         lock = threading.Lock()

@@ -112,12 +112,16 @@ std::string resolveFrame(const PluginContext& c, std::string f) {
 }
 
 // Fires at a fixed sim-time period (0 = every step).
+// Fires at a fixed sim-time period (0 = every step). Time going backwards (reset_simulation
+// sends the clock back, as Gazebo does) starts it over: the next step fires.
 struct Rate {
-  double period = 0, next = 0;
+  double period = 0, next = 0, last = -1;
   explicit Rate(double hz = 0) : period(hz > 0 ? 1.0 / hz : 0) {}
   bool due(double t) {
     if (period <= 0) return true;
+    if (t < last) next = t;
     if (t + 1e-9 < next) return false;
+    last = t;
     next = (next + period < t) ? t + period : next + period;
     return true;
   }
