@@ -131,6 +131,9 @@ class SimNode {
         for (auto& m : models_)
           for (auto& p : m.plugins) p->update(t);
         if (t + 1e-9 >= last_contacts_ + kContactsPeriod) publishContacts();
+        // Within the period too, at pub_clock_frequency: nodes that do not take part keep the
+        // clock they had without lockstep; participants act only on the period's boundary.
+        if (i + 1 < steps_per_period_) publishClock(false);
       }
       publishClock(true);
       lockstep_->beginPeriod(ros::Time(t));
