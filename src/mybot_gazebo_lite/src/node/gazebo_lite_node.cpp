@@ -124,13 +124,7 @@ class SimNode {
       if (paused_) continue;  // paused while it waited
       double t = world_->time();
       for (int i = 0; i < steps_per_period_; ++i) {
-        for (auto& m : models_)
-          for (auto& p : m.plugins) p->preStep(t);
-        world_->step();
-        t = world_->time();
-        for (auto& m : models_)
-          for (auto& p : m.plugins) p->update(t);
-        if (t + 1e-9 >= last_contacts_ + kContactsPeriod) publishContacts();
+        t = stepOnce();
         // Within the period too, at pub_clock_frequency: nodes that do not take part keep the
         // clock they had without lockstep; participants act only on the period's boundary.
         if (i + 1 < steps_per_period_) publishClock(false);
@@ -153,15 +147,8 @@ class SimNode {
         anchor();
         continue;
       }
-      double t = world_->time();
-      for (auto& m : models_)
-        for (auto& p : m.plugins) p->preStep(t);
-      world_->step();
-      t = world_->time();
-      for (auto& m : models_)
-        for (auto& p : m.plugins) p->update(t);
+      const double t = stepOnce();
       publishClock(false);
-      if (t + 1e-9 >= last_contacts_ + kContactsPeriod) publishContacts();
       pace(t);
     }
   }
@@ -177,6 +164,19 @@ class SimNode {
   bool bad(const std::string& param, const std::string& msg) {
     ROS_FATAL("gazebo_lite: parameter ~%s: %s", param.c_str(), msg.c_str());
     return false;
+  }
+  // One physics step with the plugins around it (commands in, sensors out) and the contact
+  // counts. Returns the new sim time.
+  double stepOnce() {
+    double t = world_->time();
+    for (auto& m : models_)
+      for (auto& p : m.plugins) p->preStep(t);
+    world_->step();
+    t = world_->time();
+    for (auto& m : models_)
+      for (auto& p : m.plugins) p->update(t);
+    if (t + 1e-9 >= last_contacts_ + kContactsPeriod) publishContacts();
+    return t;
   }
   // real_time_factor is an upper bound: never run ahead of the wall clock times it.
   void pace(double t) {
