@@ -13,6 +13,7 @@
 // The protocol is described in mybot_lockstep's README.
 #pragma once
 
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 
 #include <deque>
@@ -99,6 +100,7 @@ public:
           arrived(resolved, e.getPublisherName(), [call, m] { call(m); });
         });
     ops.transport_hints = hints;
+    ops.callback_queue = &inbound_;
     return nh.subscribe(ops);
   }
 
@@ -111,10 +113,31 @@ private:
   void arrived(const std::string& topic, const std::string& source, std::function<void()> handle);
   bool runPeriod();  // true if anything ran
   void tryFinish();
+  void pump();
   void onWatchdog(const ros::WallTimerEvent&);
   void removeTimer(int id);
 
+  // Our subscriptions' deliveries: their own queue, so a period can take what this process
+  // published to itself without calling roscpp's global queue from inside one of its own
+  // callbacks (a nested callAvailable there appends to the thread's batch while the outer
+  // call holds an iterator into it: undefined behaviour, an occasional SIGSEGV). Each delivery
+  // also queues a pump on the global queue, so the node's own spinner drains it in order.
+  class InboundQueue : public ros::CallbackQueueInterface
+  {
+  public:
+    explicit InboundQueue(Participant& p);
+    ~InboundQueue() override;
+    void addCallback(const ros::CallbackInterfacePtr& cb, uint64_t owner_id) override;
+    void removeByID(uint64_t owner_id) override;
+    void callAvailable() { queue_.callAvailable(); }
+
+  private:
+    ros::CallbackQueue queue_;
+    ros::CallbackInterfacePtr pump_;
+  };
+
   std::recursive_mutex mutex_;
+  InboundQueue inbound_{*this};
   bool active_ = false, finishing_ = false;
   std::string self_;
   Ledger ledger_;

@@ -218,14 +218,57 @@ void Participant::onTick(const Tick::ConstPtr& tick)
   tryFinish();
 }
 
+namespace
+{
+class Pump : public ros::CallbackInterface
+{
+public:
+  explicit Pump(std::function<void()> f) : f_(std::move(f)) {}
+  CallResult call() override
+  {
+    f_();
+    return Success;
+  }
+
+private:
+  std::function<void()> f_;
+};
+}  // namespace
+
+Participant::InboundQueue::InboundQueue(Participant& p)
+  : pump_(boost::make_shared<Pump>([&p] { p.pump(); }))
+{
+}
+
+Participant::InboundQueue::~InboundQueue()
+{
+  ros::getGlobalCallbackQueue()->removeByID(reinterpret_cast<uint64_t>(this));
+}
+
+void Participant::InboundQueue::addCallback(const ros::CallbackInterfacePtr& cb, uint64_t owner_id)
+{
+  queue_.addCallback(cb, owner_id);
+  ros::getGlobalCallbackQueue()->addCallback(pump_, reinterpret_cast<uint64_t>(this));
+}
+
+void Participant::InboundQueue::removeByID(uint64_t owner_id) { queue_.removeByID(owner_id); }
+
+// Runs from the global queue (the node's spinner), never from inside inbound_: the arrivals
+// are recorded first, then the period is finished if they were all it waited for.
+void Participant::pump()
+{
+  inbound_.callAvailable();
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  if (pending_)
+    tryFinish();
+}
+
 void Participant::arrived(const std::string& topic, const std::string& source, std::function<void()> handle)
 {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
   inbox_[{topic, source}].push_back(std::move(handle));
   ledger_.received(topic, source);
   ++arrivals_;
-  if (pending_)
-    tryFinish();
 }
 
 // Everything this process does for one period, in an order that does not depend on when
@@ -264,13 +307,11 @@ bool Participant::runPeriod()
       return any;
     // What the callbacks above published to this process: a message published by reference
     // reaches even a subscriber in the same process through roscpp's poll thread, so let it
-    // pass first; then roscpp's queue hands it to our subscriptions. callAvailable() may be
-    // called from inside a callback (as ros::spinOnce in a callback) and then calls whatever
-    // is pending; callOne() would not do (nested, it calls the outer batch's next callback,
-    // whichever that is), nor does isEmpty() tell (never true inside a callback).
+    // pass first; then our subscriptions' own queue hands it over (never nested: runPeriod is
+    // called from the global queue's callbacks, pump() the only other caller of it).
     flushPublishQueues();
     const std::uint64_t before = arrivals_;
-    ros::getGlobalCallbackQueue()->callAvailable();
+    inbound_.callAvailable();
     work = drainInbox() || arrivals_ != before;
     any = any || work;
   }
