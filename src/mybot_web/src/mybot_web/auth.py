@@ -36,5 +36,7 @@ def resolve_token(host, token):
 
 
 def token_matches(expected, given):
-    """Constant-time comparison, so response timing does not leak the token."""
-    return hmac.compare_digest(expected.encode("utf-8"), given.encode("utf-8"))
+    """Constant-time comparison, so response timing does not leak the token. Total over str:
+    a lone surrogate (from a JSON \\uXXXX escape) encodes to bytes no real token has."""
+    return hmac.compare_digest(expected.encode("utf-8", "surrogatepass"),
+                               given.encode("utf-8", "surrogatepass"))

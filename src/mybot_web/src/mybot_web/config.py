@@ -3,6 +3,7 @@ is passed in). Names follow teleop_twist_joy (scale_linear, scale_angular) where
 from collections import namedtuple
 
 from .auth import ConfigError
+from .hosts import normal_name
 from .protocol import MODES
 
 
@@ -52,9 +53,22 @@ def _names(v):
     return "has duplicates" if len(set(v)) != len(v) else None
 
 
+def _hosts(v):
+    if not isinstance(v, list) or not all(isinstance(h, str) for h in v):
+        return "must be a list of host names (strings)"
+    bad = [h for h in v if normal_name(h) is None]
+    if bad:
+        return ("has %r, not a host name or address (the name alone: no scheme, port or path)"
+                % bad[0])
+    return None
+
+
 # name: (default, check, meaning)
 PARAMS = {
     "host": ("127.0.0.1", _string, "address to bind; not loopback => a control token is required"),
+    "allowed_hosts": ([], _hosts, "more names the page may be opened with (DNS-rebinding "
+                      "defence); loopback, ~host, addresses and, on 0.0.0.0/::, this machine's "
+                      "names are always accepted"),
     "port": (8080, _integer(0, 65535), "TCP port (0 = any free port, see ~url)"),
     "token": ("", _token, "control token; empty = none on loopback, generated otherwise"),
     "holonomic": (False, _bool, "offer sideways motion (linear.y), for the swerve robot"),

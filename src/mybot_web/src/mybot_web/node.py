@@ -27,7 +27,7 @@ from std_msgs.msg import Bool, Float32, Float64
 from mybot_navigation.action_client import SimpleActionClient
 
 from . import config as web_config
-from . import views
+from . import hosts, views
 from .auth import ConfigError, resolve_token
 from .control import DriveArbiter, scale_command
 from .server import WebServer
@@ -336,8 +336,11 @@ def main(argv=None):
     www = os.path.join(rospkg.RosPack().get_path("mybot_web"), "www")
     backend = RosBackend(cfg)
     loop = tornado.ioloop.IOLoop.current()
+    # Only asked when used: getfqdn() may wait for DNS.
+    machine = (socket.gethostname(), socket.getfqdn()) if hosts.is_wildcard(cfg.host) else ()
+    allowed = hosts.allowed_names(cfg.host, cfg.allowed_hosts, machine)
     server = WebServer(backend, www, token=token, view_rate=cfg.view_rate,
-                       log=logging.getLogger("rosout"))
+                       log=logging.getLogger("rosout"), allowed_hosts=allowed)
     try:
         port = server.listen(cfg.host, cfg.port)
     except OSError as e:
@@ -351,6 +354,8 @@ def main(argv=None):
     host = "[%s]" % host if ":" in host else host
     url = "http://%s:%d/" % (host, port)
     rospy.set_param("~url", url)
+    rospy.loginfo("web_controller: answering Host %s and addresses (~allowed_hosts adds names)",
+                  ", ".join(sorted(allowed)))
     if token is None:
         rospy.loginfo("web_controller: open %s", url)
     else:

@@ -11,6 +11,9 @@ from collections import namedtuple
 
 MAX_MESSAGE_BYTES = 4096
 MAX_TOKEN_CHARS = 256
+# Messages are flat objects (depth 1). json decodes nesting recursively: 2000 levels fit in a
+# 4 kB frame and exceed Python's recursion limit, so deep input is refused before decoding.
+MAX_NESTING = 4
 # Goals are in metres in the global frame; anything beyond this is a client bug.
 MAX_GOAL_COORDINATE = 1.0e5
 
@@ -64,6 +67,8 @@ def _check_field(kind, name, value, spec):
             raise ProtocolError("%s must be a string" % where)
         if len(value) > spec[1]:
             raise ProtocolError("%s is longer than %d characters" % (where, spec[1]))
+        if not _is_unicode(value):
+            raise ProtocolError("%s is not valid Unicode (a lone UTF-16 surrogate)" % where)
         return value
     if value not in spec[1]:
         raise ProtocolError("%s must be one of %s" % (where, ", ".join(spec[1])))
@@ -76,6 +81,8 @@ def parse_message(raw):
         raise ProtocolError("binary frames are not accepted")
     if len(raw) > MAX_MESSAGE_BYTES:
         raise ProtocolError("message longer than %d bytes" % MAX_MESSAGE_BYTES)
+    if _nesting(raw) > MAX_NESTING:
+        raise ProtocolError("message nested deeper than %d levels" % MAX_NESTING)
     try:
         # Python's json accepts NaN/Infinity literals; reject them at the source.
         obj = json.loads(raw, parse_constant=_reject_constant)
@@ -89,13 +96,47 @@ def parse_message(raw):
     ctor, fields = SCHEMA[kind]
     extra = sorted(set(obj) - set(fields) - {"type"})
     if extra:
-        raise ProtocolError("%s has unknown field(s) %s" % (kind, ", ".join(extra)))
+        # ascii(): the names come from the client and end up in the log; escaped, they cannot
+        # forge log lines or carry text that does not encode.
+        raise ProtocolError("%s has unknown field(s) %s" % (kind, ", ".join(map(ascii, extra))))
     values = {}
     for name, spec in fields.items():
         if name not in obj:
             raise ProtocolError("%s.%s is missing" % (kind, name))
         values[name] = _check_field(kind, name, obj[name], spec)
     return ctor(**values)
+
+
+def _nesting(raw):
+    """Deepest [ / { nesting of a JSON text, brackets inside strings not counted."""
+    depth = deepest = 0
+    in_string = escaped = False
+    for c in raw:
+        if in_string:
+            if escaped:
+                escaped = False
+            elif c == "\\":
+                escaped = True
+            elif c == '"':
+                in_string = False
+        elif c == '"':
+            in_string = True
+        elif c in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif c in "]}":
+            depth -= 1
+    return deepest
+
+
+def _is_unicode(text):
+    # JSON's \uXXXX escapes can spell half of a UTF-16 surrogate pair, which is no character:
+    # Python keeps it in the str, and encoding it later (the token comparison) would raise.
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
 
 
 def _reject_constant(name):

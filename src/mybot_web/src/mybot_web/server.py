@@ -10,11 +10,15 @@ Backend interface (the ROS node implements it; tests use a fake):
     map_message() -> (version, dict) or None
     state() -> dict           live view snapshot (pose, trail, scan, path, modules, battery, ...)
 All backend methods are called on the tornado IOLoop thread.
+
+Every request must name the server by one of its own names (Host, and Origin for the
+websocket), else it gets a 403: the DNS-rebinding defence of hosts.py.
 """
 import itertools
 import json
 import logging
 import os
+from urllib.parse import urlsplit
 
 import tornado.ioloop
 import tornado.netutil
@@ -22,7 +26,7 @@ import tornado.web
 import tornado.websocket
 from tornado.httpserver import HTTPServer
 
-from . import protocol
+from . import hosts, protocol
 from .auth import token_matches
 
 MAX_AUTH_FAILURES = 3
@@ -33,7 +37,27 @@ LOG_FIRST, LOG_EVERY = 5, 100
 _log = logging.getLogger("mybot_web")
 
 
-class _Page(tornado.web.RequestHandler):
+class _HostCheck:
+    """First base of every handler: the Host check runs before any handler method."""
+
+    def prepare(self):
+        self.check_host()
+
+    def check_host(self):
+        """True, or False after answering 403, when Host is not one of the server's names."""
+        # The header itself: request.host is "127.0.0.1" when the header is missing.
+        value = self.request.headers.get("Host")
+        return self.application.settings["web"].admit(self, "Host", value,
+                                                      hosts.host_name(value))
+
+
+class _NotFound(_HostCheck, tornado.web.RequestHandler):
+    def prepare(self):
+        if self.check_host():
+            raise tornado.web.HTTPError(404)
+
+
+class _Page(_HostCheck, tornado.web.RequestHandler):
     def initialize(self, path):
         self.path = path
 
@@ -47,7 +71,7 @@ class _Page(tornado.web.RequestHandler):
             self.write(f.read())
 
 
-class _Static(tornado.web.StaticFileHandler):
+class _Static(_HostCheck, tornado.web.StaticFileHandler):
     def set_default_headers(self):
         _security_headers(self)
 
@@ -61,12 +85,29 @@ def _security_headers(handler):
     handler.set_header("Referrer-Policy", "no-referrer")
 
 
-class _Socket(tornado.websocket.WebSocketHandler):
+def _origin_host(origin):
+    try:
+        return hosts.host_name(urlsplit(origin).netloc)
+    except ValueError:  # e.g. an unclosed "[" in the address
+        return None
+
+
+class _Socket(_HostCheck, tornado.websocket.WebSocketHandler):
     def initialize(self, web):
         self.web = web
 
-    # tornado's default check_origin refuses cross-site pages (a page elsewhere cannot drive
-    # the robot through a visitor's browser); keep it.
+    def prepare(self):
+        if not self.check_host():
+            return
+        headers = self.request.headers
+        # The header names of tornado's own origin check (the older protocol's in the fallback).
+        origin = headers.get("Origin", headers.get("Sec-Websocket-Origin"))
+        # No Origin: not a browser, so no page that could have been rebound.
+        if origin is not None:
+            self.web.admit(self, "Origin", origin, _origin_host(origin))
+
+    # tornado's default check_origin then refuses cross-site pages (a page elsewhere cannot
+    # drive the robot through a visitor's browser), addresses included; keep it.
 
     def open(self):
         self.client = next(self.web.ids)
@@ -152,21 +193,48 @@ class _Socket(tornado.websocket.WebSocketHandler):
 
 
 class WebServer:
-    def __init__(self, backend, www_dir, token=None, view_rate=10.0, log=_log):
+    """allowed_hosts: the server's names besides addresses, as from hosts.allowed_names()."""
+
+    def __init__(self, backend, www_dir, token=None, view_rate=10.0, log=_log,
+                 allowed_hosts=hosts.LOOPBACK_NAMES):
         self.backend = backend
         self.token = token
         self.view_rate = view_rate
         self.log = log
+        self.allowed_hosts = frozenset(allowed_hosts)
+        self.refused = 0
         self.clients = set()
         self.ids = itertools.count(1)
         self.app = tornado.web.Application([
             (r"/", _Page, {"path": os.path.join(www_dir, "index.html")}),
             (r"/ws", _Socket, {"web": self}),
             (r"/static/(.*)", _Static, {"path": www_dir}),
-        ], websocket_max_message_size=protocol.MAX_MESSAGE_BYTES,
+        ], default_handler_class=_NotFound, web=self,
+            websocket_max_message_size=protocol.MAX_MESSAGE_BYTES,
             websocket_ping_interval=2.0, websocket_ping_timeout=4.0)
         self._http = None
         self._ticker = None
+
+    def admit(self, handler, header, value, name):
+        """True when name (from the header's value) is one of this server's; else answers 403
+        saying what to set, logs (throttled as reject()) and returns False."""
+        if hosts.is_allowed(name, self.allowed_hosts):
+            return True
+        shown = ascii(value[:100]) if value is not None else "(none)"
+        if name is None:
+            reason = "%s %s is missing or malformed" % (header, shown)
+        else:
+            reason = ("%s %s is not a name of this server; if it is one, add %s to the "
+                      "web_controller parameter ~allowed_hosts" % (header, shown, name))
+        self.refused += 1
+        if self.refused <= LOG_FIRST or self.refused % LOG_EVERY == 0:
+            self.log.warning("web: refused %s from %s: %s [%d refused]",
+                             handler.request.path[:100], handler.request.remote_ip, reason,
+                             self.refused)
+        handler.set_status(403)
+        handler.set_header("Content-Type", "text/plain; charset=utf-8")
+        handler.finish(reason + "\n")
+        return False
 
     def listen(self, host, port):
         """Bind (port 0 = any free port) and return the bound port. Raises OSError."""

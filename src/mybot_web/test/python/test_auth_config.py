@@ -38,13 +38,14 @@ def test_token_matches():
     assert token_matches("abcdefgh", "abcdefgh")
     assert not token_matches("abcdefgh", "abcdefgX")
     assert not token_matches("abcdefgh", "")
+    assert not token_matches("abcdefgh", "\ud800")  # a lone surrogate: no match, no error
 
 
 def test_config_defaults():
     cfg = config.load(lambda name, default: default)
     assert cfg.host == "127.0.0.1" and cfg.port == 8080
     assert cfg.deadman_timeout == 0.3 and cfg.scale_linear == 0.5 and cfg.scale_angular == 1.0
-    assert cfg.swerve_modules == []
+    assert cfg.swerve_modules == [] and cfg.allowed_hosts == []
 
 
 @pytest.mark.parametrize("name, value, words", [
@@ -57,6 +58,12 @@ def test_config_defaults():
     ("swerve_modules", ["a", "a"], "~swerve_modules has duplicates"),
     ("swerve_angle_topic", "swerve/angle", "{module}"),
     ("host", "", "~host must be a non-empty string"),
+    ("allowed_hosts", "robot.lan", "~allowed_hosts must be a list of host names"),
+    ("allowed_hosts", ["robot.lan", 7], "~allowed_hosts must be a list of host names"),
+    ("allowed_hosts", [None], "~allowed_hosts must be a list of host names"),
+    ("allowed_hosts", ["http://robot.lan"], "~allowed_hosts has 'http://robot.lan', not a host"),
+    ("allowed_hosts", ["robot.lan:8080"], "~allowed_hosts has 'robot.lan:8080'"),
+    ("allowed_hosts", [""], "~allowed_hosts has ''"),
 ])
 def test_config_errors_name_the_parameter(name, value, words):
     with pytest.raises(ConfigError) as e:
@@ -67,3 +74,9 @@ def test_config_errors_name_the_parameter(name, value, words):
 def test_config_accepts_int_for_float():
     cfg = config.load(lambda n, default: 1 if n == "scale_linear" else default)
     assert cfg.scale_linear == 1.0 and isinstance(cfg.scale_linear, float)
+
+
+def test_config_accepts_host_names_and_addresses():
+    hosts = ["robot.lan", "Cam.Example.", "10.0.0.2", "[fe80::1]", "fe80::2"]
+    assert config.load(lambda n, default: hosts if n == "allowed_hosts" else default
+                       ).allowed_hosts == hosts

@@ -41,6 +41,10 @@ def test_valid_messages_parse():
     ("{not json", "not valid JSON"),
     (b'{"type": "stop"}', "binary"),
     ('{"type": "stop", "pad": "' + "x" * 5000 + '"}', "longer than"),
+    ("[" * 2000 + "]" * 2000, "nested deeper than"),             # RecursionError in json
+    ('{"type": "stop", "pad": ' + "{\"a\": " * 9 + "1" + "}" * 9 + "}", "nested deeper than"),
+    ('{"type": "auth", "token": "\\ud800"}', "auth.token is not valid Unicode"),
+    ('{"type": "auth", "token": "ab\\udfffcd"}', "auth.token is not valid Unicode"),
 ])
 def test_bad_messages_are_rejected_naming_the_problem(raw, field):
     with pytest.raises(ProtocolError) as e:
@@ -52,3 +56,17 @@ def test_range_edges_are_accepted():
     assert parse_message(msg(type="drive", vx=-1, vy=1, wz=1.0)) == Drive(-1.0, 1.0, 1.0)
     g = parse_message(msg(type="goal", x=0, y=0, yaw=-2 * math.pi))
     assert g.yaw == -2 * math.pi
+
+
+def test_brackets_and_escapes_inside_strings_are_not_nesting():
+    token = '[[[[[[\\"{{{{{{'
+    assert parse_message('{"type": "auth", "token": "%s"}' % token).token == '[[[[[["{{{{{{'
+    # A surrogate pair is one real character.
+    assert parse_message('{"type": "auth", "token": "\\ud83d\\ude00"}').token == "\U0001f600"
+
+
+def test_unknown_field_names_are_escaped_in_the_error():
+    with pytest.raises(ProtocolError) as e:
+        parse_message('{"type": "stop", "x\\ud800\\n": 1}')
+    assert "'x\\ud800\\n'" in str(e.value)
+    str(e.value).encode("utf-8")  # safe to log

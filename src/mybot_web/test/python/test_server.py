@@ -4,11 +4,13 @@ import logging
 import os
 
 import tornado.httpclient
+import tornado.tcpclient
 import tornado.websocket
 from tornado.testing import AsyncHTTPTestCase, gen_test
 
+from mybot_web import hosts
 from mybot_web.protocol import Drive, Goal
-from mybot_web.server import MAX_AUTH_FAILURES, WebServer
+from mybot_web.server import LOG_FIRST, MAX_AUTH_FAILURES, WebServer
 
 WWW = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "www")
 
@@ -46,17 +48,21 @@ class FakeBackend:
 
 class ServerCase(AsyncHTTPTestCase):
     token = None
+    allowed_hosts = hosts.LOOPBACK_NAMES
 
     def get_app(self):
         self.backend = FakeBackend()
         self.web = WebServer(self.backend, WWW, token=self.token, view_rate=0,
-                             log=logging.getLogger("test"))
+                             log=logging.getLogger("test"), allowed_hosts=self.allowed_hosts)
         return self.web.app
 
-    async def connect(self, origin=None):
+    async def connect(self, origin=None, host=None):
         url = "ws://127.0.0.1:%d/ws" % self.get_http_port()
-        req = tornado.httpclient.HTTPRequest(url, headers={"Origin": origin} if origin else {})
-        ws = await tornado.websocket.websocket_connect(req)
+        headers = {"Origin": origin} if origin else {}
+        if host is not None:
+            headers["Host"] = host
+        ws = await tornado.websocket.websocket_connect(
+            tornado.httpclient.HTTPRequest(url, headers=headers))
         hello = json.loads(await ws.read_message())
         assert hello["type"] == "hello"
         return ws, hello
@@ -122,6 +128,18 @@ class TestOpenServer(ServerCase):
         assert json.loads(await ws.read_message())["width"] == 2  # new map version pushed
 
     @gen_test
+    async def test_deeply_nested_json_is_answered_and_the_socket_stays(self):
+        # 2000 levels in 4000 bytes: json's recursive decoder used to raise RecursionError,
+        # and tornado then dropped the connection.
+        ws, hello = await self.connect()
+        ws.write_message("[" * 2000 + "]" * 2000)
+        err = json.loads(await ws.read_message())
+        assert err["type"] == "error" and "nested deeper" in err["message"]
+        ws.write_message(json.dumps({"type": "drive", "vx": 0.5, "vy": 0, "wz": 0}))
+        await self.until(lambda: any(c[0] == "drive" for c in self.backend.calls))
+        assert self.backend.calls[-1] == ("drive", hello["client"], Drive(0.5, 0.0, 0.0))
+
+    @gen_test
     async def test_cross_origin_pages_cannot_connect(self):
         try:
             await self.connect(origin="http://evil.example")
@@ -163,3 +181,104 @@ class TestTokenServer(ServerCase):
             messages.append(json.loads(m))
         assert len(messages) == MAX_AUTH_FAILURES
         assert ws.close_code == 4001
+
+    @gen_test
+    async def test_lone_surrogate_token_is_answered_and_the_socket_stays(self):
+        # JSON may spell half a UTF-16 pair; it used to raise UnicodeEncodeError in the token
+        # comparison, and tornado then dropped the connection.
+        ws, _ = await self.connect()
+        ws.write_message('{"type":"auth","token":"\\ud800"}')
+        err = json.loads(await ws.read_message())
+        assert err["type"] == "error" and "auth.token is not valid Unicode" in err["message"]
+        ws.write_message(json.dumps({"type": "auth", "token": "correct-horse"}))
+        assert json.loads(await ws.read_message()) == {"type": "auth", "authed": True}
+
+
+def refused(response, words):
+    body = response.body.decode()
+    return (response.code == 403 and response.headers["Content-Type"].startswith("text/plain")
+            and all(w in body for w in words))
+
+
+class TestHostCheck(ServerCase):
+    """DNS rebinding: a page whose own name resolves to this machine must not be answered."""
+
+    def get(self, path, host):
+        return self.fetch(path, headers={"Host": host})
+
+    def test_loopback_names_and_addresses_are_served(self):
+        port = self.get_http_port()
+        for host in ("localhost:%d" % port, "LocalHost", "127.0.0.1", "127.0.0.1:%d" % port,
+                     "[::1]:8080", "[::1]", "localhost.", "192.168.1.7:8080", "[fe80::1]:80"):
+            assert self.get("/", host).code == 200, host
+        assert self.get("/static/app.js", "localhost:%d" % port).code == 200
+
+    def test_other_names_get_403_naming_the_host_and_the_parameter(self):
+        for path in ("/", "/static/app.js", "/ws", "/no-such-page"):
+            r = self.get(path, "evil.example:%d" % self.get_http_port())
+            assert refused(r, ["evil.example", "~allowed_hosts"]), (path, r.code, r.body)
+        for host in ("Evil.Example", "localhost.evil.example", "127.0.0.1.evil.example"):
+            assert refused(self.get("/", host), [host.lower()]), host
+        assert self.backend.calls == []
+
+    def test_empty_and_malformed_hosts_get_403(self):
+        for host in ("", "localhost:80:80", "[::1", "[::1]x", "localhost:http", "local host"):
+            assert refused(self.get("/", host), ["Host", "malformed"]), host
+
+    @gen_test
+    async def test_missing_host_gets_403(self):
+        # HTTP/1.0 allows it; tornado itself would take the request as 127.0.0.1.
+        stream = await tornado.tcpclient.TCPClient().connect("127.0.0.1", self.get_http_port())
+        await stream.write(b"GET / HTTP/1.0\r\n\r\n")
+        reply = await stream.read_until_close()
+        assert reply.startswith(b"HTTP/1.1 403") and b"Host (none) is missing" in reply
+
+    def test_refusals_are_logged_throttled(self):
+        with self.assertLogs("test", "WARNING") as logs:
+            for _ in range(LOG_FIRST + 3):
+                self.get("/", "evil.example")
+        assert len(logs.records) == LOG_FIRST
+        assert "Host 'evil.example'" in logs.output[0] and "[1 refused]" in logs.output[0]
+
+    @gen_test
+    async def test_websocket_from_the_page_or_without_origin_is_accepted(self):
+        port = self.get_http_port()
+        await self.connect(origin="http://127.0.0.1:%d" % port)
+        await self.connect(origin="http://localhost:%d" % port, host="localhost:%d" % port)
+        ws, _ = await self.connect()  # no Origin: not a browser
+        ws.write_message(json.dumps({"type": "stop"}))
+        await self.until(lambda: self.backend.calls)
+
+    @gen_test
+    async def test_websocket_from_another_origin_gets_403(self):
+        port = self.get_http_port()
+        for origin, host, words in [
+            ("http://evil.example:%d" % port, None, ["Origin", "evil.example", "~allowed_hosts"]),
+            ("null", None, ["Origin 'null' is missing or malformed"]),
+            ("http://[::1", None, ["malformed"]),
+            # The rebinding itself: the page and the socket both under the attacker's name.
+            ("http://evil.example:%d" % port, "evil.example:%d" % port, ["Host", "evil.example"]),
+            (None, "evil.example:%d" % port, ["Host", "evil.example"]),
+        ]:
+            try:
+                await self.connect(origin=origin, host=host)
+            except tornado.httpclient.HTTPClientError as e:
+                assert refused(e.response, words), (origin, host, e.response.body)
+            else:
+                raise AssertionError("websocket accepted: Origin %s, Host %s" % (origin, host))
+        assert self.web.clients == set()
+
+
+class TestConfiguredNames(ServerCase):
+    allowed_hosts = hosts.allowed_names("robot.lan", ["Cam.Example"])
+
+    def test_bind_name_and_allowed_hosts_are_served(self):
+        for host in ("robot.lan:8080", "ROBOT.LAN", "cam.example.", "localhost:8080"):
+            assert self.fetch("/", headers={"Host": host}).code == 200, host
+        assert self.fetch("/", headers={"Host": "other.lan"}).code == 403
+
+    @gen_test
+    async def test_websocket_under_a_configured_name(self):
+        origin = "http://cam.example:%d" % self.get_http_port()
+        ws, hello = await self.connect(origin=origin, host=origin[len("http://"):])
+        assert hello["authed"]
