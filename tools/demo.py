@@ -586,10 +586,11 @@ def write_report(out, summaries, wall_s):
             lines.append("- navigation error: " + n["error"])
         lines.append("")
     text = "\n".join(lines)
-    with open(os.path.join(out, "report.md"), "w") as f:
-        f.write(text + "\n")
-    with open(os.path.join(out, "report.json"), "w") as f:
-        json.dump(summaries, f, indent=2, default=float)
+    # Both or neither: a demo interrupted while reporting leaves the previous report whole.
+    from mybot_common.atomic_file import write_files_atomically  # built by scripts/setup; --help runs before
+
+    write_files_atomically([(os.path.join(out, "report.md"), text + "\n"),
+                            (os.path.join(out, "report.json"), json.dumps(summaries, indent=2, default=float))])
     return text
 
 

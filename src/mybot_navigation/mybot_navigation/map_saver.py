@@ -4,6 +4,8 @@ Pure functions: no rospy, so they are unit tested directly."""
 import math
 import os
 
+from mybot_common.atomic_file import write_files_atomically
+
 DEFAULT_OCC = 65
 DEFAULT_FREE = 25
 
@@ -33,18 +35,37 @@ def yaml_text(image_name, resolution, origin_x, origin_y, yaw):
             "free_thresh: 0.196\n\n" % (image_name, resolution, origin_x, origin_y, yaw))
 
 
+def check_grid(info):
+    """A map worth saving: a positive finite resolution and a finite origin. Returns an error
+    message naming the field, or None."""
+    if not (math.isfinite(info.resolution) and info.resolution > 0):
+        return "map info.resolution must be a positive number, got %r" % (info.resolution,)
+    p, q = info.origin.position, info.origin.orientation
+    for name, v in (("x", p.x), ("y", p.y), ("z", p.z)):
+        if not math.isfinite(v):
+            return "map info.origin.position.%s is %r" % (name, v)
+    for name, v in (("x", q.x), ("y", q.y), ("z", q.z), ("w", q.w)):
+        if not math.isfinite(v):
+            return "map info.origin.orientation.%s is %r" % (name, v)
+    return None
+
+
 def save_map(grid, basename, occ=DEFAULT_OCC, free=DEFAULT_FREE):
-    """Writes basename.pgm and basename.yaml from a nav_msgs/OccupancyGrid-like object.
-    Returns the two paths."""
+    """Writes basename.pgm and basename.yaml from a nav_msgs/OccupancyGrid-like object, both or
+    neither: the grid is checked and both files composed before anything is written, then they
+    replace the old pair atomically. Raises ValueError (a malformed grid) or
+    mybot_common.atomic_file.AtomicFileError (naming the file). Returns the two paths."""
     info = grid.info
+    error = check_grid(info)
+    if error:
+        raise ValueError(error)
     q = info.origin.orientation
     pgm_path = basename + ".pgm"
     yaml_path = basename + ".yaml"
-    with open(pgm_path, "wb") as f:
-        f.write(pgm_bytes(grid.data, info.width, info.height, info.resolution, occ, free))
-    with open(yaml_path, "w") as f:
-        f.write(yaml_text(os.path.basename(pgm_path), info.resolution, info.origin.position.x,
-                          info.origin.position.y, yaw_from_quaternion(q.x, q.y, q.z, q.w)))
+    image = pgm_bytes(grid.data, info.width, info.height, info.resolution, occ, free)
+    text = yaml_text(os.path.basename(pgm_path), info.resolution, info.origin.position.x,
+                     info.origin.position.y, yaw_from_quaternion(q.x, q.y, q.z, q.w))
+    write_files_atomically([(pgm_path, image), (yaml_path, text)])
     return pgm_path, yaml_path
 
 

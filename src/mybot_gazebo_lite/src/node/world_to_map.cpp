@@ -2,10 +2,10 @@
 // occupancy grid (PGM + YAML in map_server's format).
 #include "mybot_gazebo_lite/parsing.h"
 #include "mybot_gazebo_lite/raycast2d.h"
+#include "mybot_common/map_file.h"
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <string>
@@ -95,23 +95,22 @@ int main(int argc, char** argv) {
   std::vector<uint8_t> grid;
   rasterizeSlice(all, x0, y0, res, w, h, grid);
 
-  std::string pgm = out + ".pgm", yaml = out + ".yaml";
-  std::ofstream f(pgm, std::ios::binary);
-  if (!f) {
-    std::cerr << "world_to_map: cannot write " << pgm << "\n";
+  mybot_common::MapCells map;
+  map.width = w;
+  map.height = h;
+  map.resolution = res;
+  map.origin_x = x0;
+  map.origin_y = y0;
+  map.data.resize(grid.size());
+  for (size_t i = 0; i < grid.size(); ++i) map.data[i] = grid[i] ? 100 : 0;
+  // Both files or neither: a failed save leaves an existing pair as it was.
+  try {
+    mybot_common::saveMapFiles(out, map, 65, 25, "world_to_map from " + world_file);
+  } catch (const std::exception& e) {
+    std::cerr << "world_to_map: " << e.what() << "\n";
     return 1;
   }
-  f << "P5\n# ground truth from " << world_file << "\n" << w << " " << h << "\n255\n";
-  for (int r = h - 1; r >= 0; --r)  // PGM row 0 is the top (max y)
-    for (int c = 0; c < w; ++c) f.put(grid[static_cast<size_t>(r) * w + c] ? 0 : 254);
-  std::ofstream y(yaml);
-  std::string base = pgm.substr(pgm.find_last_of('/') == std::string::npos ? 0 : pgm.find_last_of('/') + 1);
-  y << "image: " << base << "\nresolution: " << res << "\norigin: [" << x0 << ", " << y0
-    << ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
-  if (!y) {
-    std::cerr << "world_to_map: cannot write " << yaml << "\n";
-    return 1;
-  }
+  const std::string pgm = out + ".pgm", yaml = out + ".yaml";
   std::cout << "wrote " << pgm << " (" << w << "x" << h << " @ " << res << " m) and " << yaml << "\n";
   return 0;
 }

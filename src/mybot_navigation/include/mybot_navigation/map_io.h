@@ -41,6 +41,8 @@ GridMap loadMapImage(const MapYaml& meta);
 GridMap loadMap(const std::string& yaml_path);
 
 // map_saver's conversion: 0 <= v <= free -> 254, v >= occ -> 0, else 205; PGM (P5) rows from the top.
+// Both files or neither (mybot_common::saveMapFiles): a failure throws MapIoError naming the file
+// and leaves an existing pair as it was.
 void saveMap(const GridMap& map, const std::string& basename, int occ = 65, int free = 25);
 
 }  // namespace mybot_navigation

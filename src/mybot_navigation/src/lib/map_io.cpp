@@ -7,6 +7,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "mybot_common/map_file.h"
+
 namespace mybot_navigation
 {
 namespace
@@ -15,12 +17,6 @@ std::string dirName(const std::string& path)
 {
   const auto slash = path.find_last_of('/');
   return slash == std::string::npos ? std::string(".") : path.substr(0, slash == 0 ? 1 : slash);
-}
-
-std::string baseName(const std::string& path)
-{
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
 template <typename T>
@@ -154,26 +150,22 @@ GridMap loadMap(const std::string& yaml_path) { return loadMapImage(readMapYaml(
 
 void saveMap(const GridMap& map, const std::string& basename, int occ, int free)
 {
-  const std::string pgm = basename + ".pgm";
-  FILE* out = std::fopen(pgm.c_str(), "w");
-  if (!out)
-    throw MapIoError("cannot write map image " + pgm);
-  std::fprintf(out, "P5\n# CREATOR: map_saver.cpp %.3f m/pix\n%d %d\n255\n", map.info.resolution, map.info.width,
-               map.info.height);
-  for (int y = 0; y < map.info.height; ++y)
-    for (int x = 0; x < map.info.width; ++x)
-    {
-      const int v = map.at(x, map.info.height - y - 1);
-      std::fputc(v >= 0 && v <= free ? 254 : (v >= occ ? 0 : 205), out);
-    }
-  std::fclose(out);
-  const std::string yaml = basename + ".yaml";
-  FILE* y = std::fopen(yaml.c_str(), "w");
-  if (!y)
-    throw MapIoError("cannot write map metadata " + yaml);
-  std::fprintf(y, "image: %s\nresolution: %f\norigin: [%f, %f, %f]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n\n",
-               baseName(pgm).c_str(), map.info.resolution, map.info.origin.x, map.info.origin.y, map.info.origin.theta);
-  std::fclose(y);
+  mybot_common::MapCells cells;
+  cells.width = map.info.width;
+  cells.height = map.info.height;
+  cells.resolution = map.info.resolution;
+  cells.origin_x = map.info.origin.x;
+  cells.origin_y = map.info.origin.y;
+  cells.origin_yaw = map.info.origin.theta;
+  cells.data = map.data;
+  try
+  {
+    mybot_common::saveMapFiles(basename, cells, occ, free);
+  }
+  catch (const std::exception& e)
+  {
+    throw MapIoError(e.what());
+  }
 }
 
 }  // namespace mybot_navigation

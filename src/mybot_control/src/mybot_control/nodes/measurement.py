@@ -7,6 +7,7 @@ from geometry_msgs.msg import PointStamped, PoseStamped
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Float32, Float64
 
+from mybot_common.atomic_file import write_file_atomically
 from mybot_control import measurement as meas
 from mybot_control import params
 from mybot_control.nodes import common
@@ -119,8 +120,8 @@ class PoseError:
         rospy.loginfo("pose_error summary (%s vs ground truth): %s", self.source,
                       ", ".join("%s=%.4g" % (k, v) for k, v in s.items()))
         if self.summary_file:
-            with open(os.path.expanduser(self.summary_file), "w") as f:
-                yaml.safe_dump({k: float(v) for k, v in s.items()}, f, sort_keys=False)
+            write_file_atomically(os.path.expanduser(self.summary_file),
+                                  yaml.safe_dump({k: float(v) for k, v in s.items()}, sort_keys=False))
 
 
 class CpuMonitor:

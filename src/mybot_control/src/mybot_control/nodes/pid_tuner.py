@@ -12,6 +12,7 @@ import sys
 import numpy as np
 import yaml
 
+from mybot_common.atomic_file import write_file_atomically
 from mybot_control import pid_tuning as pt
 from mybot_control.params import ParamError
 
@@ -138,8 +139,7 @@ def run(args):
     summary += ["- %s: %.3f s" % (k, v) for k, v in timings.items()]
     summary += ["", text, ""]
     print("\n".join(summary))
-    with open(os.path.join(args.out_dir, "table.md"), "w") as f:
-        f.write("\n".join(summary))
+    write_file_atomically(os.path.join(args.out_dir, "table.md"), "\n".join(summary))
     if not args.no_plots:
         for name, m in metrics.items():
             plot(os.path.join(args.out_dir, "step_%s.png" % name), "step responses: %s" % name, goals, {name: m},
@@ -148,10 +148,10 @@ def run(args):
     data = pt.gains_yaml(args.block, tuned[args.yaml_method], schedule,
                          None if args.no_output_limit else plant.max_torque)
     path = args.yaml or os.path.join(args.out_dir, "pid_gains.yaml")
-    with open(path, "w") as f:
-        f.write("# written by pid_tuner (%s gains; plant inertia %g, max torque %g, damping %g, dt %g)\n"
-                % (args.yaml_method, plant.inertia, plant.max_torque, plant.acceleration_damping, plant.dt))
-        yaml.safe_dump(data, f, default_flow_style=None, sort_keys=False)
+    # Replaced whole or not at all: a tuning run killed mid-write keeps the gains a robot runs on.
+    write_file_atomically(path, "# written by pid_tuner (%s gains; plant inertia %g, max torque %g, damping %g, dt %g)\n"
+                          % (args.yaml_method, plant.inertia, plant.max_torque, plant.acceleration_damping, plant.dt)
+                          + yaml.safe_dump(data, default_flow_style=None, sort_keys=False))
     print("wrote %s%s" % (path, "" if args.no_plots else " and plots in %s" % args.out_dir))
     return 0
 

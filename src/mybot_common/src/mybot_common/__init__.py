@@ -1,0 +1,1 @@
+"""Small helpers every mybot package shares, one home each. No rospy."""
