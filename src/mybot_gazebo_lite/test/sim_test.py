@@ -16,13 +16,13 @@ import unittest
 import rospy
 import rostest
 import tf2_ros
-from geometry_msgs.msg import Twist
+from geometry_msgs.msg import Pose, Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
-from mybot_gazebo_lite.msg import ModelContacts
-from mybot_gazebo_lite.srv import GetModelState
+from mybot_gazebo_lite.msg import ModelContacts, ModelState
+from mybot_gazebo_lite.srv import GetModelState, SetModelState, SpawnModel
 
 WALL_TIMEOUT = 60.0
 
@@ -351,6 +351,14 @@ class MalformedInputTests(unittest.TestCase):
         self.assertIn("link 'a'", out)
         self.assertIn('mass', out)
 
+    def test_parameter_of_the_wrong_type_is_named(self):
+        for param, value in (('max_step_size', 'abc'), ('real_time_factor', 'fast'), ('solver_iterations', '2.5')):
+            # One node name per case: a private parameter outlives its node on the master.
+            name = 'bad_%s_sim' % param
+            rc, out = self.run_tool(['gazebo_lite', '__name:=' + name, '_%s:=%s' % (param, value)])
+            self.assertNotEqual(rc, 0, param)
+            self.assertIn('parameter /%s/%s' % (name, param), out)
+
     def test_bad_plugin_parameter(self):
         path = self.write('badplugin.urdf', '<robot name="r"><link name="a"><inertial><mass value="1"/>'
                           '<inertia ixx="1" iyy="1" izz="1"/></inertial></link>'
@@ -362,7 +370,76 @@ class MalformedInputTests(unittest.TestCase):
         self.assertIn('libgazebo_ros_p3d.so', out)
 
 
-SUITES = {'drive': DriveTests, 'rest': RestTests, 'wall': WallTests, 'multi': MultiRobotTests, 'malformed': MalformedInputTests}
+class BadPoseTests(unittest.TestCase):
+    """Non-finite or absurd poses never enter running state: refused naming the field, and the
+    model's ground truth stays what it was."""
+
+    BOX = ('<robot name="box"><link name="a"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1"/>'
+           '</inertial><collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link></robot>')
+
+    @classmethod
+    def setUpClass(cls):
+        for s in ('/gazebo/spawn_urdf_model', '/gazebo/set_model_state', '/gazebo/get_model_state'):
+            rospy.wait_for_service(s, timeout=WALL_TIMEOUT)
+        cls.spawn = rospy.ServiceProxy('/gazebo/spawn_urdf_model', SpawnModel)
+        cls.set_state = rospy.ServiceProxy('/gazebo/set_model_state', SetModelState)
+        cls.get_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
+        pose = Pose()
+        pose.position.x, pose.position.y, pose.position.z = 1.0, 2.0, 0.1
+        pose.orientation.w = 1.0
+        res = cls.spawn(model_name='good_box', model_xml=cls.BOX, initial_pose=pose)
+        assert res.success, res.status_message
+
+    def spawn_with(self, name, field, value):
+        pose = Pose()
+        pose.orientation.w = 1.0
+        obj, attr = field.split('.')
+        setattr(getattr(pose, obj), attr, value)
+        return self.spawn(model_name=name, model_xml=self.BOX, initial_pose=pose)
+
+    def test_spawn_nan_position_refused(self):
+        res = self.spawn_with('nan_box', 'position.x', float('nan'))
+        self.assertFalse(res.success)
+        self.assertIn('initial_pose.position.x is nan', res.status_message)
+        self.assertFalse(self.get_state(model_name='nan_box').success)  # no such model
+
+    def test_spawn_inf_orientation_refused(self):
+        res = self.spawn_with('inf_box', 'orientation.z', float('inf'))
+        self.assertFalse(res.success)
+        self.assertIn('initial_pose.orientation.z is inf', res.status_message)
+
+    def test_spawn_absurd_position_refused(self):
+        res = self.spawn_with('far_box', 'position.y', 1e30)
+        self.assertFalse(res.success)
+        self.assertIn('initial_pose.position.y is 1e+30', res.status_message)
+
+    def check_set_refused(self, field, value, message):
+        before = self.get_state(model_name='good_box').pose.position
+        m = ModelState(model_name='good_box')
+        m.pose.position.x, m.pose.position.y, m.pose.position.z = 5.0, 5.0, 0.1
+        m.pose.orientation.w = 1.0
+        part, sub, attr = field.split('.')
+        setattr(getattr(getattr(m, part), sub), attr, value)
+        res = self.set_state(model_state=m)
+        self.assertFalse(res.success)
+        self.assertIn(message, res.status_message)
+        after = self.get_state(model_name='good_box').pose.position
+        for a in ('x', 'y', 'z'):
+            self.assertTrue(math.isfinite(getattr(after, a)))
+        self.assertAlmostEqual(after.x, before.x, delta=0.05)  # not moved to (5, 5)
+        self.assertAlmostEqual(after.y, before.y, delta=0.05)
+
+    def test_set_model_state_nan_position_refused(self):
+        self.check_set_refused('pose.position.y', float('nan'), 'model_state.pose.position.y is nan')
+
+    def test_set_model_state_absurd_position_refused(self):
+        self.check_set_refused('pose.position.x', -1e30, 'model_state.pose.position.x is -1e+30')
+
+    def test_set_model_state_nan_twist_refused(self):
+        self.check_set_refused('twist.angular.z', float('nan'), 'model_state.twist.angular.z is nan')
+
+
+SUITES = {'bad_pose': BadPoseTests, 'drive': DriveTests, 'rest': RestTests, 'wall': WallTests, 'multi': MultiRobotTests, 'malformed': MalformedInputTests}
 
 if __name__ == '__main__':
     rospy.init_node('sim_test', anonymous=True)

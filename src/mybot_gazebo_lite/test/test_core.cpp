@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <limits>
 
 using namespace mybot_gazebo_lite;
@@ -120,6 +122,85 @@ TEST(Loaders, UrdfErrorsNameElement) {
   } catch (const LoadError& e) {
     EXPECT_NE(std::string(e.what()).find("x.urdf: joint 'j'"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+std::string wheelUrdf(const std::string& inertia) {
+  return "<robot name='r'><link name='base'><inertial><mass value='2'/><inertia ixx='1' iyy='1' izz='1'/></inertial>"
+         "</link><link name='wheel'><inertial><mass value='0.5'/>" + inertia +
+         "</inertial><collision><geometry><cylinder radius='0.1' length='0.04'/></geometry></collision></link>"
+         "<joint name='j' type='continuous'><parent link='base'/><child link='wheel'/><axis xyz='0 0 1'/></joint>"
+         "</robot>";
+}
+}  // namespace
+
+// Zero inertia (the robot then never moved): corrected from the collision cylinder, with a
+// warning naming the file and the link.
+TEST(Loaders, UrdfZeroInertiaIsCorrectedWithAWarning) {
+  RobotSpec r = parseUrdf(wheelUrdf("<inertia ixx='0' iyy='0' izz='0'/>"), "w.urdf");
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("w.urdf: link 'wheel' <inertia>"), std::string::npos) << r.warnings[0];
+  const Inertial& in = r.link("wheel")->inertial;
+  EXPECT_NEAR(in.izz, 0.5 * 0.5 * 0.1 * 0.1, 1e-12);                      // m r^2 / 2
+  EXPECT_NEAR(in.ixx, 0.5 * (3 * 0.1 * 0.1 + 0.04 * 0.04) / 12, 1e-12);  // m (3 r^2 + l^2) / 12
+  EXPECT_TRUE(r.link("base")->inertial.ixx == 1.0);                      // a good one is left alone
+}
+
+// Moments no body can have (izz larger than ixx + iyy) are corrected too.
+TEST(Loaders, UrdfImpossibleInertiaIsCorrected) {
+  RobotSpec r = parseUrdf(wheelUrdf("<inertia ixx='0.001' iyy='0.001' izz='0.1'/>"), "w.urdf");
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("link 'wheel'"), std::string::npos);
+}
+
+TEST(Loaders, UrdfNegativeInertiaIsRefusedNamingTheLink) {
+  try {
+    parseUrdf(wheelUrdf("<inertia ixx='0.01' iyy='-0.01' izz='0.01'/>"), "w.urdf");
+    FAIL();
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("w.urdf: link 'wheel' <inertia>: iyy="), std::string::npos) << e.what();
+  }
+}
+
+TEST(Loaders, UrdfNonFiniteInertiaIsRefused) {
+  EXPECT_THROW(parseUrdf(wheelUrdf("<inertia ixx='nan' iyy='1' izz='1'/>"), "w.urdf"), LoadError);
+  EXPECT_THROW(parseUrdf(wheelUrdf("<inertia ixx='1' iyy='inf' izz='1'/>"), "w.urdf"), LoadError);
+}
+
+namespace {
+std::string imageWorldError(const std::string& yaml,
+                            const std::string& image_bytes = std::string("P5\n2 2\n255\n\x00\xfe\xfe\x00", 15)) {
+  char tmpl[] = "/tmp/image_world_XXXXXX";
+  const std::string d = mkdtemp(tmpl);
+  std::ofstream(d + "/m.pgm", std::ios::binary) << image_bytes;
+  std::ofstream(d + "/w.yaml") << yaml;
+  try {
+    loadWorldFile(d + "/w.yaml");
+  } catch (const LoadError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+}  // namespace
+
+TEST(Loaders, ImageWorldFieldsAreCheckedForMeaning) {
+  EXPECT_EQ(imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n"), "no error");
+  EXPECT_NE(imageWorldError("image: [a, b]\nresolution: 0.1\norigin: [0, 0, 0]\n").find("'image': expected a file name"),
+            std::string::npos);
+  EXPECT_NE(imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [.nan, 0, 0]\n").find("'origin': must be finite"),
+            std::string::npos);
+  EXPECT_NE(imageWorldError("image: m.pgm\nresolution: .inf\norigin: [0, 0, 0]\n").find("'resolution': must be finite"),
+            std::string::npos);
+  EXPECT_NE(imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\noccupied_thresh: 7\n")
+                .find("'occupied_thresh': must be in (0, 1]"),
+            std::string::npos);
+}
+
+TEST(Loaders, ImageWorldWithAHugeHeaderIsRefusedBeforeDecoding) {
+  const std::string e = imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n", "P5\n200000 200000\n255\n");
+  EXPECT_NE(e.find("declares 200000 x 200000 pixels, more than 20000 on a side (parameter ~max_image_side)"),
+            std::string::npos)
+      << e;
 }
 
 TEST(Loaders, SdfStateAndIncludeOfBuiltins) {

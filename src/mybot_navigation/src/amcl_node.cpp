@@ -1,6 +1,7 @@
 // amcl: thin ROS wrapper around mybot_navigation::Amcl with amcl's interface
 // (scan + tf odom->base + map in; amcl_pose, particlecloud, tf map->odom out; initialpose,
 // global_localization, request_nomotion_update).
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -17,6 +18,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "mybot_common/checks.h"
 #include "mybot_navigation/amcl.h"
 #include "mybot_navigation/navigation_ros.h"
 #include "mybot_navigation/ros/conversions.h"
@@ -71,6 +73,9 @@ AmclParams readAmclParams(const ros::NodeHandle& pnh)
 
 class AmclNode
 {
+  // An initial pose farther out is a mistake (the 1e30 of a bad script), not a map.
+  static constexpr double kMaxCoordinate = 1e6;
+
 public:
   AmclNode() : pnh_("~"), listener_(tf_buffer_), params_(readAmclParams(pnh_)), amcl_(params_)
   {
@@ -186,6 +191,28 @@ private:
     {
       ROS_WARN("amcl: ignoring initial pose in frame \"%s\"; it must be in the global frame \"%s\"",
                msg->header.frame_id.c_str(), global_frame_.c_str());
+      return;
+    }
+    // A NaN here would become a NaN map -> odom for every node downstream.
+    const auto& in = msg->pose.pose;
+    const auto& cov = msg->pose.covariance;
+    std::string bad = mybot_common::firstInvalid(
+        {{"pose.pose.position.x", in.position.x}, {"pose.pose.position.y", in.position.y},
+         {"pose.pose.orientation.x", in.orientation.x}, {"pose.pose.orientation.y", in.orientation.y},
+         {"pose.pose.orientation.z", in.orientation.z}, {"pose.pose.orientation.w", in.orientation.w}},
+        kMaxCoordinate);
+    if (bad.empty())
+      bad = mybot_common::firstInvalid(
+          {{"pose.covariance[0]", cov[0]}, {"pose.covariance[7]", cov[7]}, {"pose.covariance[35]", cov[35]}});
+    if (bad.empty() && (cov[0] < 0 || cov[7] < 0 || cov[35] < 0))
+      bad = "a variance (pose.covariance[0], [7] or [35]) is negative";
+    const double qn = std::sqrt(in.orientation.x * in.orientation.x + in.orientation.y * in.orientation.y +
+                                in.orientation.z * in.orientation.z + in.orientation.w * in.orientation.w);
+    if (bad.empty() && qn < 1e-6)
+      bad = "pose.pose.orientation is a zero quaternion";
+    if (!bad.empty())
+    {
+      ROS_ERROR("amcl: ignoring initial pose: %s", bad.c_str());
       return;
     }
     Pose2D pose = mybot_navigation::toPose2D(msg->pose.pose);

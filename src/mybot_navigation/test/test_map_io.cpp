@@ -138,3 +138,100 @@ TEST(MapIo, ErrorsNameTheFieldAndFile)
   EXPECT_NE(message("{{{").find("bad.yaml"), std::string::npos);
   EXPECT_THROW(loadMap(d + "/does_not_exist.yaml"), MapIoError);
 }
+
+// Files are checked for meaning, not just type: each case is refused naming its field.
+class MapIoMeaning : public ::testing::Test
+{
+protected:
+  void SetUp() override
+  {
+    d_ = tempDir();
+    writeFixtureImage(d_ + "/m.pgm");
+  }
+  std::string error(const std::string& content)
+  {
+    writeFile(d_ + "/bad.yaml", content);
+    try
+    {
+      loadMap(d_ + "/bad.yaml");
+    }
+    catch (const MapIoError& e)
+    {
+      return e.what();
+    }
+    return "no error";
+  }
+  static std::string map(const std::string& origin, const std::string& res, const std::string& occ,
+                         const std::string& free, const std::string& image = "m.pgm")
+  {
+    return "image: " + image + "\nresolution: " + res + "\norigin: " + origin + "\nnegate: 0\noccupied_thresh: " + occ +
+           "\nfree_thresh: " + free + "\n";
+  }
+  std::string d_;
+};
+
+TEST_F(MapIoMeaning, NanOriginIsRefused)
+{
+  const std::string e = error(map("[.nan, 0, 0]", "0.1", "0.65", "0.196"));
+  EXPECT_NE(e.find("bad.yaml: field 'origin' must be finite"), std::string::npos) << e;
+}
+
+TEST_F(MapIoMeaning, InfiniteResolutionIsRefused)
+{
+  const std::string e = error(map("[0, 0, 0]", ".inf", "0.65", "0.196"));
+  EXPECT_NE(e.find("field 'resolution'"), std::string::npos) << e;
+}
+
+TEST_F(MapIoMeaning, FreeAboveOccupiedIsRefused)
+{
+  const std::string e = error(map("[0, 0, 0]", "0.1", "0.3", "0.6"));
+  EXPECT_NE(e.find("'free_thresh' (0.600000) must be smaller than 'occupied_thresh' (0.300000)"), std::string::npos)
+      << e;
+}
+
+TEST_F(MapIoMeaning, OccupiedThresholdOutsideZeroOneIsRefused)
+{
+  const std::string e = error(map("[0, 0, 0]", "0.1", "7", "0.196"));
+  EXPECT_NE(e.find("field 'occupied_thresh' must be in [0, 1]"), std::string::npos) << e;
+  const std::string f = error(map("[0, 0, 0]", "0.1", "0.65", "-0.1"));
+  EXPECT_NE(f.find("field 'free_thresh' must be in [0, 1]"), std::string::npos) << f;
+}
+
+TEST_F(MapIoMeaning, ImageThatIsAListIsRefused)
+{
+  const std::string e = error(map("[0, 0, 0]", "0.1", "0.65", "0.196", "[a, b]"));
+  EXPECT_NE(e.find("field 'image' must be a string"), std::string::npos) << e;
+}
+
+TEST_F(MapIoMeaning, ThresholdThatIsTextIsRefusedQuotingIt)
+{
+  const std::string e = error(map("[0, 0, 0]", "0.1", "high", "0.196"));
+  EXPECT_NE(e.find("field 'occupied_thresh' must be a number, got \"high\""), std::string::npos) << e;
+}
+
+// A header claiming 200000 x 200000 (OpenCV threw an uncaught cv::Exception): a clean error
+// naming the image and the limit's parameter, before any decoding.
+TEST_F(MapIoMeaning, HugeImageHeaderIsRefusedBeforeDecoding)
+{
+  writeFile(d_ + "/huge.pgm", "P5\n200000 200000\n255\n");
+  const std::string e = error(map("[0, 0, 0]", "0.1", "0.65", "0.196", "huge.pgm"));
+  EXPECT_NE(e.find("huge.pgm declares 200000 x 200000 pixels, more than 20000 on a side (parameter ~max_image_side)"),
+            std::string::npos)
+      << e;
+}
+
+// The limit is the caller's (map_server's ~max_image_side): also checked on formats whose header
+// we do not read, after decoding.
+TEST_F(MapIoMeaning, ImageLargerThanTheGivenLimitIsRefused)
+{
+  writeFile(d_ + "/ok.yaml", map("[0, 0, 0]", "0.1", "0.65", "0.196"));
+  EXPECT_NO_THROW(loadMap(d_ + "/ok.yaml", 3));
+  EXPECT_THROW(loadMap(d_ + "/ok.yaml", 2), MapIoError);
+}
+
+TEST_F(MapIoMeaning, TruncatedImageIsAnErrorNotACrash)
+{
+  writeFile(d_ + "/cut.pgm", "P5\n300 300\n255\n\x01\x02");
+  const std::string e = error(map("[0, 0, 0]", "0.1", "0.65", "0.196", "cut.pgm"));
+  EXPECT_NE(e.find("cut.pgm"), std::string::npos) << e;
+}

@@ -96,6 +96,7 @@ struct RobotSpec {
   std::vector<JointSpec> joints;
   std::vector<PluginSpec> plugins;  // model plugins + sensor plugins
   std::string root;
+  std::vector<std::string> warnings;  // what the loader corrected, each naming its element; for the log
   const LinkSpec* link(const std::string& n) const {
     for (const auto& l : links)
       if (l.name == n) return &l;

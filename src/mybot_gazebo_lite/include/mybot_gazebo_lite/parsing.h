@@ -1,6 +1,8 @@
 // URDF (+ <gazebo> extensions), SDF-subset and occupancy-image world loaders.
 #pragma once
 
+#include "mybot_common/image_header.h"
+
 #include "mybot_gazebo_lite/model.h"
 
 #include <functional>
@@ -21,11 +23,13 @@ std::string defaultResolveUri(const std::string& uri, const std::string& base_di
 RobotSpec parseUrdf(const std::string& xml, const std::string& source,
                     const UriResolver& resolver = defaultResolveUri);
 
-// Loads a world: .yaml -> occupancy-image floor plan, anything else -> SDF.
-WorldSpec loadWorldFile(const std::string& path, const UriResolver& resolver = defaultResolveUri);
+// Loads a world: .yaml -> occupancy-image floor plan, anything else -> SDF. An image with more
+// than max_image_side pixels on a side is refused (from its header, before decoding).
+WorldSpec loadWorldFile(const std::string& path, const UriResolver& resolver = defaultResolveUri,
+                        long max_image_side = mybot_common::kDefaultMaxImageSide);
 WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const std::string& base_dir,
                         const UriResolver& resolver = defaultResolveUri);
-WorldSpec loadImageWorld(const std::string& yaml_path);
+WorldSpec loadImageWorld(const std::string& yaml_path, long max_image_side = mybot_common::kDefaultMaxImageSide);
 
 // Helpers shared by the loaders.
 btVector3 parseVec3(const std::string& s, const std::string& what);

@@ -269,7 +269,7 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
   return world;
 }
 
-WorldSpec loadImageWorld(const std::string& yaml_path) {
+WorldSpec loadImageWorld(const std::string& yaml_path, long max_image_side) {
   YAML::Node y;
   try {
     y = YAML::LoadFile(yaml_path);
@@ -284,15 +284,18 @@ WorldSpec loadImageWorld(const std::string& yaml_path) {
       if (required) fail(key, "missing");
       return def;
     }
+    double v = def;
     try {
-      return y[key].as<double>();
+      v = y[key].as<double>();
     } catch (const std::exception&) {
       fail(key, "not a number");
     }
-    return def;
+    if (!std::isfinite(v)) fail(key, "must be finite");
+    return v;
   };
   if (!y.IsMap()) throw LoadError(yaml_path + ": expected a map_server-style YAML mapping");
   if (!y["image"]) fail("image", "missing");
+  if (!y["image"].IsScalar()) fail("image", "expected a file name");
   std::string image = y["image"].as<std::string>();
   if (image.empty() || image[0] != '/') image = dirOf(yaml_path) + "/" + image;
   double res = num("resolution", true, 0);
@@ -306,12 +309,24 @@ WorldSpec loadImageWorld(const std::string& yaml_path) {
   } catch (const std::exception&) {
     fail("origin", "expected [x, y, yaw] numbers");
   }
+  if (!std::isfinite(ox) || !std::isfinite(oy) || !std::isfinite(oyaw)) fail("origin", "must be finite");
   double occ = num("occupied_thresh", false, 0.65);
+  if (!(occ > 0 && occ <= 1)) fail("occupied_thresh", "must be in (0, 1]");
   int negate = static_cast<int>(num("negate", false, 0));
   double height = num("height", false, 1.0);
   if (!(height > 0)) fail("height", "must be positive");
-  cv::Mat img = cv::imread(image, cv::IMREAD_GRAYSCALE);
+  // The header first: a file claiming 200000 x 200000 pixels is refused before decoding.
+  std::string too_large = mybot_common::declaredImageSizeError(image, max_image_side, "~max_image_side");
+  if (!too_large.empty()) fail("image", too_large);
+  cv::Mat img;
+  try {
+    img = cv::imread(image, cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception& e) {
+    fail("image", "cannot read image '" + image + "': " + e.what());
+  }
   if (img.empty()) fail("image", "cannot read image '" + image + "'");
+  too_large = mybot_common::imageSizeError(image, img.cols, img.rows, max_image_side, "~max_image_side");
+  if (!too_large.empty()) fail("image", too_large);
 
   WorldSpec world;
   world.source = yaml_path;
@@ -375,9 +390,9 @@ WorldSpec loadImageWorld(const std::string& yaml_path) {
   return world;
 }
 
-WorldSpec loadWorldFile(const std::string& path, const UriResolver& resolver) {
+WorldSpec loadWorldFile(const std::string& path, const UriResolver& resolver, long max_image_side) {
   auto ends = [&](const std::string& s) { return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0; };
-  if (ends(".yaml") || ends(".yml")) return loadImageWorld(path);
+  if (ends(".yaml") || ends(".yml")) return loadImageWorld(path, max_image_side);
   std::string xml = readFile(path, "world");
   return parseSdfWorld(xml, path, dirOf(path), resolver);
 }

@@ -9,6 +9,8 @@
 #include "mybot_gazebo_lite/SpawnModel.h"
 #include "mybot_gazebo_lite/parsing.h"
 #include "mybot_gazebo_lite/physics.h"
+#include "mybot_common/checks.h"
+#include "mybot_common/params.h"
 
 #include <ros/ros.h>
 #include <ros/callback_queue.h>
@@ -29,17 +31,21 @@ class SimNode {
   SimNode() : pnh_("~") {}
 
   bool init() {
-    std::string world_file;
-    pnh_.param<std::string>("world", world_file, "");
-    double step = pnh_.param("max_step_size", 0.001);
-    int iters = pnh_.param("solver_iterations", 10);
-    rtf_ = pnh_.param("real_time_factor", 1.0);
-    paused_ = pnh_.param("paused", false);
-    clock_hz_ = pnh_.param("pub_clock_frequency", 1000.0);
-    int seed = pnh_.param("seed", 0);
-    const bool lockstep = pnh_.param("lockstep", false);
-    const double period = pnh_.param("lockstep_period", 0.01);
-    const double timeout = pnh_.param("lockstep_timeout", 10.0);
+    // A value of the wrong type stops the node naming the parameter (never a silent default).
+    using mybot_common::readParam;
+    const std::string node = "gazebo_lite";
+    const std::string world_file = readParam<std::string>(node, pnh_, "world", "");
+    double step = readParam<double>(node, pnh_, "max_step_size", 0.001);
+    int iters = readParam<int>(node, pnh_, "solver_iterations", 10);
+    rtf_ = readParam<double>(node, pnh_, "real_time_factor", 1.0);
+    paused_ = readParam<bool>(node, pnh_, "paused", false);
+    clock_hz_ = readParam<double>(node, pnh_, "pub_clock_frequency", 1000.0);
+    int seed = readParam<int>(node, pnh_, "seed", 0);
+    const bool lockstep = readParam<bool>(node, pnh_, "lockstep", false);
+    const double period = readParam<double>(node, pnh_, "lockstep_period", 0.01);
+    const double timeout = readParam<double>(node, pnh_, "lockstep_timeout", 10.0);
+    const int max_image_side = readParam<int>(node, pnh_, "max_image_side", mybot_common::kDefaultMaxImageSide);
+    if (max_image_side <= 0) return bad("max_image_side", "must be a positive number of pixels");
     // A list of node names, or one string of names separated by spaces or commas.
     std::string names;
     if (pnh_.getParam("lockstep_wait_for", names)) {
@@ -68,7 +74,7 @@ class SimNode {
         spec.ground_plane = true;
         spec.name = "empty";
       } else {
-        spec = loadWorldFile(world_file);
+        spec = loadWorldFile(world_file, defaultResolveUri, max_image_side);
       }
     } catch (const std::exception& e) {
       ROS_FATAL("gazebo_lite: cannot load world: %s", e.what());
@@ -155,7 +161,9 @@ class SimNode {
 
  private:
   static constexpr double kMaxLagWall = 0.02;
-  static constexpr double kContactsPeriod = 0.1;  // s of sim time  // s; about one control period of the nodes
+  static constexpr double kContactsPeriod = 0.1;  // s of sim time
+  // Poses farther out than this are a mistake (the 1e30 of a bad script), not a world.
+  static constexpr double kMaxCoordinate = 1e6;
   struct ModelEntry {
     std::string name;
     std::vector<std::unique_ptr<SimPlugin>> plugins;
@@ -285,8 +293,21 @@ class SimNode {
       res.status_message = "reference_frame '" + req.reference_frame + "' not supported (use world)";
       return true;
     }
+    const auto& ip = req.initial_pose;
+    const std::string bad = mybot_common::firstInvalid(
+        {{"initial_pose.position.x", ip.position.x}, {"initial_pose.position.y", ip.position.y},
+         {"initial_pose.position.z", ip.position.z}, {"initial_pose.orientation.x", ip.orientation.x},
+         {"initial_pose.orientation.y", ip.orientation.y}, {"initial_pose.orientation.z", ip.orientation.z},
+         {"initial_pose.orientation.w", ip.orientation.w}},
+        kMaxCoordinate);
+    if (!bad.empty()) {
+      res.status_message = "refused: " + bad;
+      ROS_ERROR("gazebo_lite: spawn '%s' refused: %s", req.model_name.c_str(), bad.c_str());
+      return true;
+    }
     try {
       auto spec = std::make_shared<RobotSpec>(parseUrdf(req.model_xml, "URDF of model '" + req.model_name + "'"));
+      for (const std::string& w : spec->warnings) ROS_WARN("gazebo_lite: %s", w.c_str());
       const auto& p = req.initial_pose;
       btQuaternion q(p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w);
       if (q.length2() < 1e-12) q = btQuaternion::getIdentity();
@@ -381,6 +402,23 @@ class SimNode {
 
   bool setState(SetModelState::Request& req, SetModelState::Response& res) {
     const auto& m = req.model_state;
+    const auto& mp = m.pose;
+    const auto& mt = m.twist;
+    const std::string bad = mybot_common::firstInvalid(
+        {{"model_state.pose.position.x", mp.position.x}, {"model_state.pose.position.y", mp.position.y},
+         {"model_state.pose.position.z", mp.position.z}, {"model_state.pose.orientation.x", mp.orientation.x},
+         {"model_state.pose.orientation.y", mp.orientation.y}, {"model_state.pose.orientation.z", mp.orientation.z},
+         {"model_state.pose.orientation.w", mp.orientation.w}, {"model_state.twist.linear.x", mt.linear.x},
+         {"model_state.twist.linear.y", mt.linear.y}, {"model_state.twist.linear.z", mt.linear.z},
+         {"model_state.twist.angular.x", mt.angular.x}, {"model_state.twist.angular.y", mt.angular.y},
+         {"model_state.twist.angular.z", mt.angular.z}},
+        kMaxCoordinate);
+    if (!bad.empty()) {
+      res.success = false;
+      res.status_message = "refused: " + bad;
+      ROS_ERROR("gazebo_lite: set_model_state '%s' refused: %s", m.model_name.c_str(), bad.c_str());
+      return true;
+    }
     btQuaternion q(m.pose.orientation.x, m.pose.orientation.y, m.pose.orientation.z, m.pose.orientation.w);
     if (q.length2() < 1e-12 || !std::isfinite(q.length2())) {
       res.success = false;

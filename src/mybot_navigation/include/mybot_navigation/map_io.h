@@ -3,6 +3,8 @@
 // with map_saver's exact rules.
 #pragma once
 
+#include "mybot_common/image_header.h"
+
 #include <stdexcept>
 #include <string>
 
@@ -37,8 +39,10 @@ struct MapYaml
 // Throws MapIoError naming the file and the field.
 MapYaml readMapYaml(const std::string& yaml_path);
 // Loads the image and converts pixels exactly as map_server's image_loader does.
-GridMap loadMapImage(const MapYaml& meta);
-GridMap loadMap(const std::string& yaml_path);
+// Images with more pixels on a side are refused (map_server's ~max_image_side): a header
+// claiming 200000 x 200000 gets an error, not a 40 GB allocation.
+GridMap loadMapImage(const MapYaml& meta, long max_side = mybot_common::kDefaultMaxImageSide);
+GridMap loadMap(const std::string& yaml_path, long max_side = mybot_common::kDefaultMaxImageSide);
 
 // map_saver's conversion: 0 <= v <= free -> 254, v >= occ -> 0, else 205; PGM (P5) rows from the top.
 // Both files or neither (mybot_common::saveMapFiles): a failure throws MapIoError naming the file

@@ -14,45 +14,14 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <XmlRpcValue.h>
 
+#include "mybot_common/params.h"
 #include "mybot_navigation/pose2d.h"
 
 namespace mybot_navigation
 {
 
-// Stops the node with one message naming the parameter (exit code 1).
-[[noreturn]] inline void fatalParam(const std::string& node, const ros::NodeHandle& nh, const std::string& name,
-                                    const std::string& why)
-{
-  ROS_FATAL("%s: parameter %s: %s", node.c_str(), nh.resolveName(name).c_str(), why.c_str());
-  ros::shutdown();
-  std::exit(1);
-}
-
-// Reads an optional parameter; a value of the wrong type is fatal rather than silently ignored.
-template <typename T>
-T readParam(const std::string& node, const ros::NodeHandle& nh, const std::string& name, const T& def)
-{
-  T v = def;
-  if (nh.hasParam(name) && !nh.getParam(name, v))
-    fatalParam(node, nh, name, "has the wrong type");
-  return v;
-}
-
-// doubles also accept integers written without a decimal point.
-template <>
-inline double readParam<double>(const std::string& node, const ros::NodeHandle& nh, const std::string& name,
-                                const double& def)
-{
-  if (!nh.hasParam(name))
-    return def;
-  XmlRpc::XmlRpcValue v;
-  nh.getParam(name, v);
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble)
-    return static_cast<double>(v);
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt)
-    return static_cast<int>(v);
-  fatalParam(node, nh, name, "must be a number");
-}
+using mybot_common::fatalParam;
+using mybot_common::readParam;
 
 // costmap_2d's footprint parameter: a list [[x, y], ...] or the same as a string.
 inline bool parseFootprint(const XmlRpc::XmlRpcValue& value, std::vector<Point2D>& out, std::string& error)

@@ -3,10 +3,12 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <type_traits>
 
 #include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "mybot_common/image_header.h"
 #include "mybot_common/map_file.h"
 
 namespace mybot_navigation
@@ -25,13 +27,20 @@ T required(const YAML::Node& doc, const std::string& key, const std::string& fil
   const YAML::Node n = doc[key];
   if (!n)
     throw MapIoError(file + ": the map does not contain a '" + key + "' field");
+  const char* expected = std::is_same_v<T, std::string> ? "a string" : std::is_integral_v<T> ? "an integer" : "a number";
+  if (!n.IsScalar())
+    throw MapIoError(file + ": field '" + key + "' must be " + expected);
   try
   {
-    return n.as<T>();
+    const T v = n.as<T>();
+    if constexpr (std::is_floating_point_v<T>)
+      if (!std::isfinite(v))
+        throw MapIoError(file + ": field '" + key + "' must be a finite number, got " + n.Scalar());
+    return v;
   }
   catch (const YAML::Exception&)
   {
-    throw MapIoError(file + ": field '" + key + "' is invalid");
+    throw MapIoError(file + ": field '" + key + "' must be " + expected + ", got \"" + n.Scalar() + "\"");
   }
 }
 }  // namespace
@@ -59,6 +68,14 @@ MapYaml readMapYaml(const std::string& yaml_path)
   m.negate = required<int>(doc, "negate", yaml_path) != 0;
   m.occupied_thresh = required<double>(doc, "occupied_thresh", yaml_path);
   m.free_thresh = required<double>(doc, "free_thresh", yaml_path);
+  // Probabilities, free below occupied; otherwise a wall can vanish from the served map.
+  if (m.occupied_thresh < 0.0 || m.occupied_thresh > 1.0)
+    throw MapIoError(yaml_path + ": field 'occupied_thresh' must be in [0, 1], got " + std::to_string(m.occupied_thresh));
+  if (m.free_thresh < 0.0 || m.free_thresh > 1.0)
+    throw MapIoError(yaml_path + ": field 'free_thresh' must be in [0, 1], got " + std::to_string(m.free_thresh));
+  if (m.free_thresh >= m.occupied_thresh)
+    throw MapIoError(yaml_path + ": field 'free_thresh' (" + std::to_string(m.free_thresh) +
+                     ") must be smaller than 'occupied_thresh' (" + std::to_string(m.occupied_thresh) + ")");
   if (doc["mode"])
   {
     const std::string mode = required<std::string>(doc, "mode", yaml_path);
@@ -82,8 +99,11 @@ MapYaml readMapYaml(const std::string& yaml_path)
   }
   catch (const YAML::Exception&)
   {
-    throw MapIoError(yaml_path + ": field 'origin' is invalid");
+    throw MapIoError(yaml_path + ": field 'origin' must be [x, y, yaw] numbers");
   }
+  if (!std::isfinite(m.origin.x) || !std::isfinite(m.origin.y) || !std::isfinite(m.origin.theta))
+    throw MapIoError(yaml_path + ": field 'origin' must be finite, got [" + origin[0].Scalar() + ", " +
+                     origin[1].Scalar() + ", " + origin[2].Scalar() + "]");
   m.image = required<std::string>(doc, "image", yaml_path);
   if (m.image.empty())
     throw MapIoError(yaml_path + ": field 'image' cannot be an empty string");
@@ -92,11 +112,26 @@ MapYaml readMapYaml(const std::string& yaml_path)
   return m;
 }
 
-GridMap loadMapImage(const MapYaml& meta)
+GridMap loadMapImage(const MapYaml& meta, long max_side)
 {
-  const cv::Mat img = cv::imread(meta.image, cv::IMREAD_UNCHANGED);
+  // The header first: a file claiming 200000 x 200000 pixels is refused before decoding.
+  std::string too_large = mybot_common::declaredImageSizeError(meta.image, max_side, "~max_image_side");
+  if (!too_large.empty())
+    throw MapIoError(too_large);
+  cv::Mat img;
+  try
+  {
+    img = cv::imread(meta.image, cv::IMREAD_UNCHANGED);
+  }
+  catch (const cv::Exception& e)
+  {
+    throw MapIoError("failed to read image file \"" + meta.image + "\" (field 'image'): " + e.what());
+  }
   if (img.empty())
     throw MapIoError("failed to open image file \"" + meta.image + "\" (field 'image')");
+  too_large = mybot_common::imageSizeError(meta.image, img.cols, img.rows, max_side, "~max_image_side");
+  if (!too_large.empty())
+    throw MapIoError(too_large);
   if (img.depth() != CV_8U)
     throw MapIoError("image file \"" + meta.image + "\" is not 8 bits per channel");
   MapInfo info;
@@ -146,7 +181,7 @@ GridMap loadMapImage(const MapYaml& meta)
   return map;
 }
 
-GridMap loadMap(const std::string& yaml_path) { return loadMapImage(readMapYaml(yaml_path)); }
+GridMap loadMap(const std::string& yaml_path, long max_side) { return loadMapImage(readMapYaml(yaml_path), max_side); }
 
 void saveMap(const GridMap& map, const std::string& basename, int occ, int free)
 {

@@ -1,11 +1,13 @@
 // map_server: loads a map_server YAML + image and serves it like ROS's map_server
-// (latched `map` and `map_metadata` in ~frame_id, `static_map` service).
+// (latched `map` and `map_metadata` in ~frame_id, `static_map` service). ~max_image_side
+// (20000 pixels) bounds the image it will decode.
 //   rosrun mybot_navigation map_server MAP.yaml
 #include <nav_msgs/GetMap.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
 
 #include "mybot_navigation/map_io.h"
+#include "mybot_navigation/navigation_ros.h"
 #include "mybot_navigation/ros/conversions.h"
 
 using namespace mybot_navigation;
@@ -21,19 +23,18 @@ int main(int argc, char** argv)
     return 1;
   }
   ros::NodeHandle nh, pnh("~");
-  std::string frame_id;
-  pnh.param<std::string>("frame_id", frame_id, "map");
+  const std::string frame_id = readParam<std::string>("map_server", pnh, "frame_id", "map");
   if (frame_id.empty())
-  {
-    ROS_FATAL("map_server: parameter ~frame_id must not be empty");
-    return 1;
-  }
+    fatalParam("map_server", pnh, "frame_id", "must not be empty");
+  const int max_side = readParam<int>("map_server", pnh, "max_image_side", mybot_common::kDefaultMaxImageSide);
+  if (max_side <= 0)
+    fatalParam("map_server", pnh, "max_image_side", "must be a positive number of pixels");
   nav_msgs::GetMap::Response resp;
   try
   {
     const MapYaml meta = readMapYaml(args[1]);
     ROS_INFO("map_server: loading map from image \"%s\"", meta.image.c_str());
-    toOccupancyGrid(loadMapImage(meta), resp.map);
+    toOccupancyGrid(loadMapImage(meta, max_side), resp.map);
   }
   catch (const MapIoError& e)
   {
