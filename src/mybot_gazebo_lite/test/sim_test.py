@@ -18,6 +18,7 @@ import rostest
 import tf2_ros
 from geometry_msgs.msg import Pose, Twist
 from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
@@ -358,6 +359,27 @@ class MalformedInputTests(unittest.TestCase):
             rc, out = self.run_tool(['gazebo_lite', '__name:=' + name, '_%s:=%s' % (param, value)])
             self.assertNotEqual(rc, 0, param)
             self.assertIn('parameter /%s/%s' % (name, param), out)
+
+    def test_misspelled_plugin_parameter_is_warned_naming_it(self):
+        logs = []
+        sub = rospy.Subscriber('/rosout', Log, lambda m: logs.append(m.msg))
+        path = self.write('typo.urdf', '<robot name="r"><link name="base"><inertial><mass value="1"/>'
+                          '<inertia ixx="0.1" iyy="0.1" izz="0.1"/></inertial></link>'
+                          '<link name="l"><inertial><mass value="0.1"/><inertia ixx="0.001" iyy="0.001" izz="0.001"/>'
+                          '</inertial></link><link name="r"><inertial><mass value="0.1"/>'
+                          '<inertia ixx="0.001" iyy="0.001" izz="0.001"/></inertial></link>'
+                          '<joint name="lj" type="continuous"><parent link="base"/><child link="l"/></joint>'
+                          '<joint name="rj" type="continuous"><parent link="base"/><child link="r"/></joint>'
+                          '<gazebo><plugin name="dd" filename="libgazebo_ros_diff_drive.so"><leftJoint>lj</leftJoint>'
+                          '<rightJoint>rj</rightJoint><wheelSeperation>0.3</wheelSeperation></plugin></gazebo></robot>')
+        rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'typo', '-timeout', '30'])
+        self.assertEqual(rc, 0, out)
+        want = 'unknown parameter <wheelSeperation> ignored (did you mean <wheelSeparation>?)'
+        deadline = time.monotonic() + WALL_TIMEOUT
+        while not any(want in m for m in logs) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        sub.unregister()
+        self.assertTrue(any(want in m and "plugin 'dd'" in m for m in logs), logs)
 
     def test_bad_plugin_parameter(self):
         path = self.write('badplugin.urdf', '<robot name="r"><link name="a"><inertial><mass value="1"/>'

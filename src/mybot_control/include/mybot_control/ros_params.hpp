@@ -27,7 +27,10 @@ public:
 
   const ros::NodeHandle& nh() const { return nh_; }
   // Fully resolved name, for messages.
-  std::string full(const std::string& name) const { return nh_.resolveName(name); }
+  // The resolved name for messages. A path inside a parameter ("topics[0].priority") or a key
+  // that is no valid graph name ("topics/my-joy") is kept as written after the namespace: roscpp's
+  // resolveName would throw InvalidNameException and abort the node instead of naming it.
+  std::string full(const std::string& name) const;
   bool has(const std::string& name) const { return nh_.hasParam(name); }
 
   double number(const std::string& name, double default_value) const;

@@ -7,6 +7,21 @@
 namespace mybot_control
 {
 
+std::string ParamReader::full(const std::string& name) const
+{
+  const auto cut = name.find_first_of("[.");
+  const std::string head = name.substr(0, cut), rest = cut == std::string::npos ? "" : name.substr(cut);
+  try
+  {
+    return nh_.resolveName(head) + rest;
+  }
+  catch (const ros::InvalidNameException&)
+  {
+    const std::string ns = nh_.getNamespace();
+    return (ns == "/" ? "" : ns) + "/" + name;
+  }
+}
+
 void ParamReader::fail(const std::string& name, const std::string& why) const
 {
   throw ParamError("parameter " + full(name) + " " + why);

@@ -86,6 +86,15 @@ class BadConfigTest(unittest.TestCase):
                   {'name': 'a', 'topic': 'y', 'timeout': 0.5, 'priority': 2}]
         self.expect_failure('twist_mux', {'topics': topics}, "topics[1].name 'a'")
 
+    def test_twist_mux_priority_not_a_number(self):
+        # Aborted with ros::InvalidNameException before: the message named "topics[0].priority".
+        topics = [{'name': 'joy', 'topic': 'x', 'timeout': 0.5, 'priority': 'high'}]
+        self.expect_failure('twist_mux', {'topics': topics}, 'topics[0].priority', 'integer')
+
+    def test_twist_mux_map_form_key_that_is_no_graph_name(self):
+        topics = {'my-joy': {'topic': 'x', 'timeout': 'soon', 'priority': 1}}
+        self.expect_failure('twist_mux', {'topics': topics}, 'topics/my-joy.timeout', 'number')
+
     def test_valid_config_keeps_running(self):
         # The harness itself: a good configuration does not exit.
         code, out = self.run_node('diffdrive_odom', ODOM_OK, timeout=3.0)

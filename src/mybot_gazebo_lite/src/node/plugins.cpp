@@ -13,9 +13,13 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Float64.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace mybot_gazebo_lite {
@@ -801,9 +805,75 @@ class Camera : public SimPlugin {
   ros::Publisher image_pub_, info_pub_, depth_pub_, depth_info_pub_, points_pub_;
 };
 
-}  // namespace
+// The parameters each emulated plugin's upstream version reads (gazebo_ros_pkgs, Noetic), whether
+// or not the emulation uses them: any other child of <plugin> is most likely a misspelling
+// (<wheelSeperation> silently left the default separation, and the robot turned 12 % wrong).
+const std::set<std::string>& knownTags(const std::string& f) {
+  static const std::map<std::string, std::set<std::string>> tags = {
+      {"libgazebo_ros_diff_drive.so",
+       {"leftJoint", "rightJoint", "wheelSeparation", "wheelDiameter", "wheelAcceleration", "wheelTorque",
+        "commandTopic", "odometryTopic", "odometryFrame", "robotBaseFrame", "odometrySource", "publishWheelTF",
+        "publishOdomTF", "publishWheelJointState", "publishTf", "legacyMode", "updateRate", "rosDebugLevel",
+        "commandTimeout"}},
+      {"libgazebo_ros_p3d.so",
+       {"bodyName", "topicName", "frameName", "xyzOffsets", "rpyOffsets", "xyzOffset", "rpyOffset", "gaussianNoise",
+        "updateRate"}},
+      {"libgazebo_ros_joint_state_publisher.so", {"jointName", "updateRate"}},
+      {"libmybot_joint_command.so", {"commandTimeout", "joint"}},
+      {"libgazebo_ros_laser.so", {"topicName", "frameName", "gaussianNoise", "hokuyoMinIntensity", "updateRate"}},
+      {"libgazebo_ros_gpu_laser.so", {"topicName", "frameName", "gaussianNoise", "hokuyoMinIntensity", "updateRate"}},
+      {"libgazebo_ros_imu_sensor.so",
+       {"topicName", "bodyName", "frameName", "updateRateHZ", "gaussianNoise", "xyzOffset", "rpyOffset", "serviceName",
+        "initialOrientationAsReference"}},
+      {"libgazebo_ros_imu.so",
+       {"bodyName", "topicName", "serviceName", "gaussianNoise", "updateRate", "frameName", "xyzOffset", "rpyOffset"}},
+      {"libgazebo_ros_camera.so",
+       {"updateRate", "cameraName", "imageTopicName", "cameraInfoTopicName", "frameName", "hackBaseline",
+        "distortionK1", "distortionK2", "distortionK3", "distortionT1", "distortionT2", "Cx", "Cy", "CxPrime",
+        "focalLength", "borderCrop", "triggerTopicName", "autoDistortion"}},
+      {"libgazebo_ros_openni_kinect.so",
+       {"updateRate", "cameraName", "imageTopicName", "cameraInfoTopicName", "frameName", "hackBaseline", "baseline",
+        "distortionK1", "distortionK2", "distortionK3", "distortionT1", "distortionT2", "Cx", "Cy", "CxPrime",
+        "focalLength", "borderCrop", "triggerTopicName", "autoDistortion", "depthImageTopicName",
+        "depthImageCameraInfoTopicName", "pointCloudTopicName", "pointCloudCutoff", "pointCloudCutoffMax"}},
+  };
+  static const std::set<std::string> none;
+  auto it = tags.find(f);
+  return it == tags.end() ? none : it->second;
+}
 
-std::unique_ptr<SimPlugin> createPlugin(const PluginContext& c) {
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (std::tolower(a[i - 1]) == std::tolower(b[j - 1]) ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// One warning per unknown child of <plugin>, naming it, the plugin and the file, with the
+// closest known name when one is near.
+void warnUnknownTags(const PluginContext& c) {
+  const std::set<std::string>& known = knownTags(c.spec->filename);
+  for (const XmlNode& child : c.spec->xml.children) {
+    if (known.count(child.name) || child.name == "robotNamespace" || child.name == "alwaysOn") continue;
+    std::string best;
+    std::size_t best_d = 4;  // a few letters off at most
+    for (const std::string& k : known)
+      if (const std::size_t d = editDistance(child.name, k); d < best_d) best_d = d, best = k;
+    ROS_WARN("%s: plugin '%s' (%s): unknown parameter <%s> ignored%s", c.robot->spec().source.c_str(),
+             c.spec->name.c_str(), c.spec->filename.c_str(), child.name.c_str(),
+             best.empty() ? "" : (" (did you mean <" + best + ">?)").c_str());
+  }
+}
+
+std::unique_ptr<SimPlugin> makePlugin(const PluginContext& c) {
   const std::string& f = c.spec->filename;
   if (f == "libgazebo_ros_diff_drive.so") return std::make_unique<DiffDrive>(c);
   if (f == "libgazebo_ros_p3d.so") return std::make_unique<P3D>(c);
@@ -817,6 +887,14 @@ std::unique_ptr<SimPlugin> createPlugin(const PluginContext& c) {
   ROS_WARN("%s: plugin '%s': unknown plugin file '%s' ignored", c.robot->spec().source.c_str(), c.spec->name.c_str(),
            f.c_str());
   return nullptr;
+}
+
+}  // namespace
+
+std::unique_ptr<SimPlugin> createPlugin(const PluginContext& c) {
+  auto plugin = makePlugin(c);
+  if (plugin) warnUnknownTags(c);
+  return plugin;
 }
 
 }  // namespace mybot_gazebo_lite
