@@ -19,3 +19,28 @@ TEST(Checks, NamesAValueBeyondTheLimit)
   EXPECT_EQ(firstInvalid({{"x", 1e30}}, 1e6), "x is 1e+30, beyond +-1e+06");
   EXPECT_EQ(firstInvalid({{"x", -1e6}}, 1e6), "");
 }
+
+using mybot_common::scanGeometryError;
+
+TEST(Checks, ScanWhoseRangesMatchItsAnglesPasses)
+{
+  EXPECT_EQ(scanGeometryError(-M_PI / 2, M_PI / 2, M_PI / 360, 361), "");
+  // A real log (Freiburg 079): 360 beams over 179 degrees, float rounding in the angles.
+  EXPECT_EQ(scanGeometryError(-1.5707964f, 1.5620697f, 0.0087266462f, 360), "");
+  EXPECT_EQ(scanGeometryError(1.0, -1.0, -0.5, 5), "");  // sweeping clockwise
+  EXPECT_EQ(scanGeometryError(0.0, 0.0, 0.01, 1), "");   // one beam
+}
+
+TEST(Checks, ScanWithTooFewRangesGivesBothNumbers)
+{
+  EXPECT_EQ(scanGeometryError(-M_PI / 2, M_PI / 2, M_PI / 360, 100),
+            "has 100 ranges where its angles (angle_min -1.5708, angle_max 1.5708, angle_increment 0.00872665) make 361");
+}
+
+TEST(Checks, ScanThatIsNoSweepIsRefused)
+{
+  EXPECT_NE(scanGeometryError(0.0, 1.0, 0.0, 10), "");
+  EXPECT_NE(scanGeometryError(0.0, 1.0, -0.1, 11), "");
+  EXPECT_NE(scanGeometryError(std::nan(""), 1.0, 0.1, 11), "");
+  EXPECT_NE(scanGeometryError(0.0, 1.0, 1e-30, 11), "");  // 1e30 beams: no overflow
+}

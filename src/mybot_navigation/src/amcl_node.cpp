@@ -254,7 +254,7 @@ private:
 
   void scanReceived(const sensor_msgs::LaserScan::ConstPtr& scan)
   {
-    if (!amcl_.hasMap())
+    if (!amcl_.hasMap() || !scanGeometryOk("amcl", scan_sub_.getTopic(), *scan))
       return;
     Pose2D odom_pose;
     try

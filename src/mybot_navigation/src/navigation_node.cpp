@@ -310,7 +310,7 @@ private:
 
   void scanReceived(const sensor_msgs::LaserScan::ConstPtr& scan, const CostmapConfig::Source& source)
   {
-    if (!have_map_)
+    if (!have_map_ || !scanGeometryOk("move_base", nh_.resolveName(source.topic), *scan))
       return;
     Pose2D sensor;
     bool upside_down = false;

@@ -2,6 +2,7 @@
 // running state: one NaN in a pose spreads to every transform computed from it. No ROS.
 #pragma once
 
+#include <cstddef>
 #include <initializer_list>
 #include <limits>
 #include <string>
@@ -20,5 +21,12 @@ struct NamedValue
 // when every value is fine.
 std::string firstInvalid(std::initializer_list<NamedValue> values,
                          double limit = std::numeric_limits<double>::infinity());
+
+// A LaserScan's own geometry (REP 117 / sensor_msgs): finite angles, a non-zero increment with
+// the sign of angle_max - angle_min, and round((angle_max - angle_min) / angle_increment) + 1
+// ranges. "" if it holds, else a message with both numbers ("has 100 ranges where its angles
+// (angle_min -1.5708, angle_max 1.5708, angle_increment 0.00873) make 361"): a scan that
+// contradicts itself would be drawn into maps and costmaps at the wrong bearings.
+std::string scanGeometryError(double angle_min, double angle_max, double angle_increment, std::size_t ranges);
 
 }  // namespace mybot_common

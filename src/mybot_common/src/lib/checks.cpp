@@ -25,4 +25,31 @@ std::string firstInvalid(std::initializer_list<NamedValue> values, double limit)
   return "";
 }
 
+std::string scanGeometryError(double angle_min, double angle_max, double angle_increment, std::size_t ranges)
+{
+  char text[256];
+  if (!std::isfinite(angle_min) || !std::isfinite(angle_max) || !std::isfinite(angle_increment) ||
+      angle_increment == 0.0 || (angle_max - angle_min) * angle_increment < 0.0)
+  {
+    std::snprintf(text, sizeof text,
+                  "has angle_min %g, angle_max %g, angle_increment %g: not a sweep (finite angles and an increment "
+                  "that steps from angle_min towards angle_max)",
+                  angle_min, angle_max, angle_increment);
+    return text;
+  }
+  const double steps = (angle_max - angle_min) / angle_increment;
+  if (steps > 1e7)
+  {
+    std::snprintf(text, sizeof text, "has %zu ranges where its angles (angle_min %g, angle_max %g, angle_increment %g) make %.3g",
+                  ranges, angle_min, angle_max, angle_increment, steps + 1);
+    return text;
+  }
+  const auto expected = static_cast<std::size_t>(std::llround(steps)) + 1;
+  if (expected == ranges)
+    return "";
+  std::snprintf(text, sizeof text, "has %zu ranges where its angles (angle_min %g, angle_max %g, angle_increment %g) make %zu",
+                ranges, angle_min, angle_max, angle_increment, expected);
+  return text;
+}
+
 }  // namespace mybot_common

@@ -14,6 +14,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <XmlRpcValue.h>
 
+#include "mybot_common/checks.h"
 #include "mybot_common/params.h"
 #include "mybot_navigation/pose2d.h"
 
@@ -22,6 +23,19 @@ namespace mybot_navigation
 
 using mybot_common::fatalParam;
 using mybot_common::readParam;
+
+// False for a scan that contradicts its own geometry (ranges not matching its angles), with a
+// throttled warning naming the topic and both numbers: drawn in, it would put walls at the wrong
+// bearings in the map, the particle weights and the costmap.
+inline bool scanGeometryOk(const std::string& node, const std::string& topic, const sensor_msgs::LaserScan& scan)
+{
+  const std::string error =
+      mybot_common::scanGeometryError(scan.angle_min, scan.angle_max, scan.angle_increment, scan.ranges.size());
+  if (error.empty())
+    return true;
+  ROS_WARN_THROTTLE(5.0, "%s: dropping scans on %s: one %s", node.c_str(), topic.c_str(), error.c_str());
+  return false;
+}
 
 // costmap_2d's footprint parameter: a list [[x, y], ...] or the same as a string.
 inline bool parseFootprint(const XmlRpc::XmlRpcValue& value, std::vector<Point2D>& out, std::string& error)

@@ -17,6 +17,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "mybot_navigation/navigation_ros.h"
 #include "mybot_navigation/ros/conversions.h"
 #include "mybot_navigation/slam.h"
 
@@ -205,11 +206,8 @@ private:
       ROS_WARN_THROTTLE(5.0, "slam: empty scan at %.3f ignored", stamp);
       return;
     }
-    if (!(scan->angle_increment != 0.0f) || !std::isfinite(scan->angle_increment) || !std::isfinite(scan->angle_min))
-    {
-      ROS_WARN_THROTTLE(5.0, "slam: scan with invalid angle_min/angle_increment ignored");
+    if (!mybot_navigation::scanGeometryOk("slam", scan_sub_.getTopic(), *scan))
       return;
-    }
     geometry_msgs::TransformStamped odom_tf;
     try
     {
