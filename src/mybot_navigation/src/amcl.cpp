@@ -77,6 +77,13 @@ void Amcl::setInitialPose(const Pose2D& pose, double var_x, double var_y, double
   resample_count_ = 0;
 }
 
+void Amcl::restart(const Pose2D& pose, double var_x, double var_y, double var_a)
+{
+  setInitialPose(pose, var_x, var_y, var_a);
+  odom_initialized_ = false;
+  has_estimate_ = false;
+}
+
 Pose2D Amcl::randomFreePose(Rng& rng) const
 {
   std::uniform_real_distribution<double> u(0.0, 1.0);

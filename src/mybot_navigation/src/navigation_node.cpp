@@ -499,8 +499,30 @@ private:
     dwa_global_plan_pub_.publish(path);
   }
 
+  // Time went backwards (a simulation reset sends the robot back to its spawn pose; a bag played
+  // again): the plan, the costmaps' marks and the odometry stamps belong to a past that did not
+  // happen. Stop, abort the goal saying why, clear, and go on with the next goal.
+  void timeWentBack(const ros::Time& now)
+  {
+    ROS_WARN("move_base: time went backwards (%.3f -> %.3f s); clearing the costmaps%s", last_control_.toSec(),
+             now.toSec(), server_->isActive() ? " and aborting the goal" : "");
+    pending_goal_.reset();
+    navigator_->cancel();
+    stop();
+    if (server_->isActive())
+      server_->setAborted(move_base_msgs::MoveBaseResult(), "time went backwards (simulation reset?)");
+    global_.reset();
+    local_.reset();
+    last_odom_ = ros::Time();
+    velocity_ = {};
+  }
+
   void controlLoop(const ros::TimerEvent&)
   {
+    const ros::Time now = ros::Time::now();
+    if (now < last_control_)
+      timeWentBack(now);
+    last_control_ = now;
     if (!server_->isActive())
       return;
     if (pending_goal_)
@@ -620,7 +642,7 @@ private:
   double controller_frequency_ = 20.0;
   bool have_map_ = false, moving_ = false;
   Velocity2D velocity_, last_cmd_;
-  ros::Time last_odom_;
+  ros::Time last_odom_, last_control_;
   std::string last_recovery_;
   std::set<std::string> scan_topics_;
   std::vector<ros::Subscriber> scan_subs_;

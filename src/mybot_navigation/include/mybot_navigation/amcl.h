@@ -42,6 +42,11 @@ public:
 
   // Re-initialises the filter around a pose (initialpose topic / initial_pose_* parameters).
   void setInitialPose(const Pose2D& pose, double var_x, double var_y, double var_a);
+  // Starts over as at launch after time went backwards (a simulation reset sends the robot back
+  // to its spawn pose and the odometry to zero; a bag played again, to its start): a cloud
+  // around `pose` and no odometry reference, so the jump of the odometry is not taken for
+  // motion.
+  void restart(const Pose2D& pose, double var_x, double var_y, double var_a);
   // Spreads max_particles uniformly over the map's free space (global_localization service).
   void globalLocalization();
   // The next scan is processed even without motion (request_nomotion_update service).

@@ -118,6 +118,7 @@ public:
                                     [](int v) { return v >= 1; }, "an integer >= 1");
     if (p.grid.resolution > 1.0)
       ROS_WARN("slam: ~delta = %.2f m is a very coarse map", p.grid.resolution);
+    params_ = p;
     slam_ = std::make_unique<Slam>(p);
 
     map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
@@ -221,6 +222,7 @@ private:
     }
     const Pose2D odom = toPose2D(odom_tf.transform);
     std::lock_guard<std::mutex> lock(mutex_);
+    startOverIfTimeWentBack();
     if (!slam_->wantsScan(stamp, odom))
     {
       if (stamp <= last_stamp_)
@@ -317,11 +319,31 @@ private:
     return true;
   }
 
+  // Time went backwards (a simulation reset sends the robot back to its spawn pose and the
+  // odometry to zero; a bag played again, to its start): the map and trajectory belong to a past
+  // that did not happen. Start a new map, as at launch, and go on. Call with mutex_ held.
+  void startOverIfTimeWentBack()
+  {
+    const ros::Time now = ros::Time::now();
+    const bool back = now < last_now_;
+    last_now_ = now;
+    if (!back)
+      return;
+    ROS_WARN("slam: time went backwards (to %.3f s); starting a new map", now.toSec());
+    slam_ = std::make_unique<Slam>(params_);
+    last_stamp_ = -1e300;
+    published_ = false;
+    published_version_ = 0;
+    last_map_publish_ = 0.0;
+    last_tf_stamp_ = ros::Time();
+  }
+
   void publishTransform(const ros::TimerEvent&)
   {
     Pose2D m2o;
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      startOverIfTimeWentBack();
       m2o = slam_->mapToOdom();
     }
     geometry_msgs::TransformStamped t;
@@ -356,7 +378,8 @@ private:
   bool published_ = false;
   uint64_t published_version_ = 0;
   double last_map_publish_ = 0.0;
-  ros::Time last_tf_stamp_;
+  ros::Time last_tf_stamp_, last_now_;
+  SlamParams params_;
 };
 
 int main(int argc, char** argv)

@@ -9,6 +9,7 @@
   errors      -> a goal in an obstacle and a goal outside the map abort with a reason; a goal cancelled
                  mid-way stops the robot
   global      -> after global_localization, AMCL converges within 0.25 m / 0.25 rad in ~max_converge s
+  reset       -> reset_simulation mid-goal: goal aborted, no motion, AMCL and topics start over
   kidnap      -> the robot is teleported with set_model_state; AMCL re-localizes within ~max_converge s
 The map frame is the world frame: the known map is the world rendered by world_to_map."""
 import math
@@ -27,8 +28,10 @@ from actionlib_msgs.msg import GoalStatus
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Log
 from PIL import Image
 from std_srvs.srv import Empty
+from tf2_msgs.msg import TFMessage
 
 from mybot_gazebo_lite.msg import ModelContacts, ModelState
 from mybot_navigation.action_client import SimpleActionClient
@@ -74,6 +77,11 @@ class NavSimTest(unittest.TestCase):
         rospy.Subscriber("/gazebo/model_contacts", ModelContacts, self.on_contacts, queue_size=10)
         self.cmd = rospy.Publisher("cmd_vel", Twist, queue_size=1)
         self.occ, self.res, self.origin = load_map(self.map_file)
+        self.slam_tf_stamp = None
+        self.logs = []
+        if rospy.get_param("~slam_ns", ""):
+            rospy.Subscriber("/tf", TFMessage, self.on_tf, queue_size=100)
+            rospy.Subscriber("/rosout", Log, lambda m: self.logs.append(m.msg), queue_size=100)
 
     # ----- helpers ---------------------------------------------------------------------------
     def on_truth(self, msg):
@@ -81,6 +89,11 @@ class NavSimTest(unittest.TestCase):
         self.truth = (msg.header.stamp.to_sec(), p.position.x, p.position.y, yaw_of(p.orientation))
         self.truth_speed = math.hypot(msg.twist.twist.linear.x, msg.twist.twist.linear.y)
         self.log.append(self.truth)
+
+    def on_tf(self, msg):
+        for t in msg.transforms:
+            if t.header.frame_id == "slam_map" and t.child_frame_id == "odom":
+                self.slam_tf_stamp = t.header.stamp
 
     def on_contacts(self, msg):
         if msg.model_name == self.model:
@@ -370,6 +383,48 @@ class NavSimTest(unittest.TestCase):
         self.assertLess((rospy.Time.now() - stop_start).to_sec(), 2.0)
         self.wait_sim(1.0)
         self.assertLess(self.truth_speed, 0.01)
+
+    def check_reset(self):
+        """Time going backwards mid-goal (reset_simulation): the goal is aborted saying why, the
+        robot stays still, AMCL starts over at its initial pose and the topics flow again."""
+        self.wait_ready()
+        client = self.action_client()
+        gx, gy = rospy.get_param("~far_goal")
+        client.send_goal(self.goal(gx, gy, 0.0))
+        self.wait(lambda: self.truth is not None and math.hypot(self.truth[1], self.truth[2]) > 0.5, 120,
+                  "the robot to drive 0.5 m towards the goal")
+        before = rospy.Time.now()
+        rospy.wait_for_service("/gazebo/reset_simulation", 30)
+        rospy.ServiceProxy("/gazebo/reset_simulation", Empty)()
+        self.wait(lambda: rospy.Time.now() < before, 30, "sim time to go back")
+        reset_at = rospy.Time.now()
+        self.wait(lambda: client.get_state() == GoalStatus.ABORTED, 30, "the goal to be aborted")
+        self.assertIn("time went backwards", client.get_goal_status_text())
+        # Ground truth flows again from the spawn pose, and the robot does not move by itself.
+        self.wait(lambda: self.truth is not None and self.truth[0] >= reset_at.to_sec(), 30, "ground truth after reset")
+        self.wait_sim(1.0)
+        start = self.truth
+        self.wait_sim(2.0)
+        end = self.truth
+        self.assertGreater(end[0], start[0], "ground truth stopped flowing")
+        moved = math.hypot(end[1] - start[1], end[2] - start[2])
+        self.assertLess(moved, 0.01, "the robot moved %.3f m after the reset with no goal" % moved)
+        self.assertLess(math.hypot(end[1], end[2]), 0.05, "the reset did not bring the robot back to its spawn")
+        # AMCL starts over at its initial pose (the spawn pose): map -> base_footprint flows again there.
+        self.wait(lambda: self.amcl_pose() is not None, 30, "AMCL's transform after the reset")
+        est = self.amcl_pose()
+        self.assertLess(math.hypot(est[0] - end[1], est[1] - end[2]), 0.3, "AMCL at %s after the reset" % (est,))
+        # SLAM starts a new map, and its map -> odom flows again.
+        if rospy.get_param("~slam_ns", ""):
+            self.wait(lambda: any("slam: time went backwards" in m and "starting a new map" in m for m in self.logs), 30,
+                      "SLAM to start a new map")
+            # (Read off /tf: AMCL's map -> odom is the parent of odom in the tf tree here.)
+            self.wait(lambda: self.slam_tf_stamp is not None and reset_at <= self.slam_tf_stamp < before, 30,
+                      "slam_map -> odom on /tf after the reset")
+        # And it takes goals again.
+        client.send_goal(self.goal(0.5, 0.0, 0.0))
+        self.wait(lambda: client.get_state() not in (GoalStatus.PENDING, GoalStatus.ACTIVE), 120, "a goal after reset")
+        self.assertEqual(client.get_state(), GoalStatus.SUCCEEDED, client.get_goal_status_text())
 
     def check_global(self):
         self.wait_ready()
