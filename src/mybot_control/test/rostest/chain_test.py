@@ -70,7 +70,7 @@ class DiffDriveChainTest(unittest.TestCase):
         bad.angular.z = float('inf')
         for _ in range(20):
             self.chain.pub.publish(bad)
-            rospy.sleep(0.02)
+            self.chain.ls.sleep(0.02)  # sim time; under lockstep it waits for this test
         self.chain.wait_stopped(timeout=10.0)
         self.chain.drive(0.1, 0.0, 1.0)
         self.chain.wait_stopped()

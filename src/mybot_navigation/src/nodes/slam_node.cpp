@@ -25,23 +25,14 @@ using namespace mybot_navigation;
 
 namespace
 {
-// Reads a private parameter, applies a check and stops the node with one clear message on failure.
+// Reads a private parameter strictly (mybot_common::readParam: the wrong type stops the node
+// naming it), applies a check and stops the node with one clear message on failure.
 template <typename T, typename Check>
 T param(ros::NodeHandle& pnh, const std::string& name, T def, Check ok, const char* requirement)
 {
-  T v = def;
-  if (pnh.hasParam(name) && !pnh.getParam(name, v))
-  {
-    ROS_FATAL("slam: parameter ~%s has the wrong type (expected %s)", name.c_str(), requirement);
-    ros::shutdown();
-    std::exit(1);
-  }
+  const T v = mybot_common::readParam<T>("slam", pnh, name, def);
   if (!ok(v))
-  {
-    ROS_FATAL("slam: parameter ~%s is invalid: must be %s", name.c_str(), requirement);
-    ros::shutdown();
-    std::exit(1);
-  }
+    mybot_common::fatalParam("slam", pnh, name, std::string("is invalid: must be ") + requirement);
   return v;
 }
 

@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""A LaserScan whose number of ranges contradicts its angles is dropped by slam_node, amcl and
-move_base, each warning with the topic and both numbers; a consistent scan is still used."""
+"""Bad input to the navigation nodes, no simulator: a LaserScan whose number of ranges contradicts
+its angles is dropped by slam_node, amcl and move_base, each warning with the topic and both
+numbers, and a consistent scan is still used; an initial pose with NaN, 1e30 or a zero quaternion
+is refused by amcl naming the field, and its pose stays where it was."""
 import math
 import sys
 import time
@@ -29,7 +31,7 @@ def scan(n, rng=2.0):
     return s
 
 
-class BadScans(unittest.TestCase):
+class BadInput(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("bad_scans_test")
@@ -63,6 +65,29 @@ class BadScans(unittest.TestCase):
                 self.fail("timed out waiting for " + what)
             time.sleep(0.05)
 
+    def test_initial_pose_that_is_not_finite_is_refused_naming_the_field(self):
+        pub = rospy.Publisher("/initialpose", PoseWithCovarianceStamped, queue_size=10)
+        self.wait_for(lambda: pub.get_num_connections() > 0, "amcl to subscribe to /initialpose")
+        cases = [("position.x", float("nan"), "pose.pose.position.x is nan"),
+                 ("position.y", 1e30, "pose.pose.position.y is 1e+30, beyond"),
+                 ("orientation.w", 0.0, "pose.pose.orientation is a zero quaternion"),
+                 ("covariance", float("inf"), "pose.covariance[0] is inf")]
+        for field, value, message in cases:
+            msg = PoseWithCovarianceStamped()
+            msg.header.frame_id = "map"
+            msg.pose.pose.orientation.w = 1.0
+            if field == "covariance":
+                cov = list(msg.pose.covariance)
+                cov[0] = value
+                msg.pose.covariance = cov
+            else:
+                part, attr = field.split(".")
+                setattr(getattr(msg.pose.pose, part), attr, value)
+            pub.publish(msg)
+            self.wait_for(lambda: any(n == "/amcl" and "ignoring initial pose: " + message in m for n, m in self.logs),
+                          "amcl to refuse %s = %r" % (field, value))
+        self.assertFalse(any(n == "/amcl" and "setting pose" in m for n, m in self.logs))
+
     def test_contradicting_scans_are_dropped_naming_topic_and_numbers(self):
         want = "has 100 ranges where its angles (angle_min -1.5708, angle_max 1.5708, angle_increment 0.00872665) make 361"
         warned = lambda node: any(n == node and "/scan" in m and want in m for n, m in self.logs)  # noqa: E731
@@ -81,4 +106,4 @@ class BadScans(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    rostest.rosrun("mybot_navigation", "bad_scans", BadScans, sys.argv)
+    rostest.rosrun("mybot_navigation", "bad_input", BadInput, sys.argv)
