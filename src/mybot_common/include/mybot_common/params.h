@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 
 #include <ros/ros.h>
@@ -13,29 +14,29 @@
 namespace mybot_common
 {
 
-// Stops the node with one message naming the parameter (exit code 1).
-[[noreturn]] inline void fatalParam(const std::string& node, const ros::NodeHandle& nh, const std::string& name,
-                                    const std::string& why)
+// "parameter /node/name: why". Nodelets throw it (they must not end their manager's process);
+// nodes stop with it (readParam, fatalParam).
+struct ParamError : std::runtime_error
 {
-  ROS_FATAL("%s: parameter %s: %s", node.c_str(), nh.resolveName(name).c_str(), why.c_str());
-  ros::shutdown();
-  std::exit(1);
-}
+  ParamError(const ros::NodeHandle& nh, const std::string& name, const std::string& why)
+    : std::runtime_error("parameter " + nh.resolveName(name) + ": " + why)
+  {
+  }
+};
 
-// Reads an optional parameter; a value of the wrong type is fatal rather than silently ignored.
+// Reads an optional parameter; a value of the wrong type throws ParamError.
 template <typename T>
-T readParam(const std::string& node, const ros::NodeHandle& nh, const std::string& name, const T& def)
+T readParamOrThrow(const ros::NodeHandle& nh, const std::string& name, const T& def)
 {
   T v = def;
   if (nh.hasParam(name) && !nh.getParam(name, v))
-    fatalParam(node, nh, name, "has the wrong type");
+    throw ParamError(nh, name, "has the wrong type");
   return v;
 }
 
 // doubles also accept integers written without a decimal point.
 template <>
-inline double readParam<double>(const std::string& node, const ros::NodeHandle& nh, const std::string& name,
-                                const double& def)
+inline double readParamOrThrow<double>(const ros::NodeHandle& nh, const std::string& name, const double& def)
 {
   if (!nh.hasParam(name))
     return def;
@@ -45,20 +46,45 @@ inline double readParam<double>(const std::string& node, const ros::NodeHandle& 
     return static_cast<double>(v);
   if (v.getType() == XmlRpc::XmlRpcValue::TypeInt)
     return static_cast<int>(v);
-  fatalParam(node, nh, name, "must be a number");
+  throw ParamError(nh, name, "must be a number");
 }
 
 // ints are whole numbers: roscpp's getParam would round 2.5 to 3 without a word.
 template <>
-inline int readParam<int>(const std::string& node, const ros::NodeHandle& nh, const std::string& name, const int& def)
+inline int readParamOrThrow<int>(const ros::NodeHandle& nh, const std::string& name, const int& def)
 {
   if (!nh.hasParam(name))
     return def;
   XmlRpc::XmlRpcValue v;
   nh.getParam(name, v);
   if (v.getType() != XmlRpc::XmlRpcValue::TypeInt)
-    fatalParam(node, nh, name, "must be a whole number");
+    throw ParamError(nh, name, "must be a whole number");
   return static_cast<int>(v);
+}
+
+// Stops the node with one message naming the parameter (exit code 1).
+[[noreturn]] inline void fatalParam(const std::string& node, const ros::NodeHandle& nh, const std::string& name,
+                                    const std::string& why)
+{
+  ROS_FATAL("%s: %s", node.c_str(), ParamError(nh, name, why).what());
+  ros::shutdown();
+  std::exit(1);
+}
+
+// readParamOrThrow for nodes: a value of the wrong type stops the node naming it.
+template <typename T>
+T readParam(const std::string& node, const ros::NodeHandle& nh, const std::string& name, const T& def)
+{
+  try
+  {
+    return readParamOrThrow<T>(nh, name, def);
+  }
+  catch (const ParamError& e)
+  {
+    ROS_FATAL("%s: %s", node.c_str(), e.what());
+    ros::shutdown();
+    std::exit(1);
+  }
 }
 
 }  // namespace mybot_common
