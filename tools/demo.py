@@ -483,7 +483,9 @@ def run_robot(robot, args, world, truth_yaml, out):
     nx, ny, nyaw = world["nav_start"]
     map_rtf, nav_rtf = ROBOT_PACE[robot]
     common = {"robot": robot, "world": wfile, "rviz": str(args.gui).lower(),
-              "real_time_factor": args.real_time_factor or map_rtf}
+              "real_time_factor": args.real_time_factor or map_rtf,
+              "sensor": args.sensor if robot == "swerve" else "laser"}
+    summary["sensor"] = common["sensor"]
 
     if args.map:
         map_prefix = os.path.splitext(os.path.abspath(args.map))[0]
@@ -609,6 +611,8 @@ def main():
                          "whole stack keeps up with on 2 cores)")
     ap.add_argument("--nav-real-time-factor", type=float, default=None,
                     help="simulator pace of the navigation stage (default 4 for mybot, 3 for swerve)")
+    ap.add_argument("--sensor", choices=("laser", "depth"), default="laser",
+                    help="the swerve robot's sensor: its laser, or the thesis's depth camera through depth_to_scan")
     ap.add_argument("--map", help="navigate on this saved map (map_server YAML) instead of exploring first")
     ap.add_argument("--goals", type=int, default=5, help="goals to visit per robot")
     ap.add_argument("--explore-budget", type=float, default=900.0, help="sim seconds of exploration per robot")
