@@ -91,7 +91,7 @@ def enclosed_unknown(grid, max_area_cells):
     return small[labels]
 
 
-def start_cell(free, passable, info, robot_xy, robot_radius):
+def start_cell(free, passable, info, robot_xy, robot_radius, grid=None):
     """The passable cell the search starts from: the robot's own, or, when it
     stands closer to an obstacle than its radius (a narrow gap, a wall it
     brushed), the nearest passable cell it can get to through free space
@@ -103,8 +103,11 @@ def start_cell(free, passable, info, robot_xy, robot_radius):
     if passable[r, c]:
         return r, c
     if not free[r, c]:
-        # The SLAM grid may mark the robot's own cell: take the nearest free cell next to it.
-        k = int(np.ceil(robot_radius / info.resolution))
+        # The SLAM grid may mark the robot's own cell: take the nearest free cell next to it. A
+        # sensor that does not see around the robot (a depth camera's narrow field of view and
+        # minimum range) leaves the robot's own cell unknown: look as far as 1 m for free space.
+        unknown_here = grid is not None and grid[r, c] < 0
+        k = int(np.ceil(max(robot_radius, 1.0 if unknown_here else 0.0) / info.resolution))
         win = np.argwhere(free[max(r - k, 0):r + k + 1, max(c - k, 0):c + k + 1])
         if len(win) == 0:
             return None
@@ -140,7 +143,7 @@ def find_frontiers(grid, info, robot_xy, robot_radius=0.2, min_frontier_size=5,
     clearance = ndimage.distance_transform_edt(~blocked) * info.resolution
     passable = free & (clearance >= robot_radius)
 
-    start = start_cell(free, passable, info, robot_xy, robot_radius)
+    start = start_cell(free, passable, info, robot_xy, robot_radius, grid)
     if start is None:
         return None
     dist = path_lengths(passable, start)

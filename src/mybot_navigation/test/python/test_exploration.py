@@ -144,3 +144,15 @@ def test_robot_in_a_narrow_gap_still_finds_frontiers():
     boxed[38:43, 33:38] = 0
     boxed[37, 32:39] = boxed[43, 32:39] = boxed[37:44, 32] = boxed[37:44, 38] = 100
     assert find_frontiers(boxed, INFO, robot_xy=(1.75, 2.0), robot_radius=0.3) is None
+
+
+def test_robot_on_unknown_cells_with_free_space_ahead_finds_frontiers():
+    # A depth camera (87 degrees, 0.3 m minimum range, behind the robot's centre) leaves the
+    # robot's own cells unknown: the free cone it saw ahead is where the search starts.
+    g = np.full((80, 80), -1, dtype=np.int8)
+    for r in range(80):
+        for c in range(46, 70):
+            if abs(r - 40) <= (c - 44) * 0.9:  # the cone, from 0.3 m ahead of the robot at column 40
+                g[r, c] = 0
+    fr = find_frontiers(g, INFO, robot_xy=(2.0, 2.0), robot_radius=0.3)
+    assert fr, "no frontier from a robot standing on unknown cells behind its sensor's cone"

@@ -38,8 +38,8 @@ struct DepthToScanParams
 struct PlanarScan
 {
   double angle_min = 0.0, angle_max = 0.0, angle_increment = 0.0;
-  // REP 117: a valid range, else +inf (only returns beyond range_max), -inf (only nearer than
-  // range_min), NaN (no measurement at all: NaN or 0 depth).
+  // REP 117: a valid range, else +inf (no return: NaN or 0 depth, or only returns beyond
+  // range_max), -inf (only returns nearer than range_min), NaN (no image column at this bearing).
   std::vector<float> ranges;
 };
 

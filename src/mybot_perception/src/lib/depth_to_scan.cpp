@@ -12,8 +12,9 @@ namespace
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// REP 117's preference for one beam: any valid range over +inf (something beyond range_max) and
-// -inf (something nearer than range_min), over NaN (nothing measured); the nearest valid wins.
+// REP 117's preference for one beam: any valid range over +inf (no return: nothing within
+// range_max) and -inf (something nearer than range_min), over NaN (no column at this bearing);
+// the nearest valid wins.
 float better(float old_value, float candidate)
 {
   if (std::isfinite(candidate))
@@ -69,8 +70,9 @@ PlanarScan convert(const T* depth, std::size_t stride, const PinholeColumns& c, 
     const T* row = depth + static_cast<std::size_t>(v) * stride;
     for (int u = 0; u < c.width; ++u)
     {
-      const double z = to_metres(row[u]);  // NaN for no measurement
-      const float r = std::isfinite(z) && z > 0.0 ? classify(z * stretch[static_cast<std::size_t>(u)], p) : kNaN;
+      // No depth (NaN, 0, +inf: nothing within the camera's reach) is no return, +inf.
+      const double z = to_metres(row[u]);
+      const float r = std::isfinite(z) && z > 0.0 ? classify(z * stretch[static_cast<std::size_t>(u)], p) : kInf;
       float& beam = scan.ranges[beam_of[static_cast<std::size_t>(u)]];
       beam = better(beam, r);
     }
