@@ -304,12 +304,25 @@ private:
 
   void odomReceived(const nav_msgs::Odometry::ConstPtr& msg)
   {
+    // Odometry comes at the base's rate (50 Hz), faster than the control loop: the first place
+    // a jump back in time is seen, so the robot stops within a message of it.
+    checkTimeJump();
     velocity_ = {msg->twist.twist.linear.x, msg->twist.twist.linear.y, msg->twist.twist.angular.z};
     last_odom_ = ros::Time::now();
   }
 
+  // Treats a jump of ROS time backwards as a reset (timeWentBack) once; any callback may call it.
+  void checkTimeJump()
+  {
+    const ros::Time now = ros::Time::now();
+    if (now < last_control_)
+      timeWentBack(now);
+    last_control_ = now;
+  }
+
   void scanReceived(const sensor_msgs::LaserScan::ConstPtr& scan, const CostmapConfig::Source& source)
   {
+    checkTimeJump();
     if (!have_map_ || !scanGeometryOk("move_base", nh_.resolveName(source.topic), *scan))
       return;
     Pose2D sensor;
@@ -504,7 +517,7 @@ private:
   // happen. Stop, abort the goal saying why, clear, and go on with the next goal.
   void timeWentBack(const ros::Time& now)
   {
-    ROS_WARN("move_base: time went backwards (%.3f -> %.3f s); clearing the costmaps%s", last_control_.toSec(),
+    ROS_WARN("move_base: time went backwards (%.3f -> %.3f s); stopping, clearing the costmaps%s", last_control_.toSec(),
              now.toSec(), server_->isActive() ? " and aborting the goal" : "");
     pending_goal_.reset();
     navigator_->cancel();
@@ -519,10 +532,7 @@ private:
 
   void controlLoop(const ros::TimerEvent&)
   {
-    const ros::Time now = ros::Time::now();
-    if (now < last_control_)
-      timeWentBack(now);
-    last_control_ = now;
+    checkTimeJump();
     if (!server_->isActive())
       return;
     if (pending_goal_)

@@ -1,6 +1,10 @@
 #include "mybot_navigation/evaluation.h"
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
 
 namespace mybot_navigation
 {
@@ -131,6 +135,103 @@ RelativePoseError relativePoseError(const std::vector<Pose2D>& estimate, const s
     r.rotation_rms = std::sqrt(sr / r.pairs);
   }
   return r;
+}
+
+namespace
+{
+struct Accumulator
+{
+  std::vector<double> values;
+  void add(double v) { values.push_back(v); }
+  ErrorStats stats() const
+  {
+    ErrorStats e;
+    e.count = static_cast<int>(values.size());
+    if (values.empty())
+      return e;
+    double sum = 0.0, sum2 = 0.0, sq = 0.0, sq2 = 0.0;
+    for (double v : values)
+    {
+      sum += v;
+      sum2 += v * v;
+      sq += v * v;
+      sq2 += v * v * v * v;
+      e.max = std::max(e.max, v);
+    }
+    const double n = static_cast<double>(values.size());
+    e.mean = sum / n;
+    e.std = std::sqrt(std::max(0.0, sum2 / n - e.mean * e.mean));
+    e.squared_mean = sq / n;
+    e.squared_std = std::sqrt(std::max(0.0, sq2 / n - e.squared_mean * e.squared_mean));
+    return e;
+  }
+};
+}  // namespace
+
+RelationScore scoreRelations(const std::vector<StampedPose>& trajectory, const std::vector<Relation>& relations,
+                             double local_max_dt, double stamp_tolerance)
+{
+  std::vector<StampedPose> sorted = trajectory;
+  std::sort(sorted.begin(), sorted.end(), [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
+  auto find = [&](double t, Pose2D& out) {
+    auto it = std::lower_bound(sorted.begin(), sorted.end(), t - stamp_tolerance,
+                               [](const StampedPose& p, double v) { return p.stamp < v; });
+    if (it == sorted.end() || it->stamp > t + stamp_tolerance)
+      return false;
+    out = it->pose;
+    return true;
+  };
+  Accumulator t_all, r_all, t_local, r_local, t_loop, r_loop;
+  RelationScore score;
+  for (const Relation& rel : relations)
+  {
+    Pose2D a, b;
+    if (!find(rel.t1, a) || !find(rel.t2, b))
+    {
+      ++score.missing;
+      continue;
+    }
+    const Pose2D est = between(a, b);
+    const double dt = std::hypot(est.x - rel.motion.x, est.y - rel.motion.y);
+    const double dr = std::abs(normalizeAngle(est.theta - rel.motion.theta)) * 180.0 / M_PI;
+    t_all.add(dt);
+    r_all.add(dr);
+    const bool local = std::abs(rel.t2 - rel.t1) <= local_max_dt;
+    (local ? t_local : t_loop).add(dt);
+    (local ? r_local : r_loop).add(dr);
+  }
+  score.translation = t_all.stats();
+  score.rotation_deg = r_all.stats();
+  score.local_translation = t_local.stats();
+  score.local_rotation_deg = r_local.stats();
+  score.loop_translation = t_loop.stats();
+  score.loop_rotation_deg = r_loop.stats();
+  return score;
+}
+
+std::vector<Relation> readRelations(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw std::runtime_error(path + ": cannot open the relations file");
+  std::vector<Relation> out;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n)
+  {
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#')
+      continue;
+    std::istringstream fields(line);
+    Relation r;
+    double z, roll, pitch;
+    if (!(fields >> r.t1 >> r.t2 >> r.motion.x >> r.motion.y >> z >> roll >> pitch >> r.motion.theta) ||
+        !std::isfinite(r.t1) || !std::isfinite(r.t2) || !std::isfinite(r.motion.x) || !std::isfinite(r.motion.y) ||
+        !std::isfinite(r.motion.theta))
+      throw std::runtime_error(path + ":" + std::to_string(n) + ": expected \"t1 t2 x y z roll pitch yaw\", got \"" +
+                               line + "\"");
+    out.push_back(r);
+  }
+  return out;
 }
 
 }  // namespace mybot_navigation

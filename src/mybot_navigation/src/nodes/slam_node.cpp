@@ -20,6 +20,7 @@
 #include "mybot_navigation/navigation_ros.h"
 #include "mybot_navigation/ros/conversions.h"
 #include "mybot_navigation/slam.h"
+#include "mybot_navigation/slam_params.h"
 
 using namespace mybot_navigation;
 
@@ -53,60 +54,36 @@ public:
     map_frame_ = param<std::string>(pnh_, "map_frame", "map", non_empty, "a frame name");
     map_update_interval_ = param(pnh_, "map_update_interval", 5.0, non_negative, "a number >= 0 (s)");
     transform_publish_period_ = param(pnh_, "transform_publish_period", 0.05, non_negative, "a number >= 0 (s)");
-    max_urange_ = param(pnh_, "maxUrange", 80.0, positive, "a positive range (m)");
-    max_range_ = param(pnh_, "maxRange", 0.0, non_negative, "a range >= 0 (m); 0 = the scan's range_max");
     throttle_scans_ = param(pnh_, "throttle_scans", 1, [](int v) { return v >= 1; }, "an integer >= 1");
 
-    SlamParams p;
-    p.grid.resolution = param(pnh_, "delta", 0.05, positive, "a positive cell size (m)");
-    p.linear_update = param(pnh_, "linearUpdate", 1.0, non_negative, "a distance >= 0 (m)");
-    p.angular_update = param(pnh_, "angularUpdate", 0.5, non_negative, "an angle >= 0 (rad)");
-    p.temporal_update = param(pnh_, "temporalUpdate", -1.0, any_number, "a number (s; < 0 disables)");
-    p.occ_thresh = param(pnh_, "occ_thresh", 0.5, probability, "a probability in (0, 1)");
-    p.local_map_scans = param(pnh_, "local_map_scans", 20, [](int v) { return v >= 2; }, "an integer >= 2");
-    p.search_window_linear = param(pnh_, "search_window_linear", 0.3, non_negative, "a distance >= 0 (m)");
-    p.search_window_angular = param(pnh_, "search_window_angular", 0.35, non_negative, "an angle >= 0 (rad)");
-    p.match_translation_weight = param(pnh_, "match_translation_weight", p.match_translation_weight, non_negative,
-                                       "a number >= 0 (score per m^2)");
-    p.match_rotation_weight = param(pnh_, "match_rotation_weight", p.match_rotation_weight, non_negative,
-                                    "a number >= 0 (score per rad^2)");
-    p.odom_edge_sigma_xy = param(pnh_, "odom_edge_sigma_xy", p.odom_edge_sigma_xy, non_negative,
-                                 "a distance >= 0 (m per keyframe; 0 = no odometry edges)");
-    p.odom_edge_sigma_theta = param(pnh_, "odom_edge_sigma_theta", p.odom_edge_sigma_theta, non_negative,
-                                    "an angle >= 0 (rad per keyframe; 0 = no odometry edges)");
-    if ((p.odom_edge_sigma_xy > 0.0) != (p.odom_edge_sigma_theta > 0.0))
+    // The Slam's own parameters: one table, shared with slam_replay.
+    SlamRunParams run;
+    for (const SlamParamSpec& spec : slamParamSpecs())
     {
-      ROS_FATAL("slam: parameters ~odom_edge_sigma_xy (%g) and ~odom_edge_sigma_theta (%g) must both be positive "
-                "(odometry edges) or both 0 (none)",
-                p.odom_edge_sigma_xy, p.odom_edge_sigma_theta);
+      switch (spec.type)
+      {
+        case SlamParamSpec::Type::Number:
+          spec.field_double(run) = param(pnh_, spec.name, spec.field_double(run), spec.ok, spec.requirement);
+          break;
+        case SlamParamSpec::Type::Integer:
+          spec.field_int(run) = param(
+              pnh_, spec.name, spec.field_int(run), [&spec](int v) { return spec.ok(v); }, spec.requirement);
+          break;
+        case SlamParamSpec::Type::Boolean:
+          spec.field_bool(run) = param(pnh_, spec.name, spec.field_bool(run), [](bool) { return true; }, "a bool");
+          break;
+      }
+    }
+    const std::string inconsistent = checkSlamRunParams(run);
+    if (!inconsistent.empty())
+    {
+      ROS_FATAL("slam: parameters %s", inconsistent.c_str());
       ros::shutdown();
       std::exit(1);
     }
-    p.min_match_score = param(pnh_, "min_match_score", 0.35, [](double v) { return v >= 0 && v < 1; }, "in [0, 1)");
-    p.loop_closure = param(pnh_, "loop_closure", true, [](bool) { return true; }, "a bool");
-    p.loop_search_radius = param(pnh_, "loop_search_radius", 4.0, positive, "a positive distance (m)");
-    p.loop_min_travel = param(pnh_, "loop_min_travel", 8.0, positive, "a positive distance (m)");
-    p.loop_window_linear = param(pnh_, "loop_window_linear", 1.5, positive, "a positive distance (m)");
-    p.loop_window_angular = param(pnh_, "loop_window_angular", 0.5, positive, "a positive angle (rad)");
-    p.loop_min_score = param(pnh_, "loop_min_score", 0.6, [](double v) { return v > 0 && v < 1; }, "in (0, 1)");
-    p.loop_max_correction = param(pnh_, "loop_max_correction", p.loop_max_correction, non_negative,
-                                  "a distance >= 0 (m)");
-    p.loop_max_correction_per_m = param(pnh_, "loop_max_correction_per_m", p.loop_max_correction_per_m,
-                                        non_negative, "a number >= 0 (m per m travelled)");
-    p.loop_min_score_gain = param(pnh_, "loop_min_score_gain", p.loop_min_score_gain,
-                                  [](double v) { return std::isfinite(v) && v >= 1.0; }, "a ratio >= 1");
-    p.loop_max_residual_sigma = param(pnh_, "loop_max_residual_sigma", p.loop_max_residual_sigma, positive,
-                                      "a positive number of standard deviations");
-    p.loop_confirm_correction = param(pnh_, "loop_confirm_correction", p.loop_confirm_correction, non_negative,
-                                      "a distance >= 0 (m; 0 applies every closure at once)");
-    p.loop_large_correction = param(pnh_, "loop_large_correction", p.loop_large_correction, positive,
-                                    "a positive distance (m)");
-    p.loop_min_score_large = param(pnh_, "loop_min_score_large", p.loop_min_score_large,
-                                   [](double v) { return v > 0 && v < 1; }, "in (0, 1)");
-    p.loop_confirm_tolerance = param(pnh_, "loop_confirm_tolerance", p.loop_confirm_tolerance, positive,
-                                     "a positive distance (m)");
-    p.loop_confirm_attempts = param(pnh_, "loop_confirm_attempts", p.loop_confirm_attempts,
-                                    [](int v) { return v >= 1; }, "an integer >= 1");
+    max_urange_ = run.max_urange;
+    max_range_ = run.max_range;
+    SlamParams p = run.slam;
     if (p.grid.resolution > 1.0)
       ROS_WARN("slam: ~delta = %.2f m is a very coarse map", p.grid.resolution);
     params_ = p;

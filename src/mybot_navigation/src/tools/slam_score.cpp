@@ -2,6 +2,11 @@
 // trajectory against ground truth (text files: "stamp x y yaw" per line, matched by line).
 //   slam_score --map MAP.yaml --truth TRUTH.yaml [--traj EST.txt --truth-traj GT.txt] [--tolerance 1]
 //              [--align-first N]   (align map and trajectory on the first N poses only)
+//   slam_score --relations FILE --tum TRAJ.tum [--local-max-dt 2]
+//              Kuemmerle et al.'s metric of a trajectory (TUM: "stamp x y z qx qy qz qw", e.g.
+//              slam_replay's) on a relations file: translational (m) and rotational (deg) error,
+//              absolute and squared, mean, std and max; all, local (t2 - t1 <= 2 s) and the rest.
+#include <cmath>
 #include <cstdio>
 #include <algorithm>
 #include <cstring>
@@ -36,11 +41,60 @@ std::vector<Pose2D> readTrajectory(const std::string& path)
   }
   return out;
 }
+std::vector<StampedPose> readTum(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw std::runtime_error("cannot open trajectory file " + path);
+  std::vector<StampedPose> out;
+  std::string line;
+  while (std::getline(in, line))
+  {
+    if (line.empty() || line[0] == '#')
+      continue;
+    std::istringstream ss(line);
+    StampedPose p;
+    double z, qx, qy, qz, qw;
+    if (!(ss >> p.stamp >> p.pose.x >> p.pose.y >> z >> qx >> qy >> qz >> qw))
+      throw std::runtime_error(path + ": bad line '" + line + "' (expected: stamp x y z qx qy qz qw)");
+    p.pose.theta = std::atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz));
+    out.push_back(p);
+  }
+  return out;
+}
+
+void printStats(const char* name, const ErrorStats& e)
+{
+  std::printf("%s_count %d\n%s_mean %.4f\n%s_std %.4f\n%s_max %.4f\n%s_squared_mean %.5f\n%s_squared_std %.5f\n", name,
+              e.count, name, e.mean, name, e.std, name, e.max, name, e.squared_mean, name, e.squared_std);
+}
+
+int scoreRelationsFile(const std::string& relations, const std::string& tum, double local_max_dt)
+{
+  try
+  {
+    const RelationScore s = scoreRelations(readTum(tum), readRelations(relations), local_max_dt);
+    printStats("translation_m", s.translation);
+    printStats("rotation_deg", s.rotation_deg);
+    printStats("local_translation_m", s.local_translation);
+    printStats("local_rotation_deg", s.local_rotation_deg);
+    printStats("loop_translation_m", s.loop_translation);
+    printStats("loop_rotation_deg", s.loop_rotation_deg);
+    std::printf("missing_relations %d\n", s.missing);
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "slam_score: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv)
 {
-  std::string map, truth, traj, truth_traj;
+  std::string map, truth, traj, truth_traj, relations, tum;
+  double local_max_dt = 2.0;
   int tolerance = 1;
   int align_first = 0;  // 0: least squares over the whole trajectory
   for (int i = 1; i < argc; ++i)
@@ -66,13 +120,29 @@ int main(int argc, char** argv)
       tolerance = std::stoi(value());
     else if (a == "--align-first")
       align_first = std::stoi(value());
+    else if (a == "--relations")
+      relations = value();
+    else if (a == "--tum")
+      tum = value();
+    else if (a == "--local-max-dt")
+      local_max_dt = std::stod(value());
     else
     {
       std::fprintf(stderr,
                    "usage: slam_score --map MAP.yaml --truth TRUTH.yaml [--traj EST.txt --truth-traj GT.txt] "
-                   "[--tolerance CELLS] [--align-first N]\n");
+                   "[--tolerance CELLS] [--align-first N]\n"
+                   "       slam_score --relations FILE --tum TRAJ.tum [--local-max-dt 2]\n");
       return 2;
     }
+  }
+  if (!relations.empty() || !tum.empty())
+  {
+    if (relations.empty() || tum.empty())
+    {
+      std::fprintf(stderr, "slam_score: --relations and --tum go together\n");
+      return 2;
+    }
+    return scoreRelationsFile(relations, tum, local_max_dt);
   }
   if (map.empty() || truth.empty())
   {
