@@ -21,14 +21,14 @@ TEST(Roster, APeriodCompletesOnlyWhenEveryParticipantAcked)
 {
   Roster r(5.0);
   r.begin(1, 0.0);
-  EXPECT_TRUE(r.ack("/a", 1, false, {}, 0.0));  // joins
-  EXPECT_TRUE(r.ack("/b", 1, false, {}, 0.0));
+  EXPECT_TRUE(r.ack("/a", 1, false, {}));  // joins
+  EXPECT_TRUE(r.ack("/b", 1, false, {}));
   r.begin(2, 0.1);
   EXPECT_FALSE(r.complete(0.2, nullptr));
-  EXPECT_FALSE(r.ack("/a", 2, false, {}, 0.2));  // not a join
+  EXPECT_FALSE(r.ack("/a", 2, false, {}));  // not a join
   EXPECT_FALSE(r.complete(0.2, nullptr));
   EXPECT_EQ(r.waiting(), std::vector<std::string>{"/b"});
-  r.ack("/b", 2, false, {}, 0.3);
+  r.ack("/b", 2, false, {});
   EXPECT_TRUE(r.complete(0.3, nullptr));
 }
 
@@ -36,7 +36,7 @@ TEST(Roster, AJoinerDoesNotHoldThePeriodUnderWay)
 {
   Roster r(5.0);
   r.begin(7, 0.0);
-  r.ack("/late", 3, false, {}, 0.0);  // an old tick's Ack: it owes Acks from period 8 on
+  r.ack("/late", 3, false, {});  // an old tick's Ack: it owes Acks from period 8 on
   EXPECT_TRUE(r.complete(0.1, nullptr));
   r.begin(8, 0.2);
   EXPECT_FALSE(r.complete(0.2, nullptr));
@@ -46,10 +46,10 @@ TEST(Roster, ASilentParticipantIsDroppedAfterTheTimeoutAndNamed)
 {
   Roster r(1.0);
   r.begin(1, 0.0);
-  r.ack("/fast", 1, false, {}, 0.0);
-  r.ack("/stuck", 1, false, {}, 0.0);
+  r.ack("/fast", 1, false, {});
+  r.ack("/stuck", 1, false, {});
   r.begin(2, 10.0);
-  r.ack("/fast", 2, false, {}, 10.0);
+  r.ack("/fast", 2, false, {});
   std::vector<std::string> dropped;
   EXPECT_FALSE(r.complete(10.9, &dropped));
   EXPECT_TRUE(dropped.empty());
@@ -62,9 +62,9 @@ TEST(Roster, LeavingRemovesAtOnce)
 {
   Roster r(5.0);
   r.begin(1, 0.0);
-  r.ack("/a", 1, false, {}, 0.0);
+  r.ack("/a", 1, false, {});
   r.begin(2, 0.0);
-  r.ack("/a", 1, true, {}, 0.0);
+  r.ack("/a", 1, true, {});
   EXPECT_EQ(r.size(), 0u);
   EXPECT_TRUE(r.complete(0.0, nullptr));
 }
@@ -74,9 +74,8 @@ TEST(Roster, ExpectationsKeepOnlyLinksIntoParticipants)
   Roster r(5.0);
   r.begin(1, 0.0);
   r.ack("/ctrl", 1, false,
-        {link("/cmd", "/ctrl", "/gazebo", 4), link("/cmd", "/ctrl", "/rviz", 4), link("/odom", "/ctrl", "/test", 9)},
-        0.0);
-  r.ack("/test", 1, false, {}, 0.0);
+        {link("/cmd", "/ctrl", "/gazebo", 4), link("/cmd", "/ctrl", "/rviz", 4), link("/odom", "/ctrl", "/test", 9)});
+  r.ack("/test", 1, false, {});
   const auto e = r.expectations({link("/joint_states", "/gazebo", "/ctrl", 12), link("/scan", "/gazebo", "/rviz", 3)});
   ASSERT_EQ(e.size(), 2u);
   EXPECT_EQ(e[0].topic, "/joint_states");

@@ -35,9 +35,9 @@ public:
   // timeout: wall seconds a participant may take over one period before it is dropped.
   explicit Roster(double timeout) : timeout_(timeout) {}
 
-  // An Ack for period `seq` from `node` arrived (wall time `wall`). Returns true if the node
-  // joined with it (it was not a participant before).
-  bool ack(const std::string& node, std::uint64_t seq, bool leaving, const std::vector<Link>& sent, double wall);
+  // An Ack for period `seq` from `node` arrived. Returns true if the node joined with it (it
+  // was not a participant before).
+  bool ack(const std::string& node, std::uint64_t seq, bool leaving, const std::vector<Link>& sent);
   // Period `seq` began at wall time `wall`: from now on every participant owes an Ack for it.
   void begin(std::uint64_t seq, double wall);
   // True when every participant has acknowledged the current period. A participant silent

@@ -5,10 +5,8 @@
 namespace mybot_lockstep
 {
 
-bool Roster::ack(const std::string& node, std::uint64_t seq, bool leaving, const std::vector<Link>& sent,
-                 double wall)
+bool Roster::ack(const std::string& node, std::uint64_t seq, bool leaving, const std::vector<Link>& sent)
 {
-  (void)wall;
   if (leaving)
   {
     members_.erase(node);

@@ -33,7 +33,7 @@ void Coordinator::onAck(const Ack::ConstPtr& ack)
   sent.reserve(ack->sent.size());
   for (const LinkCount& l : ack->sent)
     sent.push_back(fromMsg(l));
-  const bool joined = roster_.ack(ack->node, ack->seq, ack->leaving, sent, ros::WallTime::now().toSec());
+  const bool joined = roster_.ack(ack->node, ack->seq, ack->leaving, sent);
   if (joined)
   {
     ROS_INFO("lockstep: %s joins (%zu participants)", ack->node.c_str(), roster_.size());
