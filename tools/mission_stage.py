@@ -32,14 +32,7 @@ from rosgraph_msgs.msg import Clock
 from mybot_gazebo_lite.msg import ModelContacts
 from mybot_navigation.action_client import SimpleActionClient
 from mybot_navigation.trajectory import sideways_distance
-
-
-def yaw_of(q):
-    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
-
-
-def wrap(a):
-    return (a + math.pi) % (2 * math.pi) - math.pi
+from mybot_common.geometry import wrap, yaw_of
 
 
 def log(msg):

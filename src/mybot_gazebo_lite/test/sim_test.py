@@ -24,16 +24,9 @@ from std_srvs.srv import Empty
 
 from mybot_gazebo_lite.msg import ModelContacts, ModelState
 from mybot_gazebo_lite.srv import GetModelState, SetModelState, SpawnModel
+from mybot_common.geometry import wrap, yaw_of
 
 WALL_TIMEOUT = 60.0
-
-
-def yaw_of(q):
-    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
-
-
-def wrap(a):
-    return math.atan2(math.sin(a), math.cos(a))
 
 
 class Robot:

@@ -5,13 +5,10 @@ import math
 import os
 
 from mybot_common.atomic_file import write_files_atomically
+from mybot_common.geometry import yaw_from_quaternion  # noqa: F401 (part of this module's interface)
 
 DEFAULT_OCC = 65
 DEFAULT_FREE = 25
-
-
-def yaw_from_quaternion(x, y, z, w):
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
 def pgm_bytes(data, width, height, resolution, occ=DEFAULT_OCC, free=DEFAULT_FREE):

@@ -7,14 +7,7 @@ configurable so tests can use fake trees.
 import bisect
 import math
 import os
-
-
-def wrap(a):
-    return math.atan2(math.sin(a), math.cos(a))
-
-
-def yaw_from_quaternion(x, y, z, w):
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+from mybot_common.geometry import wrap, yaw_from_quaternion
 
 
 def compose(a, b):

@@ -9,14 +9,7 @@ from nav_msgs.msg import Odometry
 from std_srvs.srv import Trigger
 
 from mybot_lockstep import participant
-
-
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-
-
-def wrap(a):
-    return math.atan2(math.sin(a), math.cos(a))
+from mybot_common.geometry import wrap, yaw_of  # noqa: F401 (the tests import them from here)
 
 
 class Chain:

@@ -18,12 +18,9 @@ from std_srvs.srv import Empty
 from mybot_gazebo_lite.srv import GetModelState
 
 from mybot_lockstep import participant
+from mybot_common.geometry import yaw_of
 
 GYRO_BIAS, GYRO_NOISE = 0.3, 0.05  # deg/s: an MPU6050 at rest
-
-
-def yaw_of(q):
-    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
 
 
 def pose(odom):

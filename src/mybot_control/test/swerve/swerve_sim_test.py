@@ -18,16 +18,9 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
+from mybot_common.geometry import wrap, yaw_of
 
 MODULES = 'abcd'
-
-
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-
-
-def wrap(a):
-    return math.atan2(math.sin(a), math.cos(a))
 
 
 class Pose(object):

@@ -37,16 +37,9 @@ from mybot_gazebo_lite.msg import ModelContacts, ModelState
 from mybot_navigation.action_client import SimpleActionClient
 from mybot_navigation.trajectory import sideways_distance
 from mybot_gazebo_lite.srv import SetModelState
+from mybot_common.geometry import wrap as normalize, yaw_of
 
 PKG = "mybot_navigation"
-
-
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-
-
-def normalize(a):
-    return math.atan2(math.sin(a), math.cos(a))
 
 
 def load_map(yaml_path):

@@ -29,12 +29,9 @@ from nav_msgs.srv import GetMap
 from std_msgs.msg import Float64
 
 from mybot_navigation.map_saver import save_map, yaw_from_quaternion
+from mybot_common.geometry import wrap as normalize
 
 PKG = "mybot_navigation"
-
-
-def normalize(a):
-    return math.atan2(math.sin(a), math.cos(a))
 
 
 class SlamSimTest(unittest.TestCase):

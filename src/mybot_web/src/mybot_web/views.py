@@ -5,10 +5,7 @@ import math
 import struct
 import zlib
 from collections import deque, namedtuple
-
-
-def yaw_from_quaternion(x, y, z, w):
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+from mybot_common.geometry import yaw_from_quaternion
 
 
 def compose(pose, local):
