@@ -256,18 +256,20 @@ private:
   {
     if (!amcl_.hasMap() || !scanGeometryOk("amcl", scan_sub_.getTopic(), *scan))
       return;
-    if (!last_scan_stamp_.isZero() && scan->header.stamp < last_scan_stamp_)
+    // ROS time itself going back, not a scan older than the last (a tf message filter can release
+    // scans a few milliseconds out of order; that is no reset).
+    const ros::Time now = ros::Time::now();
+    if (!last_now_.isZero() && now < last_now_)
     {
       // Time went backwards (tf2's listener has cleared the buffer): start over as at launch.
-      ROS_WARN("amcl: time went backwards (scan at %.3f s after one at %.3f s); starting over at the initial pose "
-               "(%.3f, %.3f, %.3f)",
-               scan->header.stamp.toSec(), last_scan_stamp_.toSec(), params_.initial_pose.x, params_.initial_pose.y,
+      ROS_WARN("amcl: time went backwards (%.3f -> %.3f s); starting over at the initial pose (%.3f, %.3f, %.3f)",
+               last_now_.toSec(), now.toSec(), params_.initial_pose.x, params_.initial_pose.y,
                params_.initial_pose.theta);
       amcl_.restart(params_.initial_pose, params_.initial_cov_xx, params_.initial_cov_yy, params_.initial_cov_aa);
       last_pose_ = params_.initial_pose;
       last_cloud_ = ros::Time();
     }
-    last_scan_stamp_ = scan->header.stamp;
+    last_now_ = now;
     Pose2D odom_pose;
     try
     {
@@ -375,7 +377,7 @@ private:
   Pose2D last_pose_;
   bool lost_ = false;
   bool have_pose_ = false;
-  ros::Time last_scan_stamp_;
+  ros::Time last_now_;
   ros::Time last_cloud_;
 };
 
