@@ -32,6 +32,9 @@ struct Shape {
   std::shared_ptr<const std::vector<Triangle>> triangles;  // mesh, scaled, shape frame
   btTransform pose = btTransform::getIdentity();           // relative to its link
   double mu1 = 1.0, mu2 = 1.0;
+  // Gazebo's contact stiffness and damping (<gazebo reference> kp, kd); 0 = not set. Read, not
+  // simulated: contacts are rigid (see urdf_parser.cpp).
+  double kp = 0, kd = 0;
 };
 
 struct Inertial {
@@ -78,7 +81,15 @@ struct JointSpec {
   btVector3 axis{1, 0, 0};
   bool has_limits = false;
   double lower = 0, upper = 0, effort = 0, velocity = 0;
+  bool has_effort = false, has_velocity = false;  // <limit effort|velocity> written
   double damping = 0, friction = 0;
+};
+
+// A URDF <transmission> (transmission_interface/SimpleTransmission): one joint, one actuator.
+struct TransmissionSpec {
+  std::string name, type, joint, actuator;
+  std::vector<std::string> interfaces;  // "hardware_interface/EffortJointInterface" ... as written
+  double reduction = 1.0;               // <mechanicalReduction>
 };
 
 struct PluginSpec {
@@ -95,6 +106,7 @@ struct RobotSpec {
   std::vector<LinkSpec> links;
   std::vector<JointSpec> joints;
   std::vector<PluginSpec> plugins;  // model plugins + sensor plugins
+  std::vector<TransmissionSpec> transmissions;
   std::string root;
   std::vector<std::string> warnings;  // what the loader corrected, each naming its element; for the log
   const LinkSpec* link(const std::string& n) const {

@@ -22,8 +22,15 @@ class btCollisionDispatcher;
 class btBroadphaseInterface;
 class btMultiBodyConstraintSolver;
 class btMultiBodyConstraint;
+class btPersistentManifold;
 
 namespace mybot_gazebo_lite {
+
+// One collision's contact surface: its friction (the smaller of Gazebo's mu1, mu2). Contacts are
+// rigid: see the README's Gazebo tags for kp, kd.
+struct Surface {
+  double mu = 1.0;
+};
 
 struct Pose {
   btTransform tf = btTransform::getIdentity();
@@ -33,14 +40,14 @@ struct Pose {
 
 class Robot {
  public:
-  enum class Mode { NONE, VELOCITY, POSITION };
+  enum class Mode { NONE, VELOCITY, POSITION, EFFORT };
   struct Joint {
     const JointSpec* spec = nullptr;
     int link = -1;  // btMultiBody link index
     btMultiBodyJointMotor* motor = nullptr;
     btMultiBodyJointMotor* friction = nullptr;
     Mode mode = Mode::NONE;
-    double target = 0, max_effort = 0;
+    double target = 0, max_effort = 0, target_velocity = 0;
   };
   // A URDF link lives in a body (-1 = multibody base, else link index).
   struct LinkRef {
@@ -64,8 +71,16 @@ class Robot {
 
   // Commands take effect at the next step; the motor is limited to max_effort (N m or N).
   void commandVelocity(const std::string& joint, double vel, double max_effort);
-  void commandPosition(const std::string& joint, double pos, double max_effort);
+  // `velocity`: the setpoint's own rate (a ramped target), fed forward so the servo does not lag.
+  void commandPosition(const std::string& joint, double pos, double max_effort, double velocity = 0.0);
   void commandNone(const std::string& joint);
+  // A force or torque (N or N m) applied at every step until the next command, clamped to the
+  // URDF <limit effort> when it has one.
+  void commandEffort(const std::string& joint, double effort);
+  // The effort the joint's motor or command applied over the last step (N m or N).
+  double jointEffort(const std::string& joint) const;
+  // Contact friction of every collision of the robot (planar_move: the base slides as commanded).
+  void setContactFriction(double mu);
 
   btMultiBody* multibody() const { return mb_; }
   const std::vector<btCollisionObject*>& colliders() const { return colliders_; }
@@ -78,8 +93,19 @@ class Robot {
     double first_time = -1;        // sim time of the first contact (s), -1 = none yet
     std::string first_model;       // what it touched first
     std::vector<std::string> now;  // what it touches at the last step
+    // Every contact point of the last step, with the ground too (bumpers).
+    struct Point {
+      std::vector<std::string> links;  // the URDF links of the body that touched
+      std::string other;               // model name, "ground_plane" for the ground
+      btVector3 position, normal;      // world frame; normal points from the other body into ours
+      double depth = 0;                // penetration (m)
+      double impulse = 0;              // normal impulse of the step (N s)
+    };
+    std::vector<Point> points;
   };
   const Contacts& contacts() const { return contacts_; }
+  // Contacts::points are gathered only for robots that ask (a bumper): they cost a string per point.
+  void recordContactPoints(bool on) { record_points_ = on; }
 
  private:
   friend class PhysicsWorld;
@@ -94,8 +120,10 @@ class Robot {
   std::vector<btCollisionObject*> colliders_;
   std::vector<btCollisionShape*> shapes_;
   Contacts contacts_;
+  bool record_points_ = false;
+  double step_ = 0;  // physics step (s)
   std::vector<btMultiBodyConstraint*> constraints_;
-  std::vector<std::unique_ptr<std::vector<double>>> child_mu_;
+  std::vector<std::unique_ptr<std::vector<Surface>>> child_mu_;
 };
 
 // A collision object that may intersect a sensor ray (robots and dynamic world bodies).
@@ -133,6 +161,8 @@ class PhysicsWorld {
   void resetWorld();
   void resetTime() { time_ = 0; steps_ = 0; }
 
+  // Sets the velocity of a robot's root link frame (world frame), for the next step.
+  void setRobotVelocity(Robot& r, const btVector3& lin, const btVector3& ang);
   // Teleport a robot (base frame = URDF root link) or a world model; velocities in world frame.
   bool setModelState(const std::string& name, const btTransform& pose, const btVector3& lin, const btVector3& ang);
   bool getModelState(const std::string& name, Pose& out) const;
@@ -147,6 +177,7 @@ class PhysicsWorld {
  private:
   void addWorldModel(const WorldModel& m);
   void updateContacts();
+  void recordPoints(const btPersistentManifold* m);
   Robot* robotOf(const btCollisionObject* o) const;
   std::string modelOf(const btCollisionObject* o) const;  // "" for the ground plane
   void syncRobotTransforms(Robot& r);
@@ -173,7 +204,7 @@ class PhysicsWorld {
   };
   std::vector<WorldBody> world_bodies_;
   std::vector<btCollisionShape*> world_shapes_;
-  std::vector<std::unique_ptr<std::vector<double>>> world_mu_;
+  std::vector<std::unique_ptr<std::vector<Surface>>> world_mu_;
   btAlignedObjectArray<btQuaternion> scratch_q_;
   btAlignedObjectArray<btVector3> scratch_m_;
 };

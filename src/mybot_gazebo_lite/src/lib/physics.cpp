@@ -23,17 +23,17 @@ constexpr int kDynamicGroup = btBroadphaseProxy::DefaultFilter;
 
 // Per-child friction: colliders carry a pointer to one mu per compound child,
 // so a frictionless caster lumped into the chassis stays frictionless.
-double childMu(const btCollisionObjectWrapper* w, int index) {
+Surface childSurface(const btCollisionObjectWrapper* w, int index) {
   const btCollisionObject* o = w->getCollisionObject();
-  auto* mus = static_cast<const std::vector<double>*>(o->getUserPointer());
-  if (mus && index >= 0 && index < static_cast<int>(mus->size())) return (*mus)[index];
-  if (mus && mus->size() == 1) return (*mus)[0];
-  return o->getFriction();
+  auto* s = static_cast<const std::vector<Surface>*>(o->getUserPointer());
+  if (s && index >= 0 && index < static_cast<int>(s->size())) return (*s)[index];
+  if (s && s->size() == 1) return (*s)[0];
+  return Surface{o->getFriction()};
 }
 
 bool contactAdded(btManifoldPoint& cp, const btCollisionObjectWrapper* w0, int, int i0,
                   const btCollisionObjectWrapper* w1, int, int i1) {
-  cp.m_combinedFriction = std::min(childMu(w0, i0), childMu(w1, i1));  // ODE-style, as in Gazebo
+  cp.m_combinedFriction = std::min(childSurface(w0, i0).mu, childSurface(w1, i1).mu);  // ODE-style, as in Gazebo
   cp.m_combinedRestitution = 0;
   return true;
 }
@@ -130,15 +130,36 @@ void Robot::commandVelocity(const std::string& n, double vel, double max_effort)
   j.max_effort = max_effort;
 }
 
-void Robot::commandPosition(const std::string& n, double pos, double max_effort) {
+void Robot::commandPosition(const std::string& n, double pos, double max_effort, double velocity) {
   Joint& j = joints_.at(joint_index_.at(n));
   if (j.mode != Mode::POSITION || j.target != pos || j.max_effort != max_effort) mb_->wakeUp();
   j.mode = Mode::POSITION;
   j.target = pos;
+  j.target_velocity = velocity;
   j.max_effort = max_effort;
 }
 
 void Robot::commandNone(const std::string& n) { joints_.at(joint_index_.at(n)).mode = Mode::NONE; }
+
+void Robot::commandEffort(const std::string& n, double effort) {
+  Joint& j = joints_.at(joint_index_.at(n));
+  if (j.spec->effort > 0) effort = std::max(-j.spec->effort, std::min(j.spec->effort, effort));
+  if (j.mode != Mode::EFFORT || j.target != effort) mb_->wakeUp();
+  j.mode = Mode::EFFORT;
+  j.target = effort;
+}
+
+double Robot::jointEffort(const std::string& n) const {
+  const Joint& j = joint(n);
+  if (j.mode == Mode::EFFORT) return j.target;
+  if (j.mode == Mode::NONE || !j.motor || step_ <= 0) return 0.0;
+  return j.motor->getAppliedImpulse(0) / step_;
+}
+
+void Robot::setContactFriction(double mu) {
+  for (auto& surfaces : child_mu_)
+    for (auto& sf : *surfaces) sf.mu = mu;
+}
 
 // ---------------------------------------------------------------- World
 
@@ -234,13 +255,13 @@ void PhysicsWorld::addWorldModel(const WorldModel& m) {
     std::string where = spec_.source + ": model '" + m.name + "' link '" + l.name + "'";
     auto* compound = new btCompoundShape(true, static_cast<int>(l.shapes.size()));
     world_shapes_.push_back(compound);
-    auto mus = std::make_unique<std::vector<double>>();
+    auto mus = std::make_unique<std::vector<Surface>>();
     bool has_plane = false;
     for (const auto& s : l.shapes) {
       btCollisionShape* cs = buildShape(s, !m.is_static, world_shapes_, where);
       has_plane |= s.type == Shape::PLANE;
       compound->addChildShape(s.pose, cs);
-      mus->push_back(std::min(s.mu1, s.mu2));
+      mus->push_back(Surface{std::min(s.mu1, s.mu2)});
     }
     btTransform tf = m.pose * l.pose;
     btCollisionObject* obj = nullptr;
@@ -282,6 +303,7 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   r->name_ = name;
   r->ns_ = ns;
   r->spec_ = spec;
+  r->step_ = opt_.step;
   r->spawn_ = pose;
   const RobotSpec& rs = *spec;
 
@@ -366,13 +388,13 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   for (int i = 0; i <= nlinks; ++i) {
     const Body& b = bodies[i];
     auto* compound = new btCompoundShape(true);
-    auto mus = std::make_unique<std::vector<double>>();
+    auto mus = std::make_unique<std::vector<Surface>>();
     btTransform inv = b.mp.inertial.inverse();
     for (const auto& [link, tf] : b.members)
       for (const auto& s : link->collisions) {
         btCollisionShape* cs = buildShape(s, true, r->shapes_, rs.source + ": link '" + link->name + "'");
         compound->addChildShape(inv * tf * s.pose, cs);
-        mus->push_back(std::min(s.mu1, s.mu2));
+        mus->push_back(Surface{std::min(s.mu1, s.mu2)});
       }
     r->shapes_.push_back(compound);
     if (compound->getNumChildShapes() == 0) continue;
@@ -489,10 +511,14 @@ void PhysicsWorld::step() {
           j.motor->setMaxAppliedImpulse(j.max_effort * dt);
           break;
         }
+        case Robot::Mode::EFFORT:
+          j.motor->setMaxAppliedImpulse(0);
+          mb->addJointTorque(j.link, j.target);
+          break;
         case Robot::Mode::POSITION:
           // Critically damped-ish servo: converge over ~10 steps, effort-limited.
           j.motor->setPositionTarget(j.target, 0.1);
-          j.motor->setVelocityTarget(0, 1.0);
+          j.motor->setVelocityTarget(j.target_velocity, 1.0);
           j.motor->setMaxAppliedImpulse(j.max_effort * dt);
           break;
       }
@@ -519,11 +545,42 @@ std::string PhysicsWorld::modelOf(const btCollisionObject* o) const {
   return "?";
 }
 
+void PhysicsWorld::recordPoints(const btPersistentManifold* m) {
+  for (int side = 0; side < 2; ++side) {
+    const btCollisionObject* self = side == 0 ? m->getBody0() : m->getBody1();
+    Robot* r = robotOf(self);
+    if (!r || !r->record_points_) continue;
+    const auto* col = btMultiBodyLinkCollider::upcast(self);
+    std::vector<std::string> links;
+    for (const auto& [name, ref] : r->links_)
+      if (ref.body == col->m_link) links.push_back(name);
+    std::string other = modelOf(side == 0 ? m->getBody1() : m->getBody0());
+    if (other.empty()) other = "ground_plane";
+    for (int k = 0; k < m->getNumContacts(); ++k) {
+      const btManifoldPoint& p = m->getContactPoint(k);
+      if (p.getDistance() > 0) continue;
+      Robot::Contacts::Point pt;
+      pt.links = links;
+      pt.other = other;
+      // Bullet's normal points from body 1 to body 0.
+      pt.position = side == 0 ? p.getPositionWorldOnA() : p.getPositionWorldOnB();
+      pt.normal = side == 0 ? p.m_normalWorldOnB : -p.m_normalWorldOnB;
+      pt.depth = -p.getDistance();
+      pt.impulse = p.getAppliedImpulse();
+      r->contacts_.points.push_back(std::move(pt));
+    }
+  }
+}
+
 void PhysicsWorld::updateContacts() {
-  for (auto& r : robots_) r->contacts_.now.clear();
+  for (auto& r : robots_) {
+    r->contacts_.now.clear();
+    r->contacts_.points.clear();
+  }
   const int n = dispatcher_->getNumManifolds();
   for (int i = 0; i < n; ++i) {
     const btPersistentManifold* m = dispatcher_->getManifoldByIndexInternal(i);
+    recordPoints(m);
     // Points within the contact margin are kept before bodies touch: only penetration counts.
     double depth = 0;
     for (int k = 0; k < m->getNumContacts(); ++k) depth = std::max(depth, -double(m->getContactPoint(k).getDistance()));
@@ -570,6 +627,14 @@ void PhysicsWorld::resetWorld() {
   }
   world_->getBroadphase()->resetPool(dispatcher_.get());
   world_->getConstraintSolver()->reset();
+}
+
+void PhysicsWorld::setRobotVelocity(Robot& r, const btVector3& lin, const btVector3& ang) {
+  const Pose root = r.linkState(r.spec().root);
+  const btVector3 base = r.mb_->getBaseWorldTransform().getOrigin();
+  r.mb_->setBaseVel(lin + ang.cross(base - root.tf.getOrigin()));
+  r.mb_->setBaseOmega(ang);
+  r.mb_->wakeUp();
 }
 
 bool PhysicsWorld::setModelState(const std::string& name, const btTransform& pose, const btVector3& lin,

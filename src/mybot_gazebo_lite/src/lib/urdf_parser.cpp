@@ -166,6 +166,74 @@ bool textDouble(const XmlNode& n, double& out) {
   out = d;
   return true;
 }
+
+// Below this contact stiffness (N/m) a robot of tens of kilograms would sink millimetres.
+constexpr double kSoftContactKp = 1e5;
+
+// The tags of <gazebo reference> (gazebo_ros's URDF import) and what gazebo_lite does with each.
+struct GazeboTag {
+  enum Kind { PLUGIN, SENSOR, FRICTION, CONTACT, FDIR, COSMETIC, NOT_SIMULATED, UNKNOWN } kind;
+  std::string name;
+};
+
+GazeboTag classifyGazeboTag(const std::string& n, bool on_link, bool has_ref) {
+  if (!has_ref && n == "plugin") return {GazeboTag::PLUGIN, n};
+  if (on_link && n == "sensor") return {GazeboTag::SENSOR, n};
+  if (on_link && (n == "mu1" || n == "mu2")) return {GazeboTag::FRICTION, n};
+  if (on_link && (n == "kp" || n == "kd")) return {GazeboTag::CONTACT, n};
+  if (on_link && n == "fdir1") return {GazeboTag::FDIR, n};
+  // Looks, and what changes no motion (feedback, contact counts, laser retro-reflection).
+  static const std::set<std::string> cosmetic = {"material", "visual", "gui", "scene", "provideFeedback",
+                                                 "maxContacts", "laserRetro", "static", "self_collide",
+                                                 "selfCollide", "enable_wind", "audio_source", "projector"};
+  if (cosmetic.count(n)) return {GazeboTag::COSMETIC, n};
+  static const std::set<std::string> not_simulated = {
+      "minDepth", "maxVel", "gravity", "turnGravityOff", "dampingFactor", "implicitSpringDamper", "cfmDamping",
+      "stopCfm", "stopErp", "fudgeFactor", "springReference", "springStiffness", "disableFixedJointLumping",
+      "preserveFixedJoint", "collision", "velocity_decay", "kinematic"};
+  if (not_simulated.count(n)) return {GazeboTag::NOT_SIMULATED, n};
+  return {GazeboTag::UNKNOWN, n};
+}
+
+void applyGazeboTag(const Ctx& c, const GazeboTag& tag, const std::string& v, const std::string& where, LinkSpec* link,
+                    std::vector<std::string>& warnings) {
+  if (tag.kind == GazeboTag::FDIR) {
+    btVector3 d;
+    try {
+      d = parseVec3(v, "fdir1");
+    } catch (const LoadError& e) {
+      c.fail(where, e.what());
+    }
+    if (d.length() < 1e-9) c.fail(where, "zero direction");
+    warnings.push_back(c.source + ": " + where + ": friction is isotropic in gazebo_lite (the smaller of mu1 and mu2 " +
+                       "in every direction): Bullet's multibody contacts take one coefficient");
+    return;
+  }
+  if (tag.kind == GazeboTag::NOT_SIMULATED) {
+    // Their default values change nothing.
+    if ((tag.name == "gravity" && (v == "true" || v == "1")) ||
+        (tag.name == "turnGravityOff" && (v == "false" || v == "0")))
+      return;
+    warnings.push_back(c.source + ": " + where + " = '" + v + "' is not simulated by gazebo_lite (see README: Gazebo tags)");
+    return;
+  }
+  XmlNode n;
+  n.text = v;
+  double d;
+  if (!textDouble(n, d) || d < 0) c.fail(where, "expected a non-negative number, got '" + v + "'");
+  for (auto& s : link->collisions) {
+    if (tag.name == "mu1") s.mu1 = d;
+    if (tag.name == "mu2") s.mu2 = d;
+    if (tag.name == "kp") s.kp = d;
+    if (tag.name == "kd") s.kd = d;
+  }
+  // Contacts are rigid. Bullet can make them soft from kp and kd, but from the values robots
+  // use in Gazebo (kp 1e6, kd 100) it made mybot's wheels slip (313 of 360 degrees in a turn in
+  // place), while in ODE those values are as good as rigid (1e6 N/m sinks 5 kg by 50 um).
+  // Only a kp soft enough to be meant as soft is worth a word.
+  if (tag.name == "kp" && d < kSoftContactKp)
+    warnings.push_back(c.source + ": " + where + " = " + v + " N/m: soft contacts are simulated rigid by gazebo_lite");
+}
 }  // namespace
 
 RobotSpec parseUrdf(const std::string& xml, const std::string& source, const UriResolver& resolver) {
@@ -243,6 +311,8 @@ RobotSpec parseUrdf(const std::string& xml, const std::string& source, const Uri
     }
     if (const XMLElement* lim = j->FirstChildElement("limit")) {
       std::string w = where + " <limit>";
+      js.has_effort = lim->Attribute("effort") != nullptr;
+      js.has_velocity = lim->Attribute("velocity") != nullptr;
       js.effort = attrDouble(c, lim, "effort", w, js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC);
       js.velocity = attrDouble(c, lim, "velocity", w, js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC);
       if (js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC) {
@@ -263,6 +333,36 @@ RobotSpec parseUrdf(const std::string& xml, const std::string& source, const Uri
       c.fail(where, "floating/planar joints are not supported");
     spec.joints.push_back(js);
   }
+  for (const XMLElement* t = robot->FirstChildElement("transmission"); t; t = t->NextSiblingElement("transmission")) {
+    TransmissionSpec ts;
+    ts.name = t->Attribute("name") ? t->Attribute("name") : "";
+    const std::string where = "<transmission name='" + ts.name + "'>";
+    // <type> element (ROS Indigo on) or type="..." attribute (the older pr2 form).
+    if (const XMLElement* ty = t->FirstChildElement("type"))
+      ts.type = ty->GetText() ? ty->GetText() : "";
+    else if (t->Attribute("type"))
+      ts.type = t->Attribute("type");
+    const XMLElement* j = t->FirstChildElement("joint");
+    if (!j || !j->Attribute("name")) c.fail(where, "missing <joint name=...>");
+    ts.joint = j->Attribute("name");
+    if (!jnames.count(ts.joint)) c.fail(where + " <joint name='" + ts.joint + "'>", "no such joint");
+    for (const XMLElement* hi = j->FirstChildElement("hardwareInterface"); hi; hi = hi->NextSiblingElement("hardwareInterface"))
+      if (hi->GetText()) ts.interfaces.push_back(toXmlNode(hi).text);
+    const XMLElement* a = t->FirstChildElement("actuator");
+    if (a && a->Attribute("name")) ts.actuator = a->Attribute("name");
+    // Before ROS Indigo the interface sat in <actuator>; gazebo_ros_control still reads it there.
+    if (ts.interfaces.empty() && a)
+      for (const XMLElement* hi = a->FirstChildElement("hardwareInterface"); hi; hi = hi->NextSiblingElement("hardwareInterface"))
+        if (hi->GetText()) ts.interfaces.push_back(toXmlNode(hi).text);
+    const XMLElement* mr = a ? a->FirstChildElement("mechanicalReduction") : nullptr;
+    if (!mr) mr = t->FirstChildElement("mechanicalReduction");
+    if (mr) {
+      XmlNode n = toXmlNode(mr);
+      if (!textDouble(n, ts.reduction) || ts.reduction == 0)
+        c.fail(where + " <mechanicalReduction>", "expected a non-zero number, got '" + n.text + "'");
+    }
+    spec.transmissions.push_back(std::move(ts));
+  }
   std::vector<std::string> roots;
   for (const auto& l : spec.links)
     if (!children.count(l.name)) roots.push_back(l.name);
@@ -279,22 +379,25 @@ RobotSpec parseUrdf(const std::string& xml, const std::string& source, const Uri
       if (!link && !jnames.count(ref)) c.fail("<gazebo reference='" + ref + "'>", "no such link or joint");
     }
     for (const XMLElement* e = g->FirstChildElement(); e; e = e->NextSiblingElement()) {
-      std::string n = e->Name();
-      std::string where = "<gazebo reference='" + ref + "'> <" + n + ">";
-      if (link && (n == "mu1" || n == "mu2")) {
-        XmlNode x = toXmlNode(e);
-        double v;
-        if (!textDouble(x, v) || v < 0) c.fail(where, "expected a non-negative number, got '" + x.text + "'");
-        for (auto& s : link->collisions) (n == "mu1" ? s.mu1 : s.mu2) = v;
-      } else if (link && n == "sensor") {
-        link->sensors.push_back(toXmlNode(e));
-      } else if (ref.empty() && n == "plugin") {
+      const XmlNode x = toXmlNode(e);
+      const std::string where = "<gazebo" + (ref.empty() ? std::string() : " reference='" + ref + "'") + "> <" + x.name + ">";
+      const GazeboTag tag = classifyGazeboTag(x.name, link != nullptr, !ref.empty());
+      if (tag.kind == GazeboTag::PLUGIN) {
         PluginSpec ps;
-        ps.xml = toXmlNode(e);
+        ps.xml = x;
         ps.name = ps.xml.attr("name");
         ps.filename = ps.xml.attr("filename");
         if (ps.filename.empty()) c.fail("<gazebo> <plugin name='" + ps.name + "'>", "missing attribute 'filename'");
         spec.plugins.push_back(std::move(ps));
+      } else if (tag.kind == GazeboTag::SENSOR) {
+        link->sensors.push_back(x);
+      } else if (tag.kind == GazeboTag::UNKNOWN) {
+        spec.warnings.push_back(source + ": " + where + ": unknown tag ignored (gazebo_lite reads the tags listed in " +
+                                "mybot_gazebo_lite/README.md)");
+      } else if (tag.kind != GazeboTag::COSMETIC) {
+        // Gazebo takes the value as element text or as a value="..." attribute.
+        const std::string v = x.text.empty() ? x.attr("value") : x.text;
+        applyGazeboTag(c, tag, v, where, link, spec.warnings);
       }
     }
   }

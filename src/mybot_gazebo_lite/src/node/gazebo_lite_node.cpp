@@ -1,6 +1,6 @@
 // gazebo_lite: the headless simulator node. Steps the Bullet world at a fixed
 // step, publishes /clock, runs the plugin emulations and the /gazebo services.
-#include "plugins.h"
+#include "mybot_gazebo_lite/sim_plugin.h"
 
 #include "mybot_gazebo_lite/DeleteModel.h"
 #include "mybot_gazebo_lite/GetModelState.h"

@@ -1,0 +1,127 @@
+// The plugin interface of gazebo_lite: what an emulated gazebo_ros plugin sees of the simulator
+// (its robot, the world, the tf broadcaster, lockstep) and the helpers every plugin uses to read
+// its XML parameters. The built-in plugins live in src/node/plugins/, one a file; a plugin from
+// another package is a shared library named `libgazebo_lite_<name>.so` for the URDF's
+// `lib<name>.so`, found on LD_LIBRARY_PATH, exporting MYBOT_GAZEBO_LITE_PLUGIN's factory.
+#pragma once
+
+#include "mybot_gazebo_lite/camera.h"
+#include "mybot_gazebo_lite/model.h"
+#include "mybot_gazebo_lite/physics.h"
+#include "mybot_gazebo_lite/raycast2d.h"
+
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <mybot_lockstep/coordinator.h>
+#include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <map>
+#include <memory>
+#include <random>
+#include <set>
+#include <string>
+
+namespace mybot_gazebo_lite {
+
+// Static world cross-sections shared by all lasers (one per height).
+class StaticSliceCache {
+ public:
+  explicit StaticSliceCache(const WorldSpec& w) : world_(w) {}
+  const RayCaster2D& at(double z);
+  const PrismScene& prisms();  // the cameras' 2.5D view, built on first use
+
+ private:
+  const WorldSpec& world_;
+  std::map<long, std::unique_ptr<RayCaster2D>> cache_;
+  std::unique_ptr<PrismScene> prisms_;
+};
+
+struct PluginContext {
+  PhysicsWorld* world;
+  Robot* robot;
+  const PluginSpec* spec;
+  std::string ns;         // robot namespace (plugin's <robotNamespace> wins)
+  std::string tf_prefix;  // from the tf_prefix parameter in the namespace
+  tf2_ros::TransformBroadcaster* tf;
+  StaticSliceCache* slices;
+  std::mt19937* rng;
+  mybot_lockstep::Coordinator* lockstep = nullptr;  // set when the simulation runs in lockstep
+};
+
+// A command input. Under lockstep it is counted (the period waits until every command a
+// participant sent for it is handled) and queued deep enough that none is dropped; otherwise
+// only the latest matters (queue of 1).
+template <class M, class F>
+ros::Subscriber subscribeCommand(const PluginContext& c, ros::NodeHandle& nh, const std::string& topic, F cb) {
+  if (c.lockstep) return c.lockstep->subscribe<M>(nh, topic, 100, cb);
+  return nh.subscribe<M>(topic, 1, boost::function<void(const typename M::ConstPtr&)>(cb));
+}
+
+class SimPlugin {
+ public:
+  virtual ~SimPlugin() = default;
+  virtual void preStep(double /*t*/) {}  // apply commands
+  virtual void update(double t) = 0;     // after a physics step
+  virtual void reset() {}                // reset_world / reset_simulation
+};
+
+// Reads plugin/sensor parameters; every error names tag, link and file.
+class PluginParams {
+ public:
+  PluginParams(const PluginContext& c, const XmlNode& x) : c_(c), x_(x) {}
+  [[noreturn]] void fail(const std::string& tag, const std::string& msg) const;
+  const XmlNode* node(const std::string& path) const;  // "a/b/c"
+  bool has(const std::string& tag) const { return node(tag) != nullptr; }
+  std::string str(const std::string& tag, const std::string& def) const;
+  std::string requiredStr(const std::string& tag) const;
+  double num(const std::string& tag, double def) const;
+  double requiredNum(const std::string& tag) const;
+  bool boolean(const std::string& tag, bool def) const;
+  std::string joint(const std::string& tag, const std::string& def) const;  // must be a movable joint
+  btTransform pose(const std::string& tag) const;                            // "x y z r p y"
+
+ private:
+  double parse(const std::string& tag, const std::string& t) const;
+  const PluginContext& c_;
+  const XmlNode& x_;
+};
+
+// Fires at a fixed sim-time period (0 = every step). Time going backwards (reset_simulation
+// sends the clock back, as Gazebo does) starts it over: the next step fires.
+struct Rate {
+  double period = 0, next = 0, last = -1;
+  explicit Rate(double hz = 0) : period(hz > 0 ? 1.0 / hz : 0) {}
+  bool due(double t) {
+    if (period <= 0) return true;
+    if (t < last) next = t;
+    if (t + 1e-9 < next) return false;
+    last = t;
+    next = (next + period < t) ? t + period : next + period;
+    return true;
+  }
+};
+
+// A frame name with the namespace's tf_prefix, leading slashes dropped (gazebo_ros's tf_prefix rule).
+std::string resolveFrame(const PluginContext& c, std::string f);
+void toMsg(const btTransform& tf, geometry_msgs::Pose& p);
+geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std::string& parent,
+                                     const std::string& child);
+
+// One warning per child of <plugin> outside `known` (robotNamespace and alwaysOn are always
+// known), naming it, the plugin, the link and the file, with the closest known name when one is near.
+void warnUnknownTags(const PluginContext& c, const std::set<std::string>& known);
+
+// A plugin library's factory: throws LoadError naming tag, link and file on a bad parameter.
+using PluginFactory = SimPlugin* (*)(const PluginContext&);
+#define MYBOT_GAZEBO_LITE_PLUGIN(CLASS)                                                                \
+  extern "C" mybot_gazebo_lite::SimPlugin* mybot_gazebo_lite_create_plugin(                            \
+      const mybot_gazebo_lite::PluginContext& c) {                                                     \
+    return new CLASS(c);                                                                               \
+  }
+
+// nullptr + one warning naming the file when the plugin is unknown.
+// Throws LoadError naming tag, link and file on a missing/malformed parameter.
+std::unique_ptr<SimPlugin> createPlugin(const PluginContext& ctx);
+
+}  // namespace mybot_gazebo_lite

@@ -1,0 +1,22 @@
+// The plugins built into gazebo_lite, one a file in this folder; registry.cpp maps file names to them.
+#pragma once
+
+#include "mybot_gazebo_lite/sim_plugin.h"
+
+namespace mybot_gazebo_lite {
+
+std::unique_ptr<SimPlugin> makeDiffDrive(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeSkidSteerDrive(const PluginContext& c);
+std::unique_ptr<SimPlugin> makePlanarMove(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeP3D(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeJointStatePublisher(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeJointCommand(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeLaser(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeRange(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeBumper(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeImuSensor(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeImu(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeCamera(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeDepthCamera(const PluginContext& c);
+
+}  // namespace mybot_gazebo_lite

@@ -1,0 +1,55 @@
+// libgazebo_ros_joint_state_publisher.so
+#include "builtin.h"
+
+#include <sensor_msgs/JointState.h>
+
+#include <sstream>
+
+#include <cmath>
+
+namespace mybot_gazebo_lite {
+
+namespace {
+class JointStatePub : public SimPlugin {
+ public:
+  explicit JointStatePub(const PluginContext& c) : c_(c) {
+    PluginParams p(c, c.spec->xml);
+    if (p.has("jointName")) {
+      std::stringstream ss(p.str("jointName", ""));
+      std::string j;
+      while (std::getline(ss, j, ',')) {
+        j.erase(0, j.find_first_not_of(" \t\n"));
+        j.erase(j.find_last_not_of(" \t\n") + 1);
+        if (j.empty()) continue;
+        if (!c.robot->hasJoint(j)) p.fail("jointName", "no movable joint named '" + j + "'");
+        joints_.push_back(j);
+      }
+    } else {
+      joints_ = c.robot->movableJoints();
+    }
+    rate_ = Rate(p.num("updateRate", 100.0));
+    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::JointState>("joint_states", 10);
+  }
+  void update(double t) override {
+    if (!rate_.due(t)) return;
+    sensor_msgs::JointState js;
+    js.header.stamp = ros::Time(t);
+    js.name = joints_;
+    for (const auto& j : joints_) {
+      js.position.push_back(c_.robot->jointPosition(j));
+      js.velocity.push_back(c_.robot->jointVelocity(j));
+    }
+    pub_.publish(js);
+  }
+
+ private:
+  PluginContext c_;
+  std::vector<std::string> joints_;
+  Rate rate_;
+  ros::Publisher pub_;
+};
+}  // namespace
+
+std::unique_ptr<SimPlugin> makeJointStatePublisher(const PluginContext& c) { return std::make_unique<JointStatePub>(c); }
+
+}  // namespace mybot_gazebo_lite

@@ -1,0 +1,96 @@
+// libgazebo_ros_planar_move.so: a holonomic base. The commanded twist (body frame) becomes the
+// root link's velocity in the plane at every step, as upstream sets the model's velocity; the
+// vertical velocity is left to gravity. The robot's contacts are made frictionless so that the
+// ground does not brake what the plugin commands (in Gazebo the same friction makes planar_move
+// robots fall short of their command unless the URDF sets mu to 0, which tutorials do).
+#include "builtin.h"
+
+#include <geometry_msgs/Twist.h>
+#include <nav_msgs/Odometry.h>
+
+#include <cmath>
+
+namespace mybot_gazebo_lite {
+
+namespace {
+class PlanarMove : public SimPlugin {
+ public:
+  explicit PlanarMove(const PluginContext& c) : c_(c) {
+    PluginParams p(c, c.spec->xml);
+    ros::NodeHandle nh(c.ns);
+    odom_rate_ = Rate(p.num("odometryRate", 20.0));
+    timeout_ = p.num("cmdTimeout", -1.0);  // upstream default: never
+    publish_tf_ = p.boolean("publishOdometryTf", true);
+    cov_[0] = p.num("covariance_x", 0.0001);
+    cov_[1] = p.num("covariance_y", 0.0001);
+    cov_[2] = p.num("covariance_yaw", 0.01);
+    odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
+    base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
+    sub_ = subscribeCommand<geometry_msgs::Twist>(c, nh, p.str("commandTopic", "cmd_vel"),
+                                                  [this](const geometry_msgs::Twist::ConstPtr& m) { onCmd(m); });
+    odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
+    c.robot->setContactFriction(0.0);
+  }
+  void reset() override {
+    vx_ = vy_ = wz_ = 0;
+    have_cmd_ = false;
+  }
+  void preStep(double t) override {
+    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_) reset();
+    const Pose s = c_.robot->linkState(c_.robot->spec().root);
+    btScalar yaw, pitch, roll;
+    s.tf.getBasis().getEulerZYX(yaw, pitch, roll);
+    const double cy = std::cos(yaw), sy = std::sin(yaw);
+    c_.world->setRobotVelocity(*c_.robot, btVector3(vx_ * cy - vy_ * sy, vx_ * sy + vy_ * cy, s.linear.z()),
+                               btVector3(0, 0, wz_));
+  }
+  void update(double t) override {
+    if (!odom_rate_.due(t)) return;
+    const Pose s = c_.robot->linkState(c_.robot->spec().root);
+    nav_msgs::Odometry o;
+    o.header.stamp = ros::Time(t);
+    o.header.frame_id = odom_frame_;
+    o.child_frame_id = base_frame_;
+    toMsg(s.tf, o.pose.pose);
+    btScalar yaw, pitch, roll;
+    s.tf.getBasis().getEulerZYX(yaw, pitch, roll);
+    o.twist.twist.linear.x = std::cos(yaw) * s.linear.x() + std::sin(yaw) * s.linear.y();
+    o.twist.twist.linear.y = std::cos(yaw) * s.linear.y() - std::sin(yaw) * s.linear.x();
+    o.twist.twist.angular.z = s.angular.z();
+    for (auto* cov : {&o.pose.covariance, &o.twist.covariance}) {
+      (*cov)[0] = cov_[0];
+      (*cov)[7] = cov_[1];
+      (*cov)[14] = (*cov)[21] = (*cov)[28] = 1e6;
+      (*cov)[35] = cov_[2];
+    }
+    odom_pub_.publish(o);
+    if (publish_tf_) c_.tf->sendTransform(toTf(s.tf, t, odom_frame_, base_frame_));
+  }
+
+ private:
+  void onCmd(const geometry_msgs::Twist::ConstPtr& m) {
+    if (!std::isfinite(m->linear.x) || !std::isfinite(m->linear.y) || !std::isfinite(m->angular.z)) {
+      ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite cmd_vel", c_.robot->name().c_str());
+      return;
+    }
+    vx_ = m->linear.x;
+    vy_ = m->linear.y;
+    wz_ = m->angular.z;
+    last_cmd_ = c_.world->time();
+    have_cmd_ = true;
+  }
+  PluginContext c_;
+  Rate odom_rate_;
+  double timeout_, cov_[3];
+  bool publish_tf_;
+  std::string odom_frame_, base_frame_;
+  double vx_ = 0, vy_ = 0, wz_ = 0, last_cmd_ = 0;
+  bool have_cmd_ = false;
+  ros::Subscriber sub_;
+  ros::Publisher odom_pub_;
+};
+}  // namespace
+
+std::unique_ptr<SimPlugin> makePlanarMove(const PluginContext& c) { return std::make_unique<PlanarMove>(c); }
+
+}  // namespace mybot_gazebo_lite

@@ -1,0 +1,122 @@
+// What every plugin shares: the static world slices, parameter reading, frames and messages.
+#include "mybot_gazebo_lite/parsing.h"
+#include "mybot_gazebo_lite/sim_plugin.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace mybot_gazebo_lite {
+
+const RayCaster2D& StaticSliceCache::at(double z) {
+  long key = std::lround(z * 100.0);  // 1 cm bins
+  auto it = cache_.find(key);
+  if (it == cache_.end())
+    it = cache_.emplace(key, std::make_unique<RayCaster2D>(sliceWorld(world_, key / 100.0))).first;
+  return *it->second;
+}
+
+const PrismScene& StaticSliceCache::prisms() {
+  if (!prisms_) prisms_ = std::make_unique<PrismScene>(world_);
+  return *prisms_;
+}
+
+void PluginParams::fail(const std::string& tag, const std::string& msg) const {
+  std::ostringstream os;
+  os << c_.robot->spec().source << ": plugin '" << c_.spec->name << "' (" << c_.spec->filename << ")";
+  if (!c_.spec->reference.empty()) os << " on link '" << c_.spec->reference << "'";
+  os << ": <" << tag << ">: " << msg;
+  throw LoadError(os.str());
+}
+
+const XmlNode* PluginParams::node(const std::string& path) const {
+  const XmlNode* n = &x_;
+  std::stringstream ss(path);
+  std::string part;
+  while (n && std::getline(ss, part, '/')) n = n->child(part);
+  return n;
+}
+
+std::string PluginParams::str(const std::string& tag, const std::string& def) const {
+  const XmlNode* n = node(tag);
+  return n ? n->text : def;
+}
+
+std::string PluginParams::requiredStr(const std::string& tag) const {
+  const XmlNode* n = node(tag);
+  if (!n || n->text.empty()) fail(tag, "required parameter missing");
+  return n->text;
+}
+
+double PluginParams::num(const std::string& tag, double def) const {
+  const XmlNode* n = node(tag);
+  return n ? parse(tag, n->text) : def;
+}
+
+double PluginParams::requiredNum(const std::string& tag) const {
+  const XmlNode* n = node(tag);
+  if (!n) fail(tag, "required parameter missing");
+  return parse(tag, n->text);
+}
+
+bool PluginParams::boolean(const std::string& tag, bool def) const {
+  const XmlNode* n = node(tag);
+  if (!n) return def;
+  if (n->text == "true" || n->text == "1") return true;
+  if (n->text == "false" || n->text == "0") return false;
+  fail(tag, "expected true/false, got '" + n->text + "'");
+}
+
+std::string PluginParams::joint(const std::string& tag, const std::string& def) const {
+  std::string j = str(tag, def);
+  if (!c_.robot->hasJoint(j)) fail(tag, "no movable joint named '" + j + "'");
+  return j;
+}
+
+btTransform PluginParams::pose(const std::string& tag) const {
+  const XmlNode* n = node(tag);
+  if (!n) return btTransform::getIdentity();
+  try {
+    return parsePose6(n->text, "pose");
+  } catch (const LoadError& e) {
+    fail(tag, e.what());
+  }
+}
+
+double PluginParams::parse(const std::string& tag, const std::string& t) const {
+  char* end = nullptr;
+  double d = std::strtod(t.c_str(), &end);
+  if (t.empty() || *end != '\0' || !std::isfinite(d)) fail(tag, "expected a number, got '" + t + "'");
+  return d;
+}
+std::string resolveFrame(const PluginContext& c, std::string f) {
+  while (!f.empty() && f[0] == '/') f.erase(0, 1);
+  return c.tf_prefix.empty() ? f : c.tf_prefix + "/" + f;
+}
+
+void toMsg(const btTransform& tf, geometry_msgs::Pose& p) {
+  p.position.x = tf.getOrigin().x();
+  p.position.y = tf.getOrigin().y();
+  p.position.z = tf.getOrigin().z();
+  btQuaternion q = tf.getRotation();
+  p.orientation.x = q.x();
+  p.orientation.y = q.y();
+  p.orientation.z = q.z();
+  p.orientation.w = q.w();
+}
+
+geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std::string& parent, const std::string& child) {
+  geometry_msgs::TransformStamped m;
+  m.header.stamp = ros::Time(t);
+  m.header.frame_id = parent;
+  m.child_frame_id = child;
+  m.transform.translation.x = tf.getOrigin().x();
+  m.transform.translation.y = tf.getOrigin().y();
+  m.transform.translation.z = tf.getOrigin().z();
+  btQuaternion q = tf.getRotation();
+  m.transform.rotation.x = q.x();
+  m.transform.rotation.y = q.y();
+  m.transform.rotation.z = q.z();
+  m.transform.rotation.w = q.w();
+  return m;
+}
+}  // namespace mybot_gazebo_lite

@@ -1,0 +1,140 @@
+// File name -> emulation, with the parameters each upstream plugin reads; plugins of other
+// packages are loaded from shared libraries (the way Gazebo loads plugins).
+#include "builtin.h"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <functional>
+#include <vector>
+
+namespace mybot_gazebo_lite {
+
+namespace {
+
+struct Builtin {
+  std::string filename;
+  std::unique_ptr<SimPlugin> (*make)(const PluginContext&);
+  // The parameters the upstream plugin reads (gazebo_ros_pkgs, Noetic), whether or not the
+  // emulation uses them: any other child of <plugin> is most likely a misspelling
+  // (<wheelSeperation> silently left the default separation, and the robot turned 12 % wrong).
+  std::set<std::string> tags;
+};
+
+const std::set<std::string> kLaserTags = {"topicName", "frameName", "gaussianNoise", "hokuyoMinIntensity", "updateRate"};
+const std::set<std::string> kCameraTags = {
+    "updateRate",   "cameraName",   "imageTopicName", "cameraInfoTopicName", "frameName",
+    "hackBaseline", "distortionK1", "distortionK2",   "distortionK3",        "distortionT1",
+    "distortionT2", "Cx",           "Cy",             "CxPrime",             "focalLength",
+    "borderCrop",   "triggerTopicName", "autoDistortion"};
+
+std::set<std::string> with(std::set<std::string> a, const std::set<std::string>& b) {
+  a.insert(b.begin(), b.end());
+  return a;
+}
+
+const std::vector<Builtin>& builtins() {
+  static const std::vector<Builtin> table = {
+      {"libgazebo_ros_diff_drive.so", makeDiffDrive,
+       {"leftJoint", "rightJoint", "wheelSeparation", "wheelDiameter", "wheelAcceleration", "wheelTorque",
+        "commandTopic", "odometryTopic", "odometryFrame", "robotBaseFrame", "odometrySource", "publishWheelTF",
+        "publishOdomTF", "publishWheelJointState", "publishTf", "legacyMode", "updateRate", "rosDebugLevel",
+        "commandTimeout"}},
+      {"libgazebo_ros_skid_steer_drive.so", makeSkidSteerDrive,
+       {"leftFrontJoint", "rightFrontJoint", "leftRearJoint", "rightRearJoint", "wheelSeparation", "wheelDiameter",
+        "torque", "MaxForce", "commandTopic", "odometryTopic", "odometryFrame", "robotBaseFrame", "broadcastTF",
+        "updateRate", "covariance_x", "covariance_y", "covariance_yaw", "commandTimeout"}},
+      {"libgazebo_ros_planar_move.so", makePlanarMove,
+       {"commandTopic", "odometryTopic", "odometryFrame", "odometryRate", "robotBaseFrame", "publishOdometryTf",
+        "cmdTimeout", "covariance_x", "covariance_y", "covariance_yaw"}},
+      {"libgazebo_ros_p3d.so", makeP3D,
+       {"bodyName", "topicName", "frameName", "xyzOffsets", "rpyOffsets", "xyzOffset", "rpyOffset", "gaussianNoise",
+        "updateRate"}},
+      {"libgazebo_ros_joint_state_publisher.so", makeJointStatePublisher, {"jointName", "updateRate"}},
+      {"libmybot_joint_command.so", makeJointCommand, {"commandTimeout", "joint"}},
+      {"libgazebo_ros_laser.so", makeLaser, kLaserTags},
+      {"libgazebo_ros_gpu_laser.so", makeLaser, kLaserTags},
+      {"libgazebo_ros_range.so", makeRange, {"topicName", "frameName", "updateRate", "gaussianNoise", "radiation", "fov"}},
+      {"libgazebo_ros_bumper.so", makeBumper, {"bumperTopicName", "frameName"}},
+      {"libgazebo_ros_imu_sensor.so", makeImuSensor,
+       {"topicName", "bodyName", "frameName", "updateRateHZ", "gaussianNoise", "xyzOffset", "rpyOffset", "serviceName",
+        "initialOrientationAsReference"}},
+      {"libgazebo_ros_imu.so", makeImu,
+       {"bodyName", "topicName", "serviceName", "gaussianNoise", "updateRate", "frameName", "xyzOffset", "rpyOffset"}},
+      {"libgazebo_ros_camera.so", makeCamera, kCameraTags},
+      {"libgazebo_ros_openni_kinect.so", makeDepthCamera,
+       with(kCameraTags, {"baseline", "depthImageTopicName", "depthImageCameraInfoTopicName", "pointCloudTopicName",
+                          "pointCloudCutoff", "pointCloudCutoffMax"})},
+  };
+  return table;
+}
+
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (std::tolower(a[i - 1]) == std::tolower(b[j - 1]) ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// A plugin of another package: `lib<name>.so` is emulated by `libgazebo_lite_<name>.so` on
+// LD_LIBRARY_PATH (catkin puts every workspace's lib/ there). The library stays loaded for the
+// life of the process, as in Gazebo. nullptr when there is none.
+std::unique_ptr<SimPlugin> loadLibraryPlugin(const PluginContext& c) {
+  std::string f = c.spec->filename;
+  if (f.rfind("lib", 0) != 0 || f.size() < 7 || f.compare(f.size() - 3, 3, ".so") != 0) return nullptr;
+  const std::string lib = "libgazebo_lite_" + f.substr(3);
+  void* handle = dlopen(lib.c_str(), RTLD_NOW | RTLD_GLOBAL);
+  if (!handle) {
+    const char* err = dlerror();
+    // A library that exists but does not load is worth its own message (a missing symbol, say).
+    if (err && !std::strstr(err, "No such file")) ROS_ERROR("gazebo_lite: %s: %s", lib.c_str(), err);
+    return nullptr;
+  }
+  auto factory = reinterpret_cast<PluginFactory>(dlsym(handle, "mybot_gazebo_lite_create_plugin"));
+  if (!factory) {
+    ROS_ERROR("gazebo_lite: %s does not export mybot_gazebo_lite_create_plugin", lib.c_str());
+    return nullptr;
+  }
+  return std::unique_ptr<SimPlugin>(factory(c));
+}
+
+}  // namespace
+
+void warnUnknownTags(const PluginContext& c, const std::set<std::string>& known) {
+  for (const XmlNode& child : c.spec->xml.children) {
+    if (known.count(child.name) || child.name == "robotNamespace" || child.name == "alwaysOn") continue;
+    std::string best;
+    std::size_t best_d = 4;  // a few letters off at most
+    for (const std::string& k : known)
+      if (const std::size_t d = editDistance(child.name, k); d < best_d) best_d = d, best = k;
+    ROS_WARN("%s: plugin '%s' (%s)%s: unknown parameter <%s> ignored%s", c.robot->spec().source.c_str(),
+             c.spec->name.c_str(), c.spec->filename.c_str(),
+             c.spec->reference.empty() ? "" : (" on link '" + c.spec->reference + "'").c_str(), child.name.c_str(),
+             best.empty() ? "" : (" (did you mean <" + best + ">?)").c_str());
+  }
+}
+
+std::unique_ptr<SimPlugin> createPlugin(const PluginContext& c) {
+  for (const Builtin& b : builtins())
+    if (b.filename == c.spec->filename) {
+      auto plugin = b.make(c);
+      warnUnknownTags(c, b.tags);
+      return plugin;
+    }
+  if (auto plugin = loadLibraryPlugin(c)) return plugin;  // it warns about its own tags
+  ROS_WARN("%s: plugin '%s': unknown plugin file '%s' ignored", c.robot->spec().source.c_str(), c.spec->name.c_str(),
+           c.spec->filename.c_str());
+  return nullptr;
+}
+
+}  // namespace mybot_gazebo_lite

@@ -1,0 +1,113 @@
+// libgazebo_ros_skid_steer_drive.so: four wheels, two per side, each side at the speed of a
+// differential drive (no legacy swap here: upstream never had one). Odometry is the model's
+// world pose, as upstream publishes it.
+#include "builtin.h"
+
+#include "mybot_gazebo_lite/kinematics.h"
+
+#include <geometry_msgs/Twist.h>
+#include <nav_msgs/Odometry.h>
+
+#include <cmath>
+
+namespace mybot_gazebo_lite {
+
+namespace {
+class SkidSteerDrive : public SimPlugin {
+ public:
+  explicit SkidSteerDrive(const PluginContext& c) : c_(c) {
+    PluginParams p(c, c.spec->xml);
+    ros::NodeHandle nh(c.ns);
+    left_ = {p.joint("leftFrontJoint", "left_front_joint"), p.joint("leftRearJoint", "left_rear_joint")};
+    right_ = {p.joint("rightFrontJoint", "right_front_joint"), p.joint("rightRearJoint", "right_rear_joint")};
+    geo_.separation = p.num("wheelSeparation", 0.4);
+    geo_.diameter = p.num("wheelDiameter", 0.15);
+    geo_.legacy = false;
+    if (!(geo_.separation > 0)) p.fail("wheelSeparation", "must be positive");
+    if (!(geo_.diameter > 0)) p.fail("wheelDiameter", "must be positive");
+    torque_ = p.num("torque", p.num("MaxForce", 5.0));
+    if (!(torque_ > 0)) p.fail("torque", "must be positive");
+    rate_ = Rate(p.num("updateRate", 100.0));
+    timeout_ = p.num("commandTimeout", 0.5);
+    if (timeout_ < 0) p.fail("commandTimeout", "must be >= 0");
+    broadcast_tf_ = p.boolean("broadcastTF", false);
+    cov_[0] = p.num("covariance_x", 0.0001);
+    cov_[1] = p.num("covariance_y", 0.0001);
+    cov_[2] = p.num("covariance_yaw", 0.01);
+    odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
+    base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
+    sub_ = subscribeCommand<geometry_msgs::Twist>(c, nh, p.str("commandTopic", "cmd_vel"),
+                                                  [this](const geometry_msgs::Twist::ConstPtr& m) { onCmd(m); });
+    odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
+    drive(0, 0);
+  }
+  void reset() override {
+    x_ = rot_ = 0;
+    have_cmd_ = false;
+    drive(0, 0);
+  }
+  void update(double t) override {
+    if (!rate_.due(t)) return;
+    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_) {
+      x_ = rot_ = 0;
+      have_cmd_ = false;
+    }
+    publishOdometry(t);
+    drive(x_, rot_);
+  }
+
+ private:
+  void onCmd(const geometry_msgs::Twist::ConstPtr& m) {
+    if (!std::isfinite(m->linear.x) || !std::isfinite(m->angular.z)) {
+      ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite cmd_vel", c_.robot->name().c_str());
+      return;
+    }
+    x_ = m->linear.x;
+    rot_ = m->angular.z;
+    last_cmd_ = c_.world->time();
+    have_cmd_ = true;
+  }
+  void drive(double v, double w) {
+    const auto [vl, vr] = diffDriveWheelSpeeds(v, w, geo_);
+    const double r = geo_.diameter / 2;
+    for (const auto& j : left_) c_.robot->commandVelocity(j, vl / r, torque_);
+    for (const auto& j : right_) c_.robot->commandVelocity(j, vr / r, torque_);
+  }
+  void publishOdometry(double t) {
+    const Pose s = c_.robot->linkState(c_.robot->spec().root);
+    nav_msgs::Odometry o;
+    o.header.stamp = ros::Time(t);
+    o.header.frame_id = odom_frame_;
+    o.child_frame_id = base_frame_;
+    toMsg(s.tf, o.pose.pose);
+    btScalar yaw, pitch, roll;
+    s.tf.getBasis().getEulerZYX(yaw, pitch, roll);
+    o.twist.twist.linear.x = std::cos(yaw) * s.linear.x() + std::sin(yaw) * s.linear.y();
+    o.twist.twist.linear.y = std::cos(yaw) * s.linear.y() - std::sin(yaw) * s.linear.x();
+    o.twist.twist.angular.z = s.angular.z();
+    for (auto* cov : {&o.pose.covariance, &o.twist.covariance}) {
+      (*cov)[0] = cov_[0];
+      (*cov)[7] = cov_[1];
+      (*cov)[14] = (*cov)[21] = (*cov)[28] = 1e6;
+      (*cov)[35] = cov_[2];
+    }
+    odom_pub_.publish(o);
+    if (broadcast_tf_) c_.tf->sendTransform(toTf(s.tf, t, odom_frame_, base_frame_));
+  }
+  PluginContext c_;
+  std::array<std::string, 2> left_, right_;
+  DiffDriveGeometry geo_;
+  double torque_, timeout_, cov_[3];
+  bool broadcast_tf_;
+  std::string odom_frame_, base_frame_;
+  Rate rate_;
+  double x_ = 0, rot_ = 0, last_cmd_ = 0;
+  bool have_cmd_ = false;
+  ros::Subscriber sub_;
+  ros::Publisher odom_pub_;
+};
+}  // namespace
+
+std::unique_ptr<SimPlugin> makeSkidSteerDrive(const PluginContext& c) { return std::make_unique<SkidSteerDrive>(c); }
+
+}  // namespace mybot_gazebo_lite

@@ -1,0 +1,19 @@
+// The built-in controller types, one family a file in this folder.
+#pragma once
+
+#include "mybot_ros_control/controller.h"
+
+namespace mybot_ros_control {
+
+std::unique_ptr<Controller> makeJointStateController(const ControllerContext& c);
+std::unique_ptr<Controller> makeDiffDriveController(const ControllerContext& c);
+// position_controllers / velocity_controllers / effort_controllers JointXController that
+// forward the command to the interface.
+std::unique_ptr<Controller> makeForwardController(const ControllerContext& c, Interface i);
+std::unique_ptr<Controller> makeForwardGroupController(const ControllerContext& c, Interface i);
+// effort_controllers/JointPositionController, JointVelocityController,
+// velocity_controllers/JointPositionController: a PID from the `pid` parameters.
+std::unique_ptr<Controller> makePidController(const ControllerContext& c, Interface output, bool on_position);
+std::unique_ptr<Controller> makePidGroupPositionController(const ControllerContext& c, Interface output);
+
+}  // namespace mybot_ros_control
