@@ -47,7 +47,7 @@ TEST(RobotHWSim, ReadsTheTutorialTransmissions) {
   EXPECT_FALSE(std::isfinite(wheel->max_effort));  // no <limit>: unlimited, as in Gazebo
   const SimJoint* ext = hw.joint("gripper_extension");
   ASSERT_NE(ext, nullptr);
-  EXPECT_TRUE(ext->has(Interface::POSITION));
+  EXPECT_TRUE(ext->has(Interface::EFFORT));
   EXPECT_TRUE(ext->has_position_limits);
   EXPECT_DOUBLE_EQ(ext->lower, -0.38);
   EXPECT_DOUBLE_EQ(ext->max_velocity, 0.5);

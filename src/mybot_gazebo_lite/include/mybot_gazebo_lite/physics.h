@@ -77,7 +77,7 @@ class Robot {
   // A force or torque (N or N m) applied at every step until the next command, clamped to the
   // URDF <limit effort> when it has one.
   void commandEffort(const std::string& joint, double effort);
-  // The effort the joint's motor or command applied over the last step (N m or N).
+  // The commanded effort of an effort-driven joint (N m or N); 0 for velocity and position servos.
   double jointEffort(const std::string& joint) const;
   // Contact friction of every collision of the robot (planar_move: the base slides as commanded).
   void setContactFriction(double mu);
@@ -121,7 +121,6 @@ class Robot {
   std::vector<btCollisionShape*> shapes_;
   Contacts contacts_;
   bool record_points_ = false;
-  double step_ = 0;  // physics step (s)
   std::vector<btMultiBodyConstraint*> constraints_;
   std::vector<std::unique_ptr<std::vector<Surface>>> child_mu_;
 };

@@ -149,11 +149,11 @@ void Robot::commandEffort(const std::string& n, double effort) {
   j.target = effort;
 }
 
+// Only a commanded effort is known: Bullet allocates a motor's impulse record lazily (reading
+// it before the solver has seen the motor crashes), so motor efforts are not reported.
 double Robot::jointEffort(const std::string& n) const {
   const Joint& j = joint(n);
-  if (j.mode == Mode::EFFORT) return j.target;
-  if (j.mode == Mode::NONE || !j.motor || step_ <= 0) return 0.0;
-  return j.motor->getAppliedImpulse(0) / step_;
+  return j.mode == Mode::EFFORT ? j.target : 0.0;
 }
 
 void Robot::setContactFriction(double mu) {
@@ -303,7 +303,6 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   r->name_ = name;
   r->ns_ = ns;
   r->spec_ = spec;
-  r->step_ = opt_.step;
   r->spawn_ = pose;
   const RobotSpec& rs = *spec;
 
