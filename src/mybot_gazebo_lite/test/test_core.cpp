@@ -217,6 +217,50 @@ TEST(Loaders, SdfStateAndIncludeOfBuiltins) {
                LoadError);
 }
 
+TEST(Loaders, WorldPhysicsBlockSetsStepIterationsAndRealTimeFactor) {
+  WorldSpec w = parseSdfWorld(
+      "<sdf version='1.6'><world name='w'><physics type='ode'><max_step_size>0.002</max_step_size>"
+      "<real_time_factor>3</real_time_factor><ode><solver><iters>50</iters></solver></ode></physics></world></sdf>",
+      "w.world", ".");
+  EXPECT_TRUE(w.physics.has_step && w.physics.has_real_time_factor && w.physics.has_iterations);
+  EXPECT_DOUBLE_EQ(w.physics.max_step_size, 0.002);
+  EXPECT_DOUBLE_EQ(w.physics.real_time_factor, 3.0);
+  EXPECT_EQ(w.physics.iterations, 50);
+  WorldSpec none = parseSdfWorld("<sdf version='1.6'><world name='w'></world></sdf>", "w.world", ".");
+  EXPECT_FALSE(none.physics.has_step || none.physics.has_real_time_factor || none.physics.has_iterations);
+  try {
+    parseSdfWorld("<sdf><world><physics><max_step_size>fast</max_step_size></physics></world></sdf>", "bad.world", ".");
+    FAIL() << "accepted a step of 'fast'";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.world: <physics> <max_step_size>"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parseSdfWorld("<sdf><world><physics><ode><solver><iters>2.5</iters></solver></ode></physics></world></sdf>",
+                             "w", "."),
+               LoadError);
+}
+
+TEST(Loaders, ModelConfigPicksTheNewestSdf) {
+  char tmpl[] = "/tmp/model_config_XXXXXX";
+  const std::string d = mkdtemp(tmpl);
+  const std::string m = d + "/models/box";
+  ASSERT_EQ(std::system(("mkdir -p " + m).c_str()), 0);
+  auto model = [](double r) {
+    return "<sdf version='1.6'><model name='b'><static>true</static><link name='l'><collision name='c'><geometry>"
+           "<sphere><radius>" + std::to_string(r) + "</radius></sphere></geometry></collision></link></model></sdf>";
+  };
+  std::ofstream(m + "/model-1_4.sdf") << model(0.1);
+  std::ofstream(m + "/model-1_6.sdf") << model(0.6);
+  std::ofstream(m + "/model-1_5.sdf") << model(0.5);
+  std::ofstream(m + "/model.config") << "<model><name>box</name><sdf version='1.4'>model-1_4.sdf</sdf>"
+                                        "<sdf version='1.6'>model-1_6.sdf</sdf><sdf version='1.5'>model-1_5.sdf</sdf></model>";
+  WorldSpec w = parseSdfWorld("<sdf version='1.6'><world name='w'><include><uri>model://box</uri></include></world></sdf>",
+                              d + "/w.world", d);
+  ASSERT_EQ(w.models.size(), 1u);
+  ASSERT_EQ(w.models[0].links.size(), 1u);
+  EXPECT_NEAR(w.models[0].links[0].shapes.at(0).radius, 0.6, 1e-9);
+  std::system(("rm -rf " + d).c_str());
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

@@ -139,8 +139,17 @@ struct WorldModel {
   std::vector<WorldLink> links;
 };
 
+// A world's <physics> block; each value only when the world sets it (launch parameters win).
+struct PhysicsSpec {
+  bool has_step = false, has_iterations = false, has_real_time_factor = false;
+  double max_step_size = 0.001;
+  int iterations = 10;  // <ode><solver><iters> (or <bullet><solver><iters>)
+  double real_time_factor = 1.0;
+};
+
 struct WorldSpec {
   std::string name = "default";
+  PhysicsSpec physics;
   std::string source;
   btVector3 gravity{0, 0, -9.8};
   bool ground_plane = false;

@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -196,10 +197,19 @@ bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, Worl
     tinyxml2::XMLDocument doc;
     std::stringstream ss;
     ss << cfg.rdbuf();
+    // Several <sdf version="..."> files: the newest, as Gazebo picks.
+    std::pair<int, int> best{-1, -1};
     if (doc.Parse(ss.str().c_str()) == tinyxml2::XML_SUCCESS)
       if (const XMLElement* mdl = doc.FirstChildElement("model"))
-        if (const XMLElement* s = mdl->FirstChildElement("sdf"))
-          if (s->GetText()) sdf_file = dir + "/" + s->GetText();
+        for (const XMLElement* s = mdl->FirstChildElement("sdf"); s; s = s->NextSiblingElement("sdf")) {
+          if (!s->GetText()) continue;
+          std::pair<int, int> v{0, 0};
+          if (const char* ver = s->Attribute("version")) std::sscanf(ver, "%d.%d", &v.first, &v.second);
+          if (v > best) {
+            best = v;
+            sdf_file = dir + "/" + s->GetText();
+          }
+        }
   }
   std::string xml = readFile(sdf_file, c.source + ": " + where);
   tinyxml2::XMLDocument doc;
@@ -216,6 +226,41 @@ bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, Worl
   if (const XMLElement* st = inc->FirstChildElement("static"))
     if (st->GetText()) out.is_static = std::string(st->GetText()) == "true" || std::string(st->GetText()) == "1";
   return true;
+}
+}  // namespace
+
+namespace {
+// Gazebo's <physics>: max_step_size, real_time_factor and the solver's iterations. Values are
+// checked here with the node's own bounds, naming the element.
+PhysicsSpec parsePhysics(const SdfCtx& c, const XMLElement* ph) {
+  PhysicsSpec p;
+  auto number = [&](const XMLElement* e, const std::string& what) {
+    const char* t = e->GetText();
+    char* end = nullptr;
+    const double v = t ? std::strtod(t, &end) : 0.0;
+    if (!t || end == t || *end != '\0' || !std::isfinite(v)) c.fail("<physics> <" + what + ">", std::string("expected a number, got '") + (t ? t : "") + "'");
+    return v;
+  };
+  if (const XMLElement* e = ph->FirstChildElement("max_step_size")) {
+    p.has_step = true;
+    p.max_step_size = number(e, "max_step_size");
+    if (!(p.max_step_size > 0 && p.max_step_size <= 0.01)) c.fail("<physics> <max_step_size>", "must be in (0, 0.01] s");
+  }
+  if (const XMLElement* e = ph->FirstChildElement("real_time_factor")) {
+    p.has_real_time_factor = true;
+    p.real_time_factor = number(e, "real_time_factor");
+    if (p.real_time_factor < 0) c.fail("<physics> <real_time_factor>", "must be >= 0");
+  }
+  for (const char* engine : {"ode", "bullet"})
+    if (const XMLElement* e = ph->FirstChildElement(engine))
+      if (const XMLElement* s = e->FirstChildElement("solver"))
+        if (const XMLElement* it = s->FirstChildElement("iters")) {
+          const double v = number(it, std::string(engine) + "><solver><iters");
+          if (v < 1 || v != std::floor(v)) c.fail(std::string("<physics> <") + engine + "><solver><iters>", "must be a whole number >= 1");
+          p.has_iterations = true;
+          p.iterations = static_cast<int>(v);
+        }
+  return p;
 }
 }  // namespace
 
@@ -239,6 +284,7 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
       c.fail("<world>", e.what());
     }
   }
+  if (const XMLElement* ph = w->FirstChildElement("physics")) world.physics = parsePhysics(c, ph);
   for (const XMLElement* e = w->FirstChildElement(); e; e = e->NextSiblingElement()) {
     std::string n = e->Name();
     if (n == "include") {

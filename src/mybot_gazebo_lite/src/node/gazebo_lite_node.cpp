@@ -35,17 +35,31 @@ class SimNode {
     using mybot_common::readParam;
     const std::string node = "gazebo_lite";
     const std::string world_file = readParam<std::string>(node, pnh_, "world", "");
-    double step = readParam<double>(node, pnh_, "max_step_size", 0.001);
-    int iters = readParam<int>(node, pnh_, "solver_iterations", 10);
-    rtf_ = readParam<double>(node, pnh_, "real_time_factor", 1.0);
+    const int max_image_side = readParam<int>(node, pnh_, "max_image_side", mybot_common::kDefaultMaxImageSide);
+    if (max_image_side <= 0) return bad("max_image_side", "must be a positive number of pixels");
+    WorldSpec spec;
+    try {
+      if (world_file.empty()) {
+        spec.ground_plane = true;
+        spec.name = "empty";
+      } else {
+        spec = loadWorldFile(world_file, defaultResolveUri, max_image_side);
+      }
+    } catch (const std::exception& e) {
+      ROS_FATAL("gazebo_lite: cannot load world: %s", e.what());
+      return false;
+    }
+    // The world's <physics> block sets the defaults; parameters (launch args) win, as in Gazebo.
+    const PhysicsSpec& wp = spec.physics;
+    double step = readParam<double>(node, pnh_, "max_step_size", wp.max_step_size);
+    int iters = readParam<int>(node, pnh_, "solver_iterations", wp.iterations);
+    rtf_ = readParam<double>(node, pnh_, "real_time_factor", wp.real_time_factor);
     paused_ = readParam<bool>(node, pnh_, "paused", false);
     clock_hz_ = readParam<double>(node, pnh_, "pub_clock_frequency", 1000.0);
     int seed = readParam<int>(node, pnh_, "seed", 0);
     const bool lockstep = readParam<bool>(node, pnh_, "lockstep", false);
     const double period = readParam<double>(node, pnh_, "lockstep_period", 0.01);
     const double timeout = readParam<double>(node, pnh_, "lockstep_timeout", 10.0);
-    const int max_image_side = readParam<int>(node, pnh_, "max_image_side", mybot_common::kDefaultMaxImageSide);
-    if (max_image_side <= 0) return bad("max_image_side", "must be a positive number of pixels");
     // A list of node names, or one string of names separated by spaces or commas.
     std::string names;
     if (pnh_.getParam("lockstep_wait_for", names)) {
@@ -67,18 +81,6 @@ class SimNode {
       if (!(timeout > 0) || !std::isfinite(timeout)) return bad("lockstep_timeout", "must be > 0 s of wall time");
       for (auto& n : wait_for_)
         if (!n.empty() && n[0] != '/') n = "/" + n;
-    }
-    WorldSpec spec;
-    try {
-      if (world_file.empty()) {
-        spec.ground_plane = true;
-        spec.name = "empty";
-      } else {
-        spec = loadWorldFile(world_file, defaultResolveUri, max_image_side);
-      }
-    } catch (const std::exception& e) {
-      ROS_FATAL("gazebo_lite: cannot load world: %s", e.what());
-      return false;
     }
     PhysicsWorld::Options opt;
     opt.step = step;

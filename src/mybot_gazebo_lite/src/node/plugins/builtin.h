@@ -3,7 +3,14 @@
 
 #include "mybot_gazebo_lite/sim_plugin.h"
 
+#include <nav_msgs/Odometry.h>
+
 namespace mybot_gazebo_lite {
+
+// Odometry that is the root link's world pose and body-frame twist (the drive plugins that report
+// ground truth as odometry, as upstream), with a diagonal covariance {x, y, yaw} on pose and twist.
+nav_msgs::Odometry worldPoseOdometry(const PluginContext& c, double t, const std::string& odom_frame,
+                                     const std::string& base_frame, const double cov[3]);
 
 std::unique_ptr<SimPlugin> makeDiffDrive(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeSkidSteerDrive(const PluginContext& c);

@@ -46,25 +46,9 @@ class PlanarMove : public SimPlugin {
   }
   void update(double t) override {
     if (!odom_rate_.due(t)) return;
-    const Pose s = c_.robot->linkState(c_.robot->spec().root);
-    nav_msgs::Odometry o;
-    o.header.stamp = ros::Time(t);
-    o.header.frame_id = odom_frame_;
-    o.child_frame_id = base_frame_;
-    toMsg(s.tf, o.pose.pose);
-    btScalar yaw, pitch, roll;
-    s.tf.getBasis().getEulerZYX(yaw, pitch, roll);
-    o.twist.twist.linear.x = std::cos(yaw) * s.linear.x() + std::sin(yaw) * s.linear.y();
-    o.twist.twist.linear.y = std::cos(yaw) * s.linear.y() - std::sin(yaw) * s.linear.x();
-    o.twist.twist.angular.z = s.angular.z();
-    for (auto* cov : {&o.pose.covariance, &o.twist.covariance}) {
-      (*cov)[0] = cov_[0];
-      (*cov)[7] = cov_[1];
-      (*cov)[14] = (*cov)[21] = (*cov)[28] = 1e6;
-      (*cov)[35] = cov_[2];
-    }
+    const nav_msgs::Odometry o = worldPoseOdometry(c_, t, odom_frame_, base_frame_, cov_);
     odom_pub_.publish(o);
-    if (publish_tf_) c_.tf->sendTransform(toTf(s.tf, t, odom_frame_, base_frame_));
+    if (publish_tf_) c_.tf->sendTransform(toTf(c_.robot->linkState(c_.robot->spec().root).tf, t, odom_frame_, base_frame_));
   }
 
  private:

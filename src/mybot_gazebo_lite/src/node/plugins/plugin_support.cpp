@@ -1,6 +1,6 @@
 // What every plugin shares: the static world slices, parameter reading, frames and messages.
 #include "mybot_gazebo_lite/parsing.h"
-#include "mybot_gazebo_lite/sim_plugin.h"
+#include "builtin.h"
 
 #include <cmath>
 #include <sstream>
@@ -119,4 +119,26 @@ geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std:
   m.transform.rotation.w = q.w();
   return m;
 }
+nav_msgs::Odometry worldPoseOdometry(const PluginContext& c, double t, const std::string& odom_frame,
+                                     const std::string& base_frame, const double cov[3]) {
+  const Pose s = c.robot->linkState(c.robot->spec().root);
+  nav_msgs::Odometry o;
+  o.header.stamp = ros::Time(t);
+  o.header.frame_id = odom_frame;
+  o.child_frame_id = base_frame;
+  toMsg(s.tf, o.pose.pose);
+  btScalar yaw, pitch, roll;
+  s.tf.getBasis().getEulerZYX(yaw, pitch, roll);
+  o.twist.twist.linear.x = std::cos(yaw) * s.linear.x() + std::sin(yaw) * s.linear.y();
+  o.twist.twist.linear.y = std::cos(yaw) * s.linear.y() - std::sin(yaw) * s.linear.x();
+  o.twist.twist.angular.z = s.angular.z();
+  for (auto* m : {&o.pose.covariance, &o.twist.covariance}) {
+    (*m)[0] = cov[0];
+    (*m)[7] = cov[1];
+    (*m)[14] = (*m)[21] = (*m)[28] = 1e6;  // z, roll, pitch: not estimated
+    (*m)[35] = cov[2];
+  }
+  return o;
+}
+
 }  // namespace mybot_gazebo_lite
