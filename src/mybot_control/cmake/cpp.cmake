@@ -11,18 +11,18 @@ add_library(mybot_control_lib
   src/lib/step_scheduler.cpp)
 
 # ROS-side helpers of the nodes: validated parameters, PID/limit blocks, URDF geometry.
-add_library(mybot_control_ros src/lib/ros_params.cpp)
+add_library(mybot_control_ros src/ros/ros_params.cpp)
 target_link_libraries(mybot_control_ros mybot_control_lib ${catkin_LIBRARIES})
 
 foreach(node diffdrive_controller wheel_controller diffdrive_odom twist_mux)
-  add_executable(${node} src/nodes/${node}.cpp)
+  add_executable(${node} src/nodes/${node}_node.cpp)
   target_link_libraries(${node} mybot_control_ros mybot_control_lib ${catkin_LIBRARIES})
   add_dependencies(${node} ${PROJECT_NAME}_generate_messages_cpp)
   install(TARGETS ${node} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
 # The node objects without main(), for the nodelets and diffdrive_chain (all in one process).
-add_library(mybot_diffdrive_nodes src/nodes/twist_mux.cpp src/nodes/diffdrive_controller.cpp
-  src/nodes/wheel_controller.cpp src/nodes/diffdrive_odom.cpp)
+add_library(mybot_diffdrive_nodes src/nodes/twist_mux_node.cpp src/nodes/diffdrive_controller_node.cpp
+  src/nodes/wheel_controller_node.cpp src/nodes/diffdrive_odom_node.cpp)
 target_compile_definitions(mybot_diffdrive_nodes PRIVATE MYBOT_CONTROL_NODE_LIBRARY)
 target_link_libraries(mybot_diffdrive_nodes mybot_control_ros mybot_control_lib ${catkin_LIBRARIES})
 add_dependencies(mybot_diffdrive_nodes ${PROJECT_NAME}_generate_messages_cpp)

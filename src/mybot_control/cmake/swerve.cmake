@@ -8,17 +8,17 @@ add_library(mybot_swerve_lib
 target_link_libraries(mybot_swerve_lib mybot_control_lib)
 
 # ROS-side helpers of the swerve nodes (geometry from parameters / URDF).
-add_library(mybot_swerve_ros src/lib/swerve_ros.cpp)
+add_library(mybot_swerve_ros src/ros/swerve_ros.cpp)
 target_link_libraries(mybot_swerve_ros mybot_swerve_lib mybot_control_ros ${catkin_LIBRARIES})
 
 foreach(node swerve_controller swerve_module swerve_odom)
-  add_executable(${node} src/nodes/${node}.cpp)
+  add_executable(${node} src/nodes/${node}_node.cpp)
   target_link_libraries(${node} mybot_swerve_ros mybot_swerve_lib mybot_control_ros mybot_control_lib ${catkin_LIBRARIES})
   add_dependencies(${node} ${PROJECT_NAME}_generate_messages_cpp)
   install(TARGETS ${node} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
 # The node objects without main(), for the nodelets and swerve_chain (all three in one process).
-add_library(mybot_swerve_nodes src/nodes/swerve_controller.cpp src/nodes/swerve_module.cpp src/nodes/swerve_odom.cpp)
+add_library(mybot_swerve_nodes src/nodes/swerve_controller_node.cpp src/nodes/swerve_module_node.cpp src/nodes/swerve_odom_node.cpp)
 target_compile_definitions(mybot_swerve_nodes PRIVATE MYBOT_CONTROL_NODE_LIBRARY)
 target_link_libraries(mybot_swerve_nodes mybot_swerve_ros mybot_swerve_lib mybot_control_ros mybot_control_lib ${catkin_LIBRARIES})
 add_dependencies(mybot_swerve_nodes ${PROJECT_NAME}_generate_messages_cpp)

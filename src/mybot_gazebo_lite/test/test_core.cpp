@@ -261,6 +261,30 @@ TEST(Loaders, ModelConfigPicksTheNewestSdf) {
   std::system(("rm -rf " + d).c_str());
 }
 
+TEST(Loaders, PackageUrisResolveWithoutRoslib) {
+  char tmpl[] = "/tmp/pkg_path_XXXXXX";
+  const std::string d = mkdtemp(tmpl);
+  ASSERT_EQ(std::system(("mkdir -p " + d + "/ws/src/group/my_robot_description/meshes " + d + "/ws/src/ignored/my_other " +
+                         d + "/ws/src/renamed_folder").c_str()),
+            0);
+  std::ofstream(d + "/ws/src/group/my_robot_description/package.xml") << "<package><name>my_robot_description</name></package>";
+  std::ofstream(d + "/ws/src/group/my_robot_description/meshes/wheel.stl") << "solid x\nendsolid x\n";
+  std::ofstream(d + "/ws/src/renamed_folder/package.xml") << "<package><name>my_renamed</name></package>";
+  std::ofstream(d + "/ws/src/ignored/CATKIN_IGNORE") << "";
+  std::ofstream(d + "/ws/src/ignored/my_other/package.xml") << "<package><name>my_other</name></package>";
+  const char* old = std::getenv("ROS_PACKAGE_PATH");
+  const std::string saved = old ? old : "";
+  setenv("ROS_PACKAGE_PATH", (d + "/ws/src").c_str(), 1);
+  EXPECT_EQ(findPackage("my_robot_description"), d + "/ws/src/group/my_robot_description");
+  EXPECT_EQ(findPackage("my_renamed"), d + "/ws/src/renamed_folder");  // by package.xml name, not folder
+  EXPECT_EQ(findPackage("my_other"), "");                              // under CATKIN_IGNORE
+  EXPECT_EQ(defaultResolveUri("package://my_robot_description/meshes/wheel.stl", ""),
+            d + "/ws/src/group/my_robot_description/meshes/wheel.stl");
+  EXPECT_EQ(defaultResolveUri("package://my_robot_description/meshes/nope.stl", ""), "");
+  setenv("ROS_PACKAGE_PATH", saved.c_str(), 1);
+  std::system(("rm -rf " + d).c_str());
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

@@ -9,7 +9,7 @@ import unittest
 import rospy
 import rostest
 from geometry_msgs.msg import Twist
-from sensor_msgs.msg import JointState, Range
+from sensor_msgs.msg import JointState, PointCloud, Range
 
 from mybot_common.geometry import wrap, yaw_of
 from mybot_gazebo_lite.msg import ContactsState
@@ -32,6 +32,8 @@ class TutorialRobots(unittest.TestCase):
         cls.sonar = None
         cls.bumper = None
         cls.skid_joints = None
+        cls.cloud = None
+        cls.ls.Subscriber("/planar/points3d", PointCloud, cls._store("cloud"))
         cls.ls.Subscriber("/skid/joint_states", JointState, cls._store("skid_joints"))
         cls.ls.Subscriber("/skid/sonar", Range, cls._store("sonar"))
         cls.ls.Subscriber("/skid/bumper", ContactsState, cls._store("bumper"))
@@ -135,6 +137,18 @@ class TutorialRobots(unittest.TestCase):
         # 45 degrees down from 0.16 m (wheel radius 0.05 + 0.06 + 0.05 mount); the steepest ray (0.1 rad more) hits first.
         z = self.pose("skid") and self.model(model_name="skid").pose.position.z + 0.05
         self.assertAlmostEqual(m.range, z / math.sin(math.pi / 4 + 0.1), delta=0.01)
+
+    def test_block_laser_sees_the_ground(self):
+        self.assertTrue(self.ls.wait_for(lambda: self.cloud is not None, 5.0), "no /planar/points3d")
+        with self.lock:
+            m = self.cloud
+        self.assertEqual(m.header.frame_id, "planar/laser3d" if m.header.frame_id.startswith("planar/") else "laser3d")
+        self.assertEqual(len(m.points), 15)
+        self.assertEqual(m.channels[0].name, "intensity")
+        # Every ray looks down at the flat ground: every point lies the sensor's height below it.
+        h = self.model(model_name="planar").pose.position.z + 0.3
+        for p in m.points:
+            self.assertAlmostEqual(p.z, -h, delta=0.002)
 
     def test_bumper_reports_the_wheel_on_the_ground(self):
         self.assertTrue(self.ls.wait_for(lambda: self.bumper is not None and self.bumper.states, 5.0), "no contact on /skid/bumper")

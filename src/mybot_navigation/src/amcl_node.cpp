@@ -22,6 +22,7 @@
 #include "mybot_navigation/amcl.h"
 #include "mybot_navigation/navigation_ros.h"
 #include "mybot_navigation/ros/conversions.h"
+#include "mybot_navigation/ros/tf_wait.h"
 
 using namespace mybot_navigation;
 
@@ -219,8 +220,9 @@ private:
     // The robot kept moving since the pose was stamped: apply the odometry motion since then.
     try
     {
-      const Pose2D then = mybot_navigation::toPose2D(
-          tf_buffer_.lookupTransform(odom_frame_, base_frame_, msg->header.stamp, ros::Duration(0.1)));
+      mybot_navigation::waitForTransform(tf_buffer_, odom_frame_, base_frame_, msg->header.stamp, ros::Duration(0.1));
+      const Pose2D then =
+          mybot_navigation::toPose2D(tf_buffer_.lookupTransform(odom_frame_, base_frame_, msg->header.stamp));
       const Pose2D now = mybot_navigation::toPose2D(tf_buffer_.lookupTransform(odom_frame_, base_frame_, ros::Time(0)));
       pose = compose(pose, between(then, now));
     }

@@ -28,6 +28,7 @@
 #include "mybot_navigation/navigation.h"
 #include "mybot_navigation/navigation_ros.h"
 #include "mybot_navigation/ros/conversions.h"
+#include "mybot_navigation/ros/tf_wait.h"
 
 using namespace mybot_navigation;
 
@@ -327,11 +328,18 @@ private:
       return;
     Pose2D sensor;
     bool upside_down = false;
+    if (!mybot_navigation::waitForTransform(tf_buffer_, global_frame_, scan->header.frame_id, scan->header.stamp,
+                                            ros::Duration(0.1)))
+    {
+      checkTimeJump();  // a reset while it waited: the goal must not outlive it
+      ROS_WARN_THROTTLE(5.0, "move_base: dropping scan from %s: no %s -> %s at %.3f s", source.topic.c_str(),
+                        global_frame_.c_str(), scan->header.frame_id.c_str(), scan->header.stamp.toSec());
+      return;
+    }
     try
     {
       sensor = mybot_navigation::toPose2D(
-          tf_buffer_.lookupTransform(global_frame_, scan->header.frame_id, scan->header.stamp, ros::Duration(0.1)),
-          &upside_down);
+          tf_buffer_.lookupTransform(global_frame_, scan->header.frame_id, scan->header.stamp), &upside_down);
     }
     catch (const tf2::TransformException& e)
     {

@@ -18,6 +18,9 @@ namespace mybot_gazebo_lite {
 // Returns "" when not found. Relative paths resolve against base_dir.
 using UriResolver = std::function<std::string(const std::string& uri, const std::string& base_dir)>;
 std::string defaultResolveUri(const std::string& uri, const std::string& base_dir);
+// A ROS package's folder by its package.xml name, found on ROS_PACKAGE_PATH as rospack does
+// ("" when not found). The core library stays ROS-free: it reads the environment, not roslib.
+std::string findPackage(const std::string& pkg);
 
 // Parses a URDF document. `source` names the file/parameter in error messages.
 RobotSpec parseUrdf(const std::string& xml, const std::string& source,

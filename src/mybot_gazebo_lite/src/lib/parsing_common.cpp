@@ -3,14 +3,15 @@
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-#include <ros/package.h>
 #include <tinyxml2.h>
 
 #include <cmath>
 #include <cstdlib>
+#include <algorithm>
 #include <fstream>
 #include <mutex>
 #include <sstream>
+#include <dirent.h>
 #include <sys/stat.h>
 
 namespace mybot_gazebo_lite {
@@ -30,7 +31,60 @@ std::vector<std::string> splitPathList(const char* env) {
     if (!item.empty()) out.push_back(item);
   return out;
 }
+bool isDir(const std::string& p) {
+  struct stat st;
+  return stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+// The <name> of a package.xml, "" when there is none.
+std::string packageName(const std::string& dir) {
+  tinyxml2::XMLDocument doc;
+  if (doc.LoadFile((dir + "/package.xml").c_str()) != tinyxml2::XML_SUCCESS) return "";
+  const tinyxml2::XMLElement* pkg = doc.FirstChildElement("package");
+  const tinyxml2::XMLElement* name = pkg ? pkg->FirstChildElement("name") : nullptr;
+  return name && name->GetText() ? name->GetText() : "";
+}
+
+// rospack's search, without ROS: the folders of ROS_PACKAGE_PATH and below them, a folder with a
+// package.xml being a package (not searched further), CATKIN_IGNORE'd folders skipped.
+std::string findPackageBelow(const std::string& dir, const std::string& pkg, int depth) {
+  if (fileExists(dir + "/package.xml")) return packageName(dir) == pkg ? dir : "";
+  if (depth <= 0 || fileExists(dir + "/CATKIN_IGNORE")) return "";
+  DIR* d = opendir(dir.c_str());
+  if (!d) return "";
+  std::vector<std::string> subdirs;
+  while (dirent* e = readdir(d)) {
+    const std::string n = e->d_name;
+    if (n.empty() || n[0] == '.') continue;
+    if (isDir(dir + "/" + n)) subdirs.push_back(dir + "/" + n);
+  }
+  closedir(d);
+  std::sort(subdirs.begin(), subdirs.end());
+  for (const auto& sd : subdirs)
+    if (std::string found = findPackageBelow(sd, pkg, depth - 1); !found.empty()) return found;
+  return "";
+}
 }  // namespace
+
+std::string findPackage(const std::string& pkg) {
+  static std::mutex mtx;
+  static std::map<std::string, std::string> cache;
+  std::lock_guard<std::mutex> lock(mtx);
+  auto it = cache.find(pkg);
+  if (it != cache.end()) return it->second;
+  std::string found;
+  const std::vector<std::string> roots = splitPathList(std::getenv("ROS_PACKAGE_PATH"));
+  // The usual layout first (<root>/<pkg>, as Debian installs them), then the full search.
+  for (const auto& root : roots)
+    if (packageName(root + "/" + pkg) == pkg) {
+      found = root + "/" + pkg;
+      break;
+    }
+  for (const auto& root : roots)
+    if (found.empty() && !(found = findPackageBelow(root, pkg, 6)).empty()) break;
+  if (!found.empty()) cache[pkg] = found;
+  return found;
+}
 
 std::string defaultResolveUri(const std::string& uri, const std::string& base_dir) {
   if (uri.rfind("file://", 0) == 0) return fileExists(uri.substr(7)) ? uri.substr(7) : "";
@@ -38,7 +92,7 @@ std::string defaultResolveUri(const std::string& uri, const std::string& base_di
     std::string rest = uri.substr(10);
     auto slash = rest.find('/');
     std::string pkg = rest.substr(0, slash);
-    std::string dir = ros::package::getPath(pkg);
+    std::string dir = findPackage(pkg);
     if (dir.empty()) return "";
     std::string p = dir + (slash == std::string::npos ? "" : rest.substr(slash));
     return fileExists(p) ? p : "";
@@ -51,7 +105,7 @@ std::string defaultResolveUri(const std::string& uri, const std::string& base_di
       dirs.push_back(base_dir + "/models");
       dirs.push_back(base_dir + "/../models");
     }
-    std::string own = ros::package::getPath("mybot_gazebo_lite");
+    std::string own = findPackage("mybot_gazebo_lite");
     if (!own.empty()) dirs.push_back(own + "/models");
     for (const auto& pp : splitPathList(std::getenv("ROS_PACKAGE_PATH"))) dirs.push_back(pp + "/../models");
     for (const auto& d : dirs) {

@@ -5,6 +5,7 @@
 #include "controllers.h"
 
 #include <mybot_control/odometry.hpp>
+#include <mybot_control/ros_params.hpp>
 #include <mybot_control/speed_limiter.hpp>
 
 #include <geometry_msgs/Twist.h>
@@ -153,34 +154,17 @@ class DiffDriveController : public Controller {
     cmd_.ang = m.angular.z;
     cmd_.stamp = c_.plugin->world->time();
   }
+  // diff_drive_controller's limit block and covariance lists, read by mybot_control's ParamReader
+  // (the real robot's controller reads the same names the same way).
   mybot_control::SpeedLimiter readLimits(const std::string& ns) const {
-    mybot_control::SpeedLimits l;
-    l.has_velocity_limits = c_.boolean(ns + "/has_velocity_limits", false);
-    l.max_velocity = c_.number(ns + "/max_velocity", 0.0);
-    l.min_velocity = c_.number(ns + "/min_velocity", -l.max_velocity);
-    l.has_acceleration_limits = c_.boolean(ns + "/has_acceleration_limits", false);
-    l.max_acceleration = c_.number(ns + "/max_acceleration", 0.0);
-    l.min_acceleration = c_.number(ns + "/min_acceleration", -l.max_acceleration);
-    l.has_jerk_limits = c_.boolean(ns + "/has_jerk_limits", false);
-    l.max_jerk = c_.number(ns + "/max_jerk", 0.0);
-    l.min_jerk = c_.number(ns + "/min_jerk", -l.max_jerk);
-    const std::string bad = l.validate(c_.nh.resolveName(ns) + "/");
-    if (!bad.empty()) c_.fail("", bad);
-    return mybot_control::SpeedLimiter(l);
+    return mybot_control::SpeedLimiter(mybot_control::loadSpeedLimits(mybot_control::ParamReader(c_.nh), ns + "/"));
   }
   boost::array<double, 36> covariance(const std::string& param) const {
     boost::array<double, 36> cov{};
-    XmlRpc::XmlRpcValue v;
-    if (!c_.nh.getParam(param, v)) return cov;
-    if (v.getType() != XmlRpc::XmlRpcValue::TypeArray || v.size() != 6) c_.fail(param, "expected a list of 6 numbers");
-    for (int k = 0; k < 6; ++k) {
-      if (v[k].getType() == XmlRpc::XmlRpcValue::TypeDouble)
-        cov[k * 7] = static_cast<double>(v[k]);
-      else if (v[k].getType() == XmlRpc::XmlRpcValue::TypeInt)
-        cov[k * 7] = static_cast<int>(v[k]);
-      else
-        c_.fail(param, "element " + std::to_string(k) + " is not a number");
-    }
+    const mybot_control::ParamReader p(c_.nh);
+    if (!p.has(param)) return cov;
+    const std::vector<double> diag = p.numbers(param, 6);
+    for (int k = 0; k < 6; ++k) cov[k * 7] = diag[k];
     return cov;
   }
   // As upstream: the distance between the two wheel joints' origins in their parent frames.

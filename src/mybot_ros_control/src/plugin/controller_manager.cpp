@@ -73,6 +73,8 @@ std::string ControllerManager::load(const std::string& name) {
     entries_.push_back(std::move(e));
   } catch (const ControllerError& err) {
     return err.what();
+  } catch (const std::runtime_error& err) {  // a ParamError of the readers shared with mybot_control
+    return "controller '" + name + "' (" + type + "): " + err.what();
   }
   return "";
 }

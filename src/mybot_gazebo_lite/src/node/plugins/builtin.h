@@ -12,6 +12,17 @@ namespace mybot_gazebo_lite {
 nav_msgs::Odometry worldPoseOdometry(const PluginContext& c, double t, const std::string& odom_frame,
                                      const std::string& base_frame, const double cov[3]);
 
+// The rays of a <sensor type="ray"> (horizontal x vertical samples, Gazebo's convention: positive
+// vertical angles look up) cast through Bullet, for the range and block-laser plugins.
+struct SensorRays {
+  std::vector<btVector3> dirs;  // unit directions in the sensor frame, vertical-major
+  double min = 0, max = 0;      // range limits (m)
+  // Reads ray/scan/{horizontal,vertical}/{samples,min_angle,max_angle} and ray/range/{min,max}.
+  static SensorRays fromSensor(const PluginParams& s);
+  // Range along each ray from `sensor` (world frame), `max` where nothing is hit.
+  std::vector<double> cast(const PhysicsWorld& world, const btTransform& sensor, const Robot* self) const;
+};
+
 std::unique_ptr<SimPlugin> makeDiffDrive(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeSkidSteerDrive(const PluginContext& c);
 std::unique_ptr<SimPlugin> makePlanarMove(const PluginContext& c);
@@ -20,6 +31,7 @@ std::unique_ptr<SimPlugin> makeJointStatePublisher(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeJointCommand(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeLaser(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeRange(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeBlockLaser(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeBumper(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeImuSensor(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeImu(const PluginContext& c);

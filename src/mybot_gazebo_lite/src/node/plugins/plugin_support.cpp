@@ -119,6 +119,38 @@ geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std:
   m.transform.rotation.w = q.w();
   return m;
 }
+SensorRays SensorRays::fromSensor(const PluginParams& s) {
+  SensorRays r;
+  const double hs = s.num("ray/scan/horizontal/samples", 1), vs = s.num("ray/scan/vertical/samples", 1);
+  if (hs < 1 || vs < 1 || hs != std::floor(hs) || vs != std::floor(vs) || hs * vs > 100000)
+    s.fail("ray/scan", "need whole numbers of samples, 1 to 100000 rays (horizontal x vertical)");
+  const double hmin = s.num("ray/scan/horizontal/min_angle", 0.0), hmax = s.num("ray/scan/horizontal/max_angle", 0.0);
+  const double vmin = s.num("ray/scan/vertical/min_angle", 0.0), vmax = s.num("ray/scan/vertical/max_angle", 0.0);
+  if (hmax < hmin) s.fail("ray/scan/horizontal/max_angle", "smaller than min_angle");
+  if (vmax < vmin) s.fail("ray/scan/vertical/max_angle", "smaller than min_angle");
+  r.min = s.requiredNum("ray/range/min");
+  r.max = s.requiredNum("ray/range/max");
+  if (r.min < 0 || r.max <= r.min) s.fail("ray/range/max", "need 0 <= min < max");
+  const int nh = static_cast<int>(hs), nv = static_cast<int>(vs);
+  for (int v = 0; v < nv; ++v)
+    for (int h = 0; h < nh; ++h) {
+      const double a = nh > 1 ? hmin + h * (hmax - hmin) / (nh - 1) : hmin;
+      const double e = nv > 1 ? vmin + v * (vmax - vmin) / (nv - 1) : vmin;
+      r.dirs.emplace_back(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+    }
+  return r;
+}
+
+std::vector<double> SensorRays::cast(const PhysicsWorld& world, const btTransform& sensor, const Robot* self) const {
+  std::vector<double> out;
+  out.reserve(dirs.size());
+  for (const btVector3& d : dirs) {
+    const double hit = world.rayTest(sensor * (d * min), sensor * (d * max), self);
+    out.push_back(hit >= 0 ? min + hit : max);
+  }
+  return out;
+}
+
 nav_msgs::Odometry worldPoseOdometry(const PluginContext& c, double t, const std::string& odom_frame,
                                      const std::string& base_frame, const double cov[3]) {
   const Pose s = c.robot->linkState(c.robot->spec().root);

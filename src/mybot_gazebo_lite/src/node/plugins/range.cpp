@@ -20,16 +20,9 @@ class Range : public SimPlugin {
     link_ = c.spec->reference;
     sensor_pose_ = s.pose("pose");
     rate_ = Rate(p.num("updateRate", s.num("update_rate", 0.0)));
-    const int hs = static_cast<int>(s.num("ray/scan/horizontal/samples", 1));
-    const int vs = static_cast<int>(s.num("ray/scan/vertical/samples", 1));
-    if (hs < 1 || vs < 1 || hs * vs > 10000) s.fail("ray/scan", "need 1 to 10000 rays (horizontal x vertical samples)");
-    const double hmin = s.num("ray/scan/horizontal/min_angle", 0.0), hmax = s.num("ray/scan/horizontal/max_angle", 0.0);
-    const double vmin = s.num("ray/scan/vertical/min_angle", 0.0), vmax = s.num("ray/scan/vertical/max_angle", 0.0);
-    if (hmax < hmin) s.fail("ray/scan/horizontal/max_angle", "smaller than min_angle");
-    if (vmax < vmin) s.fail("ray/scan/vertical/max_angle", "smaller than min_angle");
-    msg_.min_range = s.requiredNum("ray/range/min");
-    msg_.max_range = s.requiredNum("ray/range/max");
-    if (msg_.min_range < 0 || msg_.max_range <= msg_.min_range) s.fail("ray/range/max", "need 0 <= min < max");
+    rays_ = SensorRays::fromSensor(s);
+    msg_.min_range = rays_.min;
+    msg_.max_range = rays_.max;
     gn_ = p.num("gaussianNoise", 0.0);
     if (gn_ < 0) p.fail("gaussianNoise", "must be >= 0");
     const std::string radiation = p.str("radiation", "infrared");
@@ -39,26 +32,15 @@ class Range : public SimPlugin {
       msg_.radiation_type = sensor_msgs::Range::INFRARED;
     else
       p.fail("radiation", "expected 'ultrasound' or 'infrared', got '" + radiation + "'");
-    msg_.field_of_view = p.num("fov", hmax - hmin);
+    msg_.field_of_view = p.num("fov", s.num("ray/scan/horizontal/max_angle", 0.0) - s.num("ray/scan/horizontal/min_angle", 0.0));
     msg_.header.frame_id = resolveFrame(c, p.str("frameName", c.spec->reference));
-    for (int v = 0; v < vs; ++v)
-      for (int h = 0; h < hs; ++h) {
-        const double a = hs > 1 ? hmin + h * (hmax - hmin) / (hs - 1) : hmin;
-        const double e = vs > 1 ? vmin + v * (vmax - vmin) / (vs - 1) : vmin;
-        // Gazebo's ray convention: positive vertical angles look up.
-        dirs_.emplace_back(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
-      }
     pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Range>(p.str("topicName", "sonar"), 1);
   }
   void update(double t) override {
     if (!rate_.due(t)) return;
     const btTransform tf = c_.robot->linkState(link_).tf * sensor_pose_;
     double nearest = msg_.max_range;
-    for (const btVector3& d : dirs_) {
-      const btVector3 from = tf * (d * msg_.min_range), to = tf * (d * msg_.max_range);
-      const double hit = c_.world->rayTest(from, to, c_.robot);
-      if (hit >= 0) nearest = std::min(nearest, msg_.min_range + hit);
-    }
+    for (double d : rays_.cast(*c_.world, tf, c_.robot)) nearest = std::min(nearest, d);
     msg_.header.stamp = ros::Time(t);
     msg_.range = nearest < msg_.max_range
                      ? std::max<double>(msg_.min_range, std::min<double>(msg_.max_range, nearest + gn_ * noise_(*c_.rng)))
@@ -72,7 +54,7 @@ class Range : public SimPlugin {
   btTransform sensor_pose_;
   Rate rate_;
   double gn_;
-  std::vector<btVector3> dirs_;
+  SensorRays rays_;
   sensor_msgs::Range msg_;
   std::normal_distribution<double> noise_;
   ros::Publisher pub_;

@@ -58,6 +58,7 @@ const std::vector<Builtin>& builtins() {
       {"libgazebo_ros_gpu_laser.so", makeLaser, kLaserTags},
       {"libgazebo_ros_range.so", makeRange, {"topicName", "frameName", "updateRate", "gaussianNoise", "radiation", "fov"}},
       {"libgazebo_ros_bumper.so", makeBumper, {"bumperTopicName", "frameName"}},
+      {"libgazebo_ros_block_laser.so", makeBlockLaser, {"topicName", "frameName", "gaussianNoise", "hokuyoMinIntensity", "updateRate"}},
       {"libgazebo_ros_imu_sensor.so", makeImuSensor,
        {"topicName", "bodyName", "frameName", "updateRateHZ", "gaussianNoise", "xyzOffset", "rpyOffset", "serviceName",
         "initialOrientationAsReference"}},
