@@ -11,8 +11,9 @@ add_library(mybot_control_lib
   src/lib/step_scheduler.cpp)
 
 # ROS-side helpers of the nodes: validated parameters, PID/limit blocks, URDF geometry.
-add_library(mybot_control_ros src/ros/ros_params.cpp)
+add_library(mybot_control_ros src/ros/ros_params.cpp src/ros/odometry_publisher.cpp)
 target_link_libraries(mybot_control_ros mybot_control_lib ${catkin_LIBRARIES})
+add_dependencies(mybot_control_ros ${PROJECT_NAME}_generate_messages_cpp)
 
 foreach(node diffdrive_controller wheel_controller diffdrive_odom twist_mux)
   add_executable(${node} src/nodes/${node}_node.cpp)
