@@ -73,6 +73,7 @@ class PluginParams {
   [[noreturn]] void fail(const std::string& tag, const std::string& msg) const;
   const XmlNode* node(const std::string& path) const;  // "a/b/c"
   bool has(const std::string& tag) const { return node(tag) != nullptr; }
+  std::vector<const XmlNode*> all(const std::string& tag) const;  // every child named `tag`
   std::string str(const std::string& tag, const std::string& def) const;
   std::string requiredStr(const std::string& tag) const;
   double num(const std::string& tag, double def) const;
@@ -80,6 +81,11 @@ class PluginParams {
   bool boolean(const std::string& tag, bool def) const;
   std::string joint(const std::string& tag, const std::string& def) const;  // must be a movable joint
   btTransform pose(const std::string& tag) const;                            // "x y z r p y"
+  // Whether any plugin looked this child of a <plugin> block up (warnUnknownTags uses it).
+  static bool wasRead(const XmlNode& child);
+  // Clears the record for `parent`'s children (before and after a plugin is made: a later spec
+  // may be allocated where this one was).
+  static void forgetReads(const XmlNode& parent);
 
  private:
   double parse(const std::string& tag, const std::string& t) const;
@@ -108,8 +114,10 @@ void toMsg(const btTransform& tf, geometry_msgs::Pose& p);
 geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std::string& parent,
                                      const std::string& child);
 
-// One warning per child of <plugin> outside `known` (robotNamespace and alwaysOn are always
-// known), naming it, the plugin, the link and the file, with the closest known name when one is near.
+// After the plugin is made: one warning per child of <plugin> it did not read, naming it, the
+// plugin, the link and the file -- "not simulated" for a parameter of `known` (those upstream
+// reads), "unknown" with the closest known name otherwise (a misspelling, most likely).
+// robotNamespace (read by the simulator), alwaysOn and rosDebugLevel are silent.
 void warnUnknownTags(const PluginContext& c, const std::set<std::string>& known);
 
 // A plugin library's factory: throws LoadError naming tag, link and file on a bad parameter.

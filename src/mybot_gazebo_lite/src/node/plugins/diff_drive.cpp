@@ -39,7 +39,7 @@ class DiffDrive : public SimPlugin {
       encoder_ = true;
     else if (src != "world" && src != "1")
       p.fail("odometrySource", "expected 'encoder' or 'world', got '" + src + "'");
-    publish_odom_tf_ = p.boolean("publishOdomTF", true);
+    publish_odom_tf_ = p.boolean("publishOdomTF", p.boolean("publishTf", true));  // publishTf: its older name
     publish_wheel_tf_ = p.boolean("publishWheelTF", false);
     publish_wheel_js_ = p.boolean("publishWheelJointState", false);
     odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));

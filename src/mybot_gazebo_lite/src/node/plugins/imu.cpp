@@ -1,6 +1,8 @@
 // IMU (sensor and model plugin)
 #include "builtin.h"
 
+#include "mybot_gazebo_lite/parsing.h"
+
 #include <sensor_msgs/Imu.h>
 
 #include <cmath>
@@ -25,6 +27,21 @@ class Imu : public SimPlugin {
     if (!c.robot->hasLink(body_)) p.fail("bodyName", "no link named '" + body_ + "'");
     frame_ = resolveFrame(c, p.str("frameName", body_));
     gn_ = p.num("gaussianNoise", 0.0);
+    // Offsets of the reported frame: zero ones (as most URDFs write them) change nothing; others
+    // are not simulated, and said so.
+    for (const char* tag : {"xyzOffset", "rpyOffset"})
+      if (p.has(tag)) {
+        btVector3 v;
+        try {
+          v = parseVec3(p.str(tag, ""), tag);
+        } catch (const LoadError& e) {
+          p.fail(tag, e.what());
+        }
+        if (v.length() > 0)
+          ROS_WARN("%s: plugin '%s' on link '%s': <%s> %s is not simulated by gazebo_lite; ignored",
+                   c.robot->spec().source.c_str(), c.spec->name.c_str(), c.spec->reference.c_str(), tag,
+                   p.str(tag, "").c_str());
+      }
     if (gn_ < 0) p.fail("gaussianNoise", "must be >= 0");
     pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Imu>(p.str("topicName", "imu"), 10);
   }

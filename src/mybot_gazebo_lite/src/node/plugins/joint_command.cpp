@@ -15,7 +15,7 @@ class JointCommand : public SimPlugin {
     timeout_ = p.num("commandTimeout", 0.5);
     if (timeout_ < 0) p.fail("commandTimeout", "must be >= 0");
     ros::NodeHandle nh(c.ns);
-    auto blocks = c.spec->xml.all("joint");
+    auto blocks = p.all("joint");
     if (blocks.empty()) p.fail("joint", "at least one <joint> block is required");
     for (const XmlNode* b : blocks) {
       PluginParams jp(c, *b);

@@ -3,6 +3,7 @@
 #include "builtin.h"
 
 #include <cmath>
+#include <set>
 #include <sstream>
 
 namespace mybot_gazebo_lite {
@@ -28,12 +29,38 @@ void PluginParams::fail(const std::string& tag, const std::string& msg) const {
   throw LoadError(os.str());
 }
 
+namespace {
+// The children of <plugin> and <sensor> blocks a plugin has looked at, so that what it never
+// read can be named (the simulator is single-threaded; specs outlive their plugins).
+std::set<const XmlNode*>& readTags() {
+  static std::set<const XmlNode*> tags;
+  return tags;
+}
+}  // namespace
+
 const XmlNode* PluginParams::node(const std::string& path) const {
   const XmlNode* n = &x_;
   std::stringstream ss(path);
   std::string part;
-  while (n && std::getline(ss, part, '/')) n = n->child(part);
+  bool first = true;
+  while (n && std::getline(ss, part, '/')) {
+    n = n->child(part);
+    if (first && n) readTags().insert(n);
+    first = false;
+  }
   return n;
+}
+
+std::vector<const XmlNode*> PluginParams::all(const std::string& tag) const {
+  std::vector<const XmlNode*> out = x_.all(tag);
+  for (const XmlNode* n : out) readTags().insert(n);
+  return out;
+}
+
+bool PluginParams::wasRead(const XmlNode& child) { return readTags().count(&child) != 0; }
+
+void PluginParams::forgetReads(const XmlNode& parent) {
+  for (const XmlNode& child : parent.children) readTags().erase(&child);
 }
 
 std::string PluginParams::str(const std::string& tag, const std::string& def) const {

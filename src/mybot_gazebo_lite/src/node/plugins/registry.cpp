@@ -112,27 +112,39 @@ std::unique_ptr<SimPlugin> loadLibraryPlugin(const PluginContext& c) {
 }  // namespace
 
 void warnUnknownTags(const PluginContext& c, const std::set<std::string>& known) {
+  const std::string link = c.spec->reference.empty() ? "" : " on link '" + c.spec->reference + "'";
   for (const XmlNode& child : c.spec->xml.children) {
-    if (known.count(child.name) || child.name == "robotNamespace" || child.name == "alwaysOn") continue;
+    if (PluginParams::wasRead(child) || child.name == "robotNamespace" || child.name == "alwaysOn" ||
+        child.name == "rosDebugLevel")
+      continue;
+    if (known.count(child.name)) {
+      ROS_WARN("%s: plugin '%s' (%s)%s: parameter <%s> is not simulated by gazebo_lite; ignored",
+               c.robot->spec().source.c_str(), c.spec->name.c_str(), c.spec->filename.c_str(), link.c_str(),
+               child.name.c_str());
+      continue;
+    }
     std::string best;
     std::size_t best_d = 4;  // a few letters off at most
     for (const std::string& k : known)
       if (const std::size_t d = editDistance(child.name, k); d < best_d) best_d = d, best = k;
     ROS_WARN("%s: plugin '%s' (%s)%s: unknown parameter <%s> ignored%s", c.robot->spec().source.c_str(),
-             c.spec->name.c_str(), c.spec->filename.c_str(),
-             c.spec->reference.empty() ? "" : (" on link '" + c.spec->reference + "'").c_str(), child.name.c_str(),
+             c.spec->name.c_str(), c.spec->filename.c_str(), link.c_str(), child.name.c_str(),
              best.empty() ? "" : (" (did you mean <" + best + ">?)").c_str());
   }
 }
 
 std::unique_ptr<SimPlugin> createPlugin(const PluginContext& c) {
+  PluginParams::forgetReads(c.spec->xml);
   for (const Builtin& b : builtins())
     if (b.filename == c.spec->filename) {
       auto plugin = b.make(c);
       warnUnknownTags(c, b.tags);
+      PluginParams::forgetReads(c.spec->xml);
       return plugin;
     }
-  if (auto plugin = loadLibraryPlugin(c)) return plugin;  // it warns about its own tags
+  auto plugin = loadLibraryPlugin(c);  // it warns about its own tags
+  PluginParams::forgetReads(c.spec->xml);
+  if (plugin) return plugin;
   ROS_WARN("%s: plugin '%s': unknown plugin file '%s' ignored", c.robot->spec().source.c_str(), c.spec->name.c_str(),
            c.spec->filename.c_str());
   return nullptr;
