@@ -6,7 +6,10 @@
 
 using mybot_common::firstInvalid;
 
-TEST(Checks, FiniteValuesPass) { EXPECT_EQ(firstInvalid({{"x", 1.0}, {"y", -2.5e5}}), ""); }
+TEST(Checks, FiniteValuesPass)
+{
+  EXPECT_EQ(firstInvalid({{"x", 1.0}, {"y", -2.5e5}}), "");
+}
 
 TEST(Checks, NamesTheFirstNonFiniteValue)
 {
@@ -33,8 +36,9 @@ TEST(Checks, ScanWhoseRangesMatchItsAnglesPasses)
 
 TEST(Checks, ScanWithTooFewRangesGivesBothNumbers)
 {
-  EXPECT_EQ(scanGeometryError(-M_PI / 2, M_PI / 2, M_PI / 360, 100),
-            "has 100 ranges where its angles (angle_min -1.5708, angle_max 1.5708, angle_increment 0.00872665) make 361");
+  EXPECT_EQ(
+      scanGeometryError(-M_PI / 2, M_PI / 2, M_PI / 360, 100),
+      "has 100 ranges where its angles (angle_min -1.5708, angle_max 1.5708, angle_increment 0.00872665) make 361");
 }
 
 TEST(Checks, ScanThatIsNoSweepIsRefused)

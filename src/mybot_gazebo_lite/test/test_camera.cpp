@@ -12,11 +12,13 @@
 
 using namespace mybot_gazebo_lite;
 
-namespace {
+namespace
+{
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 WorldModel box(const std::string& name, double x, double y, double z, double sx, double sy, double sz,
-               std::array<float, 3> color = {0.7f, 0.7f, 0.7f}) {
+               std::array<float, 3> color = {0.7f, 0.7f, 0.7f})
+{
   WorldModel m;
   m.name = name;
   m.pose = makeTransform(btVector3(x, y, z), btVector3(0, 0, 0));
@@ -32,14 +34,16 @@ WorldModel box(const std::string& name, double x, double y, double z, double sx,
 }
 
 // A 1 m high red wall whose face is at x = 5, on a ground plane.
-WorldSpec wallWorld() {
+WorldSpec wallWorld()
+{
   WorldSpec w;
   w.ground_plane = true;
   w.models.push_back(box("wall", 5.1, 0, 0.5, 0.2, 20, 1.0, {1.0f, 0.0f, 0.0f}));
   return w;
 }
 
-struct Frame {
+struct Frame
+{
   CameraIntrinsics k;
   std::vector<uint8_t> rgb;
   std::vector<float> depth;
@@ -47,7 +51,8 @@ struct Frame {
   const uint8_t* px(int u, int v) const { return &rgb[(static_cast<size_t>(v) * k.width + u) * 3]; }
 };
 
-Frame render(const WorldSpec& w, const CameraPose& pose, int width = 160, int height = 120, double hfov = 1.3962634) {
+Frame render(const WorldSpec& w, const CameraPose& pose, int width = 160, int height = 120, double hfov = 1.3962634)
+{
   PrismScene scene(w);
   Frame f;
   f.k = gazeboIntrinsics(width, height, hfov);
@@ -61,7 +66,8 @@ Frame render(const WorldSpec& w, const CameraPose& pose, int width = 160, int he
 }
 }  // namespace
 
-TEST(CameraIntrinsics, GazeboRosFormulas) {
+TEST(CameraIntrinsics, GazeboRosFormulas)
+{
   // mybot's camera: 800x800, 80 degrees.
   CameraIntrinsics k = gazeboIntrinsics(800, 800, 1.3962634);
   EXPECT_NEAR(k.fx, 800 / (2 * std::tan(1.3962634 / 2)), 1e-9);
@@ -79,7 +85,8 @@ TEST(CameraIntrinsics, GazeboRosFormulas) {
   EXPECT_DOUBLE_EQ(k.cy, 240);
 }
 
-TEST(CameraRender, WallRowsAndDepth) {
+TEST(CameraRender, WallRowsAndDepth)
+{
   CameraPose pose{0, 0, 0.3, 0};
   Frame f = render(wallWorld(), pose);
   const auto& k = f.k;
@@ -87,18 +94,24 @@ TEST(CameraRender, WallRowsAndDepth) {
   const double v_top = k.cy - 0.7 * k.fy / 5, v_bottom = k.cy + 0.3 * k.fy / 5;
   int wall_rows = 0;
   for (int u = 0; u < k.width; ++u)
-    for (int v = 0; v < k.height; ++v) {
+    for (int v = 0; v < k.height; ++v)
+    {
       const double d = f.d(u, v);
-      if (v < v_top - 0.5) {
+      if (v < v_top - 0.5)
+      {
         EXPECT_EQ(d, kInf) << u << "," << v;  // sky
-      } else if (v > v_top + 0.5 && v < v_bottom - 0.5) {
+      }
+      else if (v > v_top + 0.5 && v < v_bottom - 0.5)
+      {
         ASSERT_NEAR(d, 5.0, 1e-6) << u << "," << v;  // the wall, depth along the optical axis
         const uint8_t* p = f.px(u, v);
         EXPECT_GT(p[0], 70);  // red, shaded by the angle of incidence
         EXPECT_EQ(p[1], 0);
         EXPECT_EQ(p[2], 0);
         ++wall_rows;
-      } else if (v > v_bottom + 0.5) {
+      }
+      else if (v > v_bottom + 0.5)
+      {
         // Floor: depth where the pixel ray meets z = 0.
         EXPECT_NEAR(d, 0.3 * k.fy / (v - k.cy), 1e-6) << u << "," << v;
         const uint8_t* p = f.px(u, v);
@@ -113,7 +126,8 @@ TEST(CameraRender, WallRowsAndDepth) {
   EXPECT_GT(sky[2], sky[0]);
 }
 
-TEST(CameraRender, PillarColumnsAndYaw) {
+TEST(CameraRender, PillarColumnsAndYaw)
+{
   WorldSpec w = wallWorld();
   // A 0.2 x 0.2 pillar, 2 m high, front face at x = 2.9, spanning y in [0.9, 1.1].
   w.models.push_back(box("pillar", 3.0, 1.0, 1.0, 0.2, 0.2, 2.0, {0.0f, 0.0f, 1.0f}));
@@ -123,11 +137,15 @@ TEST(CameraRender, PillarColumnsAndYaw) {
   const int v = static_cast<int>(k.cy);
   // +y is left in the image: u = cx - fx * y / x.
   const double u_left = k.cx - k.fx * 1.1 / 2.9, u_right = k.cx - k.fx * 0.9 / 2.9;
-  for (int u = 0; u < k.width; ++u) {
-    if (u > u_left + 0.5 && u < u_right - 0.5) {
+  for (int u = 0; u < k.width; ++u)
+  {
+    if (u > u_left + 0.5 && u < u_right - 0.5)
+    {
       EXPECT_NEAR(f.d(u, v), 2.9, 1e-6) << u;
       EXPECT_GT(f.px(u, v)[2], 70);
-    } else if (u < u_left - 3 || u > u_right + 3) {
+    }
+    else if (u < u_left - 3 || u > u_right + 3)
+    {
       EXPECT_NEAR(f.d(u, v), 5.0, 1e-6) << u;  // the wall behind (the pillar's side faces show just outside)
     }
   }
@@ -145,7 +163,8 @@ TEST(CameraRender, PillarColumnsAndYaw) {
   EXPECT_NEAR(h.d(static_cast<int>(k.cx), static_cast<int>(k.cy)), 2.9 / std::cos(yaw), 0.02);
 }
 
-TEST(CameraRender, TopFaceOfLowBoxAndCylinder) {
+TEST(CameraRender, TopFaceOfLowBoxAndCylinder)
+{
   WorldSpec w;
   w.ground_plane = true;
   // 0.5 m high box from x = 2 to 3; camera at 1 m looks down on its top.
@@ -157,7 +176,8 @@ TEST(CameraRender, TopFaceOfLowBoxAndCylinder) {
   for (int v = static_cast<int>(k.cy + 0.5 * k.fy / 3) + 1; v < k.cy + 0.5 * k.fy / 2; ++v)
     EXPECT_NEAR(f.d(u, v), 0.5 * k.fy / (v - k.cy), 1e-6) << v;
   // Side face below it at depth 2.
-  for (int v = static_cast<int>(k.cy + 0.5 * k.fy / 2) + 1; v < k.cy + 1.0 * k.fy / 2; ++v) EXPECT_NEAR(f.d(u, v), 2.0, 1e-6);
+  for (int v = static_cast<int>(k.cy + 0.5 * k.fy / 2) + 1; v < k.cy + 1.0 * k.fy / 2; ++v)
+    EXPECT_NEAR(f.d(u, v), 2.0, 1e-6);
   // Far beyond the box, above its top edge: the floor behind it.
   const int v_far = static_cast<int>(k.cy + 1.0 * k.fy / 8);
   EXPECT_NEAR(f.d(u, v_far), 1.0 * k.fy / (v_far - k.cy), 1e-6);
@@ -178,7 +198,8 @@ TEST(CameraRender, TopFaceOfLowBoxAndCylinder) {
   EXPECT_NEAR(g.d(80, 60), 3.5, 3e-3);  // cx = 81 (1-based), so column 80 is 1/fx off axis
 }
 
-TEST(CameraRender, NearAndFarClip) {
+TEST(CameraRender, NearAndFarClip)
+{
   PrismScene scene(wallWorld());
   CameraIntrinsics k = gazeboIntrinsics(40, 30, 1.0);
   std::vector<float> depth(40 * 30);
@@ -190,12 +211,14 @@ TEST(CameraRender, NearAndFarClip) {
   EXPECT_LE(depth[29 * 40 + 20], 4.0);  // the floor close by is still there
 }
 
-TEST(CameraNoise, TableStatistics) {
+TEST(CameraNoise, TableStatistics)
+{
   NoiseTable n(3);
   std::vector<float> v(200000, 1.0f);
   n.addToFloats(v.data(), v.size(), 0.0, 0.01);
   double sum = 0, sq = 0;
-  for (float x : v) {
+  for (float x : v)
+  {
     sum += x - 1.0;
     sq += (x - 1.0) * (x - 1.0);
   }
@@ -205,17 +228,20 @@ TEST(CameraNoise, TableStatistics) {
   // Infinite depths (sky) stay infinite.
   std::vector<float> inf(10, std::numeric_limits<float>::infinity());
   n.addToFloats(inf.data(), inf.size(), 0.0, 0.5);
-  for (float x : inf) EXPECT_TRUE(std::isinf(x));
+  for (float x : inf)
+    EXPECT_TRUE(std::isinf(x));
   // Bytes saturate instead of wrapping.
   std::vector<uint8_t> b(1000, 255);
   n.addToBytes(b.data(), b.size(), 0.0, 0.5);
   int low = 0;
-  for (uint8_t x : b) low += x < 128;
+  for (uint8_t x : b)
+    low += x < 128;
   EXPECT_GT(low, 100);
   EXPECT_LT(low, 400);
 }
 
-TEST(RayCaster2D, CastAllFirstCrossingIsCast) {
+TEST(RayCaster2D, CastAllFirstCrossingIsCast)
+{
   WorldSpec w = wallWorld();
   w.models.push_back(box("pillar", 3.0, 1.0, 1.0, 0.2, 0.2, 2.0));
   Slice2D sl = sliceWorld(w, 0.3);
@@ -223,21 +249,25 @@ TEST(RayCaster2D, CastAllFirstCrossingIsCast) {
   std::mt19937 gen(1);
   std::uniform_real_distribution<double> ang(-M_PI, M_PI);
   std::vector<RayCaster2D::Crossing> all;
-  for (int i = 0; i < 500; ++i) {
+  for (int i = 0; i < 500; ++i)
+  {
     double a = ang(gen), dx = std::cos(a), dy = std::sin(a);
     double first = rc.cast(0, 0, dx, dy, 30);
     rc.castAll(0, 0, dx, dy, 30, all);
     double mn = kInf;
-    for (const auto& c : all) mn = std::min(mn, c.t);
+    for (const auto& c : all)
+      mn = std::min(mn, c.t);
     EXPECT_EQ(first, mn);
     // A closed polygon is crossed an even number of times by a ray from outside.
-    if (std::isfinite(first)) {
+    if (std::isfinite(first))
+    {
       EXPECT_EQ(all.size() % 2, 0u);
     }
   }
 }
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv)
+{
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }

@@ -12,8 +12,10 @@
 
 using namespace mybot_gazebo_lite;
 
-namespace {
-WorldModel boxModel(double x, double y, double sx, double sy, double yaw = 0) {
+namespace
+{
+WorldModel boxModel(double x, double y, double sx, double sy, double yaw = 0)
+{
   WorldModel m;
   m.name = "b";
   m.is_static = true;
@@ -28,7 +30,8 @@ WorldModel boxModel(double x, double y, double sx, double sy, double yaw = 0) {
 }
 }  // namespace
 
-TEST(RayCaster, HitsBoxFaceAndCircle) {
+TEST(RayCaster, HitsBoxFaceAndCircle)
+{
   WorldSpec w;
   w.models.push_back(boxModel(5.0, 0.0, 0.2, 4.0));
   WorldModel c;
@@ -52,22 +55,29 @@ TEST(RayCaster, HitsBoxFaceAndCircle) {
   EXPECT_TRUE(std::isinf(high.cast(0, 0, 1, 0, 30)));
 }
 
-TEST(RayCaster, MatchesBruteForceOnRotatedBoxes) {
+TEST(RayCaster, MatchesBruteForceOnRotatedBoxes)
+{
   WorldSpec w;
-  for (int i = 0; i < 20; ++i) w.models.push_back(boxModel(-8 + i * 0.9, std::sin(i) * 6, 0.5, 0.3, i * 0.4));
+  for (int i = 0; i < 20; ++i)
+    w.models.push_back(boxModel(-8 + i * 0.9, std::sin(i) * 6, 0.5, 0.3, i * 0.4));
   Slice2D s = sliceWorld(w, 0.5);
   RayCaster2D rc(s, 0.37);
   auto segs = s.allSegments();
-  for (int k = 0; k < 360; ++k) {
+  for (int k = 0; k < 360; ++k)
+  {
     double a = k * M_PI / 180, dx = std::cos(a), dy = std::sin(a);
     double best = std::numeric_limits<double>::infinity();
-    for (const auto& g : segs) {
+    for (const auto& g : segs)
+    {
       double ex = g.x1 - g.x0, ey = g.y1 - g.y0, den = dx * ey - dy * ex;
-      if (std::abs(den) < 1e-15) continue;
+      if (std::abs(den) < 1e-15)
+        continue;
       double t = (g.x0 * ey - g.y0 * ex) / den, u = (g.x0 * dy - g.y0 * dx) / den;
-      if (t >= 0 && u >= 0 && u <= 1) best = std::min(best, t);
+      if (t >= 0 && u >= 0 && u <= 1)
+        best = std::min(best, t);
     }
-    if (best > 20) best = std::numeric_limits<double>::infinity();
+    if (best > 20)
+      best = std::numeric_limits<double>::infinity();
     double got = rc.cast(0, 0, dx, dy, 20);
     if (std::isinf(best))
       EXPECT_TRUE(std::isinf(got)) << k;
@@ -76,7 +86,8 @@ TEST(RayCaster, MatchesBruteForceOnRotatedBoxes) {
   }
 }
 
-TEST(Laser, GazeboOutOfRangeSemantics) {
+TEST(Laser, GazeboOutOfRangeSemantics)
+{
   const double inf = std::numeric_limits<double>::infinity();
   EXPECT_EQ(laserRange(inf, 0.1, 30, 0.0), inf);
   EXPECT_EQ(laserRange(30.0, 0.1, 30, 0.0), inf);
@@ -85,7 +96,8 @@ TEST(Laser, GazeboOutOfRangeSemantics) {
   EXPECT_DOUBLE_EQ(laserRange(29.999, 0.1, 30, 0.5), 30.0);  // clamped after noise
 }
 
-TEST(DiffDrive, WheelSpeedsAndLegacyMode) {
+TEST(DiffDrive, WheelSpeedsAndLegacyMode)
+{
   DiffDriveGeometry g;
   g.separation = 0.3;
   g.legacy = false;
@@ -98,7 +110,8 @@ TEST(DiffDrive, WheelSpeedsAndLegacyMode) {
   EXPECT_DOUBLE_EQ(r, 0.35);
 }
 
-TEST(DiffDrive, EncoderOdometryCircle) {
+TEST(DiffDrive, EncoderOdometryCircle)
+{
   DiffDriveGeometry g;
   g.separation = 0.3;
   g.diameter = 0.2;
@@ -107,27 +120,36 @@ TEST(DiffDrive, EncoderOdometryCircle) {
   // Wheels 4 and 6 rad/s: v = 0.5 m/s, w = 0.2/0.3 rad/s; a full circle returns home.
   double w = (0.6 - 0.4) / 0.3, T = 2 * M_PI / w;
   int n = 100000;
-  for (int i = 0; i < n; ++i) o.update(4.0, 6.0, T / n, g);
+  for (int i = 0; i < n; ++i)
+    o.update(4.0, 6.0, T / n, g);
   EXPECT_NEAR(o.x, 0, 1e-4);
   EXPECT_NEAR(o.y, 0, 1e-4);
   EXPECT_NEAR(o.v, 0.5, 1e-9);
 }
 
-TEST(Loaders, UrdfErrorsNameElement) {
-  try {
-    parseUrdf("<robot name='r'><link name='a'/><joint name='j' type='revolute'><parent link='a'/>"
-              "<child link='b'/></joint><link name='b'/></robot>",
-              "x.urdf");
+TEST(Loaders, UrdfErrorsNameElement)
+{
+  try
+  {
+    parseUrdf(
+        "<robot name='r'><link name='a'/><joint name='j' type='revolute'><parent link='a'/>"
+        "<child link='b'/></joint><link name='b'/></robot>",
+        "x.urdf");
     FAIL();
-  } catch (const LoadError& e) {
+  }
+  catch (const LoadError& e)
+  {
     EXPECT_NE(std::string(e.what()).find("x.urdf: joint 'j'"), std::string::npos) << e.what();
   }
 }
 
-namespace {
-std::string wheelUrdf(const std::string& inertia) {
+namespace
+{
+std::string wheelUrdf(const std::string& inertia)
+{
   return "<robot name='r'><link name='base'><inertial><mass value='2'/><inertia ixx='1' iyy='1' izz='1'/></inertial>"
-         "</link><link name='wheel'><inertial><mass value='0.5'/>" + inertia +
+         "</link><link name='wheel'><inertial><mass value='0.5'/>" +
+         inertia +
          "</inertial><collision><geometry><cylinder radius='0.1' length='0.04'/></geometry></collision></link>"
          "<joint name='j' type='continuous'><parent link='base'/><child link='wheel'/><axis xyz='0 0 1'/></joint>"
          "</robot>";
@@ -136,57 +158,71 @@ std::string wheelUrdf(const std::string& inertia) {
 
 // Zero inertia (the robot then never moved): corrected from the collision cylinder, with a
 // warning naming the file and the link.
-TEST(Loaders, UrdfZeroInertiaIsCorrectedWithAWarning) {
+TEST(Loaders, UrdfZeroInertiaIsCorrectedWithAWarning)
+{
   RobotSpec r = parseUrdf(wheelUrdf("<inertia ixx='0' iyy='0' izz='0'/>"), "w.urdf");
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_NE(r.warnings[0].find("w.urdf: link 'wheel' <inertia>"), std::string::npos) << r.warnings[0];
   const Inertial& in = r.link("wheel")->inertial;
-  EXPECT_NEAR(in.izz, 0.5 * 0.5 * 0.1 * 0.1, 1e-12);                      // m r^2 / 2
+  EXPECT_NEAR(in.izz, 0.5 * 0.5 * 0.1 * 0.1, 1e-12);                     // m r^2 / 2
   EXPECT_NEAR(in.ixx, 0.5 * (3 * 0.1 * 0.1 + 0.04 * 0.04) / 12, 1e-12);  // m (3 r^2 + l^2) / 12
   EXPECT_TRUE(r.link("base")->inertial.ixx == 1.0);                      // a good one is left alone
 }
 
 // Moments no body can have (izz larger than ixx + iyy) are corrected too.
-TEST(Loaders, UrdfImpossibleInertiaIsCorrected) {
+TEST(Loaders, UrdfImpossibleInertiaIsCorrected)
+{
   RobotSpec r = parseUrdf(wheelUrdf("<inertia ixx='0.001' iyy='0.001' izz='0.1'/>"), "w.urdf");
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_NE(r.warnings[0].find("link 'wheel'"), std::string::npos);
 }
 
-TEST(Loaders, UrdfNegativeInertiaIsRefusedNamingTheLink) {
-  try {
+TEST(Loaders, UrdfNegativeInertiaIsRefusedNamingTheLink)
+{
+  try
+  {
     parseUrdf(wheelUrdf("<inertia ixx='0.01' iyy='-0.01' izz='0.01'/>"), "w.urdf");
     FAIL();
-  } catch (const LoadError& e) {
+  }
+  catch (const LoadError& e)
+  {
     EXPECT_NE(std::string(e.what()).find("w.urdf: link 'wheel' <inertia>: iyy="), std::string::npos) << e.what();
   }
 }
 
-TEST(Loaders, UrdfNonFiniteInertiaIsRefused) {
+TEST(Loaders, UrdfNonFiniteInertiaIsRefused)
+{
   EXPECT_THROW(parseUrdf(wheelUrdf("<inertia ixx='nan' iyy='1' izz='1'/>"), "w.urdf"), LoadError);
   EXPECT_THROW(parseUrdf(wheelUrdf("<inertia ixx='1' iyy='inf' izz='1'/>"), "w.urdf"), LoadError);
 }
 
-namespace {
+namespace
+{
 std::string imageWorldError(const std::string& yaml,
-                            const std::string& image_bytes = std::string("P5\n2 2\n255\n\x00\xfe\xfe\x00", 15)) {
+                            const std::string& image_bytes = std::string("P5\n2 2\n255\n\x00\xfe\xfe\x00", 15))
+{
   char tmpl[] = "/tmp/image_world_XXXXXX";
   const std::string d = mkdtemp(tmpl);
   std::ofstream(d + "/m.pgm", std::ios::binary) << image_bytes;
   std::ofstream(d + "/w.yaml") << yaml;
-  try {
+  try
+  {
     loadWorldFile(d + "/w.yaml");
-  } catch (const LoadError& e) {
+  }
+  catch (const LoadError& e)
+  {
     return e.what();
   }
   return "no error";
 }
 }  // namespace
 
-TEST(Loaders, ImageWorldFieldsAreCheckedForMeaning) {
+TEST(Loaders, ImageWorldFieldsAreCheckedForMeaning)
+{
   EXPECT_EQ(imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n"), "no error");
-  EXPECT_NE(imageWorldError("image: [a, b]\nresolution: 0.1\norigin: [0, 0, 0]\n").find("'image': expected a file name"),
-            std::string::npos);
+  EXPECT_NE(
+      imageWorldError("image: [a, b]\nresolution: 0.1\norigin: [0, 0, 0]\n").find("'image': expected a file name"),
+      std::string::npos);
   EXPECT_NE(imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [.nan, 0, 0]\n").find("'origin': must be finite"),
             std::string::npos);
   EXPECT_NE(imageWorldError("image: m.pgm\nresolution: .inf\norigin: [0, 0, 0]\n").find("'resolution': must be finite"),
@@ -196,14 +232,17 @@ TEST(Loaders, ImageWorldFieldsAreCheckedForMeaning) {
             std::string::npos);
 }
 
-TEST(Loaders, ImageWorldWithAHugeHeaderIsRefusedBeforeDecoding) {
-  const std::string e = imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n", "P5\n200000 200000\n255\n");
+TEST(Loaders, ImageWorldWithAHugeHeaderIsRefusedBeforeDecoding)
+{
+  const std::string e =
+      imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n", "P5\n200000 200000\n255\n");
   EXPECT_NE(e.find("declares 200000 x 200000 pixels, more than 20000 on a side (parameter ~max_image_side)"),
             std::string::npos)
       << e;
 }
 
-TEST(Loaders, SdfStateAndIncludeOfBuiltins) {
+TEST(Loaders, SdfStateAndIncludeOfBuiltins)
+{
   WorldSpec w = parseSdfWorld(
       "<sdf version='1.6'><world name='w'><include><uri>model://ground_plane</uri></include>"
       "<include><uri>model://sun</uri></include><model name='m'><static>true</static><pose>1 2 0 0 0 0</pose>"
@@ -217,7 +256,8 @@ TEST(Loaders, SdfStateAndIncludeOfBuiltins) {
                LoadError);
 }
 
-TEST(Loaders, WorldPhysicsBlockSetsStepIterationsAndRealTimeFactor) {
+TEST(Loaders, WorldPhysicsBlockSetsStepIterationsAndRealTimeFactor)
+{
   WorldSpec w = parseSdfWorld(
       "<sdf version='1.6'><world name='w'><physics type='ode'><max_step_size>0.002</max_step_size>"
       "<real_time_factor>3</real_time_factor><ode><solver><iters>50</iters></solver></ode></physics></world></sdf>",
@@ -228,46 +268,57 @@ TEST(Loaders, WorldPhysicsBlockSetsStepIterationsAndRealTimeFactor) {
   EXPECT_EQ(w.physics.iterations, 50);
   WorldSpec none = parseSdfWorld("<sdf version='1.6'><world name='w'></world></sdf>", "w.world", ".");
   EXPECT_FALSE(none.physics.has_step || none.physics.has_real_time_factor || none.physics.has_iterations);
-  try {
+  try
+  {
     parseSdfWorld("<sdf><world><physics><max_step_size>fast</max_step_size></physics></world></sdf>", "bad.world", ".");
     FAIL() << "accepted a step of 'fast'";
-  } catch (const LoadError& e) {
+  }
+  catch (const LoadError& e)
+  {
     EXPECT_NE(std::string(e.what()).find("bad.world: <physics> <max_step_size>"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(parseSdfWorld("<sdf><world><physics><ode><solver><iters>2.5</iters></solver></ode></physics></world></sdf>",
-                             "w", "."),
-               LoadError);
+  EXPECT_THROW(
+      parseSdfWorld("<sdf><world><physics><ode><solver><iters>2.5</iters></solver></ode></physics></world></sdf>", "w",
+                    "."),
+      LoadError);
 }
 
-TEST(Loaders, ModelConfigPicksTheNewestSdf) {
+TEST(Loaders, ModelConfigPicksTheNewestSdf)
+{
   char tmpl[] = "/tmp/model_config_XXXXXX";
   const std::string d = mkdtemp(tmpl);
   const std::string m = d + "/models/box";
   ASSERT_EQ(std::system(("mkdir -p " + m).c_str()), 0);
-  auto model = [](double r) {
+  auto model = [](double r)
+  {
     return "<sdf version='1.6'><model name='b'><static>true</static><link name='l'><collision name='c'><geometry>"
-           "<sphere><radius>" + std::to_string(r) + "</radius></sphere></geometry></collision></link></model></sdf>";
+           "<sphere><radius>" +
+           std::to_string(r) + "</radius></sphere></geometry></collision></link></model></sdf>";
   };
   std::ofstream(m + "/model-1_4.sdf") << model(0.1);
   std::ofstream(m + "/model-1_6.sdf") << model(0.6);
   std::ofstream(m + "/model-1_5.sdf") << model(0.5);
-  std::ofstream(m + "/model.config") << "<model><name>box</name><sdf version='1.4'>model-1_4.sdf</sdf>"
-                                        "<sdf version='1.6'>model-1_6.sdf</sdf><sdf version='1.5'>model-1_5.sdf</sdf></model>";
-  WorldSpec w = parseSdfWorld("<sdf version='1.6'><world name='w'><include><uri>model://box</uri></include></world></sdf>",
-                              d + "/w.world", d);
+  std::ofstream(m + "/model.config")
+      << "<model><name>box</name><sdf version='1.4'>model-1_4.sdf</sdf>"
+         "<sdf version='1.6'>model-1_6.sdf</sdf><sdf version='1.5'>model-1_5.sdf</sdf></model>";
+  WorldSpec w = parseSdfWorld(
+      "<sdf version='1.6'><world name='w'><include><uri>model://box</uri></include></world></sdf>", d + "/w.world", d);
   ASSERT_EQ(w.models.size(), 1u);
   ASSERT_EQ(w.models[0].links.size(), 1u);
   EXPECT_NEAR(w.models[0].links[0].shapes.at(0).radius, 0.6, 1e-9);
   std::system(("rm -rf " + d).c_str());
 }
 
-TEST(Loaders, PackageUrisResolveWithoutRoslib) {
+TEST(Loaders, PackageUrisResolveWithoutRoslib)
+{
   char tmpl[] = "/tmp/pkg_path_XXXXXX";
   const std::string d = mkdtemp(tmpl);
-  ASSERT_EQ(std::system(("mkdir -p " + d + "/ws/src/group/my_robot_description/meshes " + d + "/ws/src/ignored/my_other " +
-                         d + "/ws/src/renamed_folder").c_str()),
+  ASSERT_EQ(std::system(("mkdir -p " + d + "/ws/src/group/my_robot_description/meshes " + d +
+                         "/ws/src/ignored/my_other " + d + "/ws/src/renamed_folder")
+                            .c_str()),
             0);
-  std::ofstream(d + "/ws/src/group/my_robot_description/package.xml") << "<package><name>my_robot_description</name></package>";
+  std::ofstream(d + "/ws/src/group/my_robot_description/package.xml")
+      << "<package><name>my_robot_description</name></package>";
   std::ofstream(d + "/ws/src/group/my_robot_description/meshes/wheel.stl") << "solid x\nendsolid x\n";
   std::ofstream(d + "/ws/src/renamed_folder/package.xml") << "<package><name>my_renamed</name></package>";
   std::ofstream(d + "/ws/src/ignored/CATKIN_IGNORE") << "";
@@ -285,7 +336,8 @@ TEST(Loaders, PackageUrisResolveWithoutRoslib) {
   std::system(("rm -rf " + d).c_str());
 }
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv)
+{
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }

@@ -10,27 +10,33 @@
 
 using namespace mybot_gazebo_lite;
 
-namespace {
-std::string fixture(const std::string& name) {
+namespace
+{
+std::string fixture(const std::string& name)
+{
   std::ifstream f(std::string(FIXTURE_DIR) + "/" + name);
   std::stringstream ss;
   ss << f.rdbuf();
   return ss.str();
 }
 
-WorldSpec flatWorld() {
+WorldSpec flatWorld()
+{
   WorldSpec w;
   w.ground_plane = true;
   return w;
 }
 
-void run(PhysicsWorld& w, double seconds) {
+void run(PhysicsWorld& w, double seconds)
+{
   int n = static_cast<int>(std::lround(seconds / w.stepSize()));
-  for (int i = 0; i < n; ++i) w.step();
+  for (int i = 0; i < n; ++i)
+    w.step();
 }
 }  // namespace
 
-TEST(Physics, LumpsFixedJointsAndKeepsMovableOnes) {
+TEST(Physics, LumpsFixedJointsAndKeepsMovableOnes)
+{
   auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
   PhysicsWorld w(flatWorld(), {});
   Robot& r = w.addRobot(spec, "bot", "", btTransform::getIdentity());
@@ -42,7 +48,8 @@ TEST(Physics, LumpsFixedJointsAndKeepsMovableOnes) {
   EXPECT_NEAR(r.linkState("left_wheel").tf.getOrigin().y(), 0.15, 1e-9);
 }
 
-TEST(Physics, RestsWithoutDrift) {
+TEST(Physics, RestsWithoutDrift)
+{
   auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
   PhysicsWorld w(flatWorld(), {});
   Robot& r = w.addRobot(spec, "bot", "", btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.005)));
@@ -56,7 +63,8 @@ TEST(Physics, RestsWithoutDrift) {
   EXPECT_LT((p1 - p0).length(), 1e-4);
 }
 
-TEST(Physics, DrivesStraightAtWheelSpeed) {
+TEST(Physics, DrivesStraightAtWheelSpeed)
+{
   auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
   PhysicsWorld w(flatWorld(), {});
   Robot& r = w.addRobot(spec, "bot", "", btTransform::getIdentity());
@@ -71,7 +79,8 @@ TEST(Physics, DrivesStraightAtWheelSpeed) {
   EXPECT_NEAR(r.jointVelocity("left_wheel_hinge"), 5.0, 0.05);
 }
 
-TEST(Physics, PositionCommandReachesTarget) {
+TEST(Physics, PositionCommandReachesTarget)
+{
   auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
   PhysicsWorld w(flatWorld(), {});
   Robot& r = w.addRobot(spec, "bot", "", btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 1.0)));
@@ -81,7 +90,8 @@ TEST(Physics, PositionCommandReachesTarget) {
   EXPECT_NEAR(r.jointPosition("left_wheel_hinge"), 1.0, 0.01);
 }
 
-TEST(Physics, CountsContactsWithObstaclesNotTheGround) {
+TEST(Physics, CountsContactsWithObstaclesNotTheGround)
+{
   auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
   WorldSpec world = flatWorld();
   WorldModel wall;
@@ -113,7 +123,8 @@ TEST(Physics, CountsContactsWithObstaclesNotTheGround) {
   EXPECT_LT(r.contacts().first_time, 0.0);
 }
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv)
+{
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }

@@ -134,8 +134,8 @@ TEST(Ledger, AMessageThatComesEarlyWaitsForItsPeriod)
   const std::vector<Link> e = {link("/odom", "/odom_node", "/test", 2)};
   EXPECT_EQ(l.releasable("/odom", "/odom_node", 0, e, true), 2u);  // the third is next period's
   EXPECT_EQ(l.releasable("/odom", "/odom_node", 2, e, true), 0u);
-  EXPECT_EQ(l.releasable("/odom", "/odom_node", 2, {}, true), 0u);   // not announced at all yet
-  EXPECT_EQ(l.releasable("/odom", "/rostopic", 0, {}, false), 0u);   // nothing from it received
+  EXPECT_EQ(l.releasable("/odom", "/odom_node", 2, {}, true), 0u);  // not announced at all yet
+  EXPECT_EQ(l.releasable("/odom", "/rostopic", 0, {}, false), 0u);  // nothing from it received
   l.received("/odom", "/rostopic");
   EXPECT_EQ(l.releasable("/odom", "/rostopic", 0, {}, false), 1u);  // not a participant: at once
 }
@@ -170,7 +170,7 @@ TEST(TickTimers, TimeGoingBackwardsRealigns)
   t.add(10, 0, [&](std::int64_t due, std::int64_t) { fired.push_back(due); });
   t.run(1000);
   fired.clear();
-  t.run(5);   // reset to near zero: next due is 10, not 1010
+  t.run(5);  // reset to near zero: next due is 10, not 1010
   t.run(10);
   EXPECT_EQ(fired, (std::vector<std::int64_t>{10}));
 }
@@ -179,10 +179,12 @@ TEST(TickTimers, ACallbackMayRemoveItsOwnTimer)
 {
   TickTimers t;
   int id = -1, calls = 0;
-  id = t.add(10, 0, [&](std::int64_t, std::int64_t) {
-    ++calls;
-    t.remove(id);
-  });
+  id = t.add(10, 0,
+             [&](std::int64_t, std::int64_t)
+             {
+               ++calls;
+               t.remove(id);
+             });
   t.run(10);
   t.run(20);
   EXPECT_EQ(calls, 1);

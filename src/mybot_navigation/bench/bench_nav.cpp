@@ -115,10 +115,12 @@ int main()
         const double d = std::isfinite(r[k]) ? r[k] : 3.0;
         (std::isfinite(r[k]) ? hits : ends).push_back({pose.x + d * std::cos(a), pose.y + d * std::sin(a)});
       }
-      t_scan.push_back(timeMs([&] {
-        cm.updateWithScan({pose.x, pose.y}, hits, ends);
-        cm.updateCosts();
-      }));
+      t_scan.push_back(timeMs(
+          [&]
+          {
+            cm.updateWithScan({pose.x, pose.y}, hits, ends);
+            cm.updateCosts();
+          }));
     }
     t_full.push_back(timeMs([&] { cm.setStaticMap(map); }));
   }
@@ -181,8 +183,9 @@ int main()
   }
 
   std::printf("### Navigation: planning, control and localization cost\n\n");
-  std::printf("Library calls on a 20 x 15 m warehouse map at 5 cm (400 x 300 cells), thread CPU time; "
-              "medians of several runs. Target: global plan < 100 ms, control step well under 100 ms (10 Hz).\n\n");
+  std::printf(
+      "Library calls on a 20 x 15 m warehouse map at 5 cm (400 x 300 cells), thread CPU time; "
+      "medians of several runs. Target: global plan < 100 ms, control step well under 100 ms (10 Hz).\n\n");
   std::printf("| what | median | runs |\n|---|---|---|\n");
   std::printf("| global plan, A* (8-connected, smoothed), >= 8 m apart | %.1f ms | %zu |\n", median(t_astar),
               t_astar.size());

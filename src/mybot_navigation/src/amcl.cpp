@@ -12,8 +12,7 @@ std::string validate(const AmclParams& p)
   if (p.filter.min_particles < 1)
     e << "min_particles must be >= 1 (got " << p.filter.min_particles << ")";
   else if (p.filter.max_particles < p.filter.min_particles)
-    e << "max_particles (" << p.filter.max_particles << ") must be >= min_particles (" << p.filter.min_particles
-      << ")";
+    e << "max_particles (" << p.filter.max_particles << ") must be >= min_particles (" << p.filter.min_particles << ")";
   else if (!(p.filter.kld_err > 0.0 && p.filter.kld_err < 1.0))
     e << "kld_err must be in (0, 1) (got " << p.filter.kld_err << ")";
   else if (!(p.filter.kld_z > 0.0))
@@ -51,10 +50,10 @@ std::string validate(const AmclParams& p)
 }
 
 Amcl::Amcl(const AmclParams& params)
-  : params_(params)
-  , motion_(params.odom_model, params.odom_noise)
-  , field_(params.laser)
-  , filter_(params.filter, params.seed)
+    : params_(params),
+      motion_(params.odom_model, params.odom_noise),
+      field_(params.laser),
+      filter_(params.filter, params.seed)
 {
 }
 
@@ -92,8 +91,8 @@ Pose2D Amcl::randomFreePose(Rng& rng) const
   const size_t k = std::min(free_cells_.size() - 1, static_cast<size_t>(u(rng) * free_cells_.size()));
   const int idx = free_cells_[k];
   const int cx = idx % map_info_.width, cy = idx / map_info_.width;
-  const Point2D p = transformPoint(map_info_.origin, {(cx + u(rng)) * map_info_.resolution,
-                                                      (cy + u(rng)) * map_info_.resolution});
+  const Point2D p =
+      transformPoint(map_info_.origin, {(cx + u(rng)) * map_info_.resolution, (cy + u(rng)) * map_info_.resolution});
   return {p.x, p.y, normalizeAngle((u(rng) * 2.0 - 1.0) * M_PI)};
 }
 
@@ -139,9 +138,9 @@ bool Amcl::processScan(const Pose2D& odom_pose, const LaserScanData& scan)
   // The recovery statistic's ceiling counts the beams the map can judge from where the robot is
   // believed to be: on a SLAM map, unseen shelf faces otherwise read as being lost (the demo's
   // AMCL jumped 3.8 m on a random particle after such a false alarm).
-  const double ceiling = has_estimate_
-                             ? field_.maxWeightSeenFrom(compose(estimate_.mean, between(estimate_odom_pose_, odom_pose)), scan)
-                             : field_.maxWeight(scan);
+  const double ceiling =
+      has_estimate_ ? field_.maxWeightSeenFrom(compose(estimate_.mean, between(estimate_odom_pose_, odom_pose)), scan)
+                    : field_.maxWeight(scan);
   filter_.correct([this, &scan](const Pose2D& p) { return field_.weight(p, scan); }, 1.0, ceiling);
   ++updates_;
   if (++resample_count_ % params_.resample_interval == 0)

@@ -34,7 +34,10 @@ BinKey binOf(const Pose2D& p, const std::array<double, 3>& size, int a_bins)
   return {static_cast<int>(std::floor(p.x / size[0])), static_cast<int>(std::floor(p.y / size[1])), a};
 }
 
-int headingBins(const std::array<double, 3>& size) { return std::max(1, static_cast<int>(std::ceil(2.0 * M_PI / size[2]))); }
+int headingBins(const std::array<double, 3>& size)
+{
+  return std::max(1, static_cast<int>(std::ceil(2.0 * M_PI / size[2])));
+}
 
 }  // namespace
 
@@ -265,8 +268,15 @@ PoseEstimate ParticleFilter::estimate() const
   my /= total;
   mc /= total;
   ms /= total;
-  est.cov = {xx / total - mx * mx, xy / total - mx * my, 0.0, xy / total - mx * my, yy / total - my * my, 0.0,
-             0.0, 0.0, -2.0 * std::log(std::max(1e-12, std::hypot(mc, ms)))};
+  est.cov = {xx / total - mx * mx,
+             xy / total - mx * my,
+             0.0,
+             xy / total - mx * my,
+             yy / total - my * my,
+             0.0,
+             0.0,
+             0.0,
+             -2.0 * std::log(std::max(1e-12, std::hypot(mc, ms)))};
   return est;
 }
 

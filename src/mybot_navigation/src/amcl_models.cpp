@@ -26,7 +26,10 @@ bool parseOdomModelType(const std::string& name, OdomModelType& type)
 namespace
 {
 
-double angleDiff(double a, double b) { return normalizeAngle(a - b); }
+double angleDiff(double a, double b)
+{
+  return normalizeAngle(a - b);
+}
 
 double gaussian(Rng& rng, double sd)
 {

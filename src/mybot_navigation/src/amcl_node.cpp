@@ -107,8 +107,8 @@ public:
     initial_pose_sub_ = nh_.subscribe("initialpose", 2, &AmclNode::initialPose, this);
 
     scan_sub_.subscribe(nh_, "scan", 100);
-    scan_filter_ = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(scan_sub_, tf_buffer_, odom_frame_,
-                                                                                   100, nh_);
+    scan_filter_ =
+        std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(scan_sub_, tf_buffer_, odom_frame_, 100, nh_);
     scan_filter_->registerCallback(&AmclNode::scanReceived, this);
 
     if (use_map_topic_)
@@ -197,11 +197,13 @@ private:
     // A NaN here would become a NaN map -> odom for every node downstream.
     const auto& in = msg->pose.pose;
     const auto& cov = msg->pose.covariance;
-    std::string bad = mybot_common::firstInvalid(
-        {{"pose.pose.position.x", in.position.x}, {"pose.pose.position.y", in.position.y},
-         {"pose.pose.orientation.x", in.orientation.x}, {"pose.pose.orientation.y", in.orientation.y},
-         {"pose.pose.orientation.z", in.orientation.z}, {"pose.pose.orientation.w", in.orientation.w}},
-        kMaxCoordinate);
+    std::string bad = mybot_common::firstInvalid({{"pose.pose.position.x", in.position.x},
+                                                  {"pose.pose.position.y", in.position.y},
+                                                  {"pose.pose.orientation.x", in.orientation.x},
+                                                  {"pose.pose.orientation.y", in.orientation.y},
+                                                  {"pose.pose.orientation.z", in.orientation.z},
+                                                  {"pose.pose.orientation.w", in.orientation.w}},
+                                                 kMaxCoordinate);
     if (bad.empty())
       bad = mybot_common::firstInvalid(
           {{"pose.covariance[0]", cov[0]}, {"pose.covariance[7]", cov[7]}, {"pose.covariance[35]", cov[35]}});
@@ -287,8 +289,8 @@ private:
     if (!laserPose(scan->header.frame_id, scan->header.stamp, data.sensor_in_base, upside_down))
       return;
     data.range_max = laser_max_range_ > 0.0 ? std::min<double>(laser_max_range_, scan->range_max) : scan->range_max;
-    const double range_min = laser_min_range_ > 0.0 ? std::max<double>(laser_min_range_, scan->range_min)
-                                                    : scan->range_min;
+    const double range_min =
+        laser_min_range_ > 0.0 ? std::max<double>(laser_min_range_, scan->range_min) : scan->range_min;
     const double sign = upside_down ? -1.0 : 1.0;
     data.readings.reserve(scan->ranges.size());
     for (size_t i = 0; i < scan->ranges.size(); ++i)
@@ -305,9 +307,11 @@ private:
       lost_ = amcl_.filter().lost();
       const ParticleFilter& f = amcl_.filter();
       if (lost_)
-        ROS_WARN("amcl: the scan fits %.0f %% as well as when localized: adding random particles", 100.0 * f.wFast() / f.wSlow());
+        ROS_WARN("amcl: the scan fits %.0f %% as well as when localized: adding random particles",
+                 100.0 * f.wFast() / f.wSlow());
       else
-        ROS_INFO("amcl: the scan fits %.0f %% as well as when localized again: recovery stops", 100.0 * f.wFast() / f.wSlow());
+        ROS_INFO("amcl: the scan fits %.0f %% as well as when localized again: recovery stops",
+                 100.0 * f.wFast() / f.wSlow());
     }
     if (updated)
     {

@@ -40,8 +40,12 @@ std::vector<Point2D> paddedFootprint(const CostmapParams& p)
   {
     // costmap_2d's padFootprint: push every vertex outwards by the padding along each axis.
     for (const Point2D& q : p.footprint)
-      out.push_back({q.x + (q.x > 0 ? p.footprint_padding : q.x < 0 ? -p.footprint_padding : 0.0),
-                     q.y + (q.y > 0 ? p.footprint_padding : q.y < 0 ? -p.footprint_padding : 0.0)});
+      out.push_back({q.x + (q.x > 0   ? p.footprint_padding
+                            : q.x < 0 ? -p.footprint_padding
+                                      : 0.0),
+                     q.y + (q.y > 0   ? p.footprint_padding
+                            : q.y < 0 ? -p.footprint_padding
+                                      : 0.0)});
     return out;
   }
   const double r = p.robot_radius + p.footprint_padding;
@@ -150,8 +154,8 @@ void Costmap::refreshStaticLayer()
       {
         const Point2D w = mapToWorld(x, y);
         int mx, my;
-        static_[idx(x, y)] = static_map_.worldToCell(w.x, w.y, mx, my) ? staticCostFromMap(static_map_.at(mx, my))
-                                                                       : outside;
+        static_[idx(x, y)] =
+            static_map_.worldToCell(w.x, w.y, mx, my) ? staticCostFromMap(static_map_.at(mx, my)) : outside;
       }
   }
   markDirty(0, 0, info_.width - 1, info_.height - 1);
@@ -236,7 +240,8 @@ void Costmap::updateWithScan(const Point2D& sensor, const std::vector<Point2D>& 
     return;  // costmap_2d also refuses to raytrace from outside the grid
   int bx0 = sx, by0 = sy, bx1 = sx, by1 = sy;
   const double res = info_.resolution;
-  auto clearRay = [&](const Point2D& end, bool keep_end) {
+  auto clearRay = [&](const Point2D& end, bool keep_end)
+  {
     double dx = end.x - sensor.x, dy = end.y - sensor.y;
     const double len = std::hypot(dx, dy);
     if (len > params_.raytrace_range && len > 0)
@@ -250,7 +255,8 @@ void Costmap::updateWithScan(const Point2D& sensor, const std::vector<Point2D>& 
     const Point2D l1 = transformPoint(inverse(info_.origin), {sensor.x + dx, sensor.y + dy});
     const int ex = static_cast<int>(std::floor(l1.x / res)), ey = static_cast<int>(std::floor(l1.y / res));
     traceLine(static_cast<int>(std::floor(l0.x / res)), static_cast<int>(std::floor(l0.y / res)), ex, ey,
-              [&](int x, int y) {
+              [&](int x, int y)
+              {
                 if (!inside(x, y))
                   return false;
                 if (keep_end && x == ex && y == ey)
@@ -393,18 +399,20 @@ double Costmap::polygonCost(const Pose2D& pose, const std::vector<Point2D>& poly
     // (costmap_2d's) strays up to a cell off the edge, so along a shelf face a pose and the next
     // few flip between touching and not, and a robot standing there had every move rejected
     // although its own pose passed (the factory demo's stalls at shelf ends).
-    traceSegment(a.x / res, a.y / res, b.x / res, b.y / res, [&](int x, int y) {
-      if (!inside(x, y))
-        return !(hit = true);
-      const uint8_t c = cost(x, y);
-      if (c == costs::kLethal)
-        return !(hit = true);
-      if (c == costs::kNoInformation)
-        unknown = unknown || params_.track_unknown_space;
-      else
-        worst = std::max(worst, static_cast<double>(c));
-      return true;
-    });
+    traceSegment(a.x / res, a.y / res, b.x / res, b.y / res,
+                 [&](int x, int y)
+                 {
+                   if (!inside(x, y))
+                     return !(hit = true);
+                   const uint8_t c = cost(x, y);
+                   if (c == costs::kLethal)
+                     return !(hit = true);
+                   if (c == costs::kNoInformation)
+                     unknown = unknown || params_.track_unknown_space;
+                   else
+                     worst = std::max(worst, static_cast<double>(c));
+                   return true;
+                 });
     if (hit)
       return -1.0;
     if (unknown)

@@ -22,9 +22,8 @@ void transform1d(const float* f, int n, float* d, int* v, float* z)
       d[q] = kInf;
     return;
   }
-  auto intersect = [&](int q, int p) {
-    return ((f[q] + static_cast<float>(q) * q) - (f[p] + static_cast<float>(p) * p)) / (2.0f * (q - p));
-  };
+  auto intersect = [&](int q, int p)
+  { return ((f[q] + static_cast<float>(q) * q) - (f[p] + static_cast<float>(p) * p)) / (2.0f * (q - p)); };
   int k = 0;
   v[0] = first;
   z[0] = -kInf;

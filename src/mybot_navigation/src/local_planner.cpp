@@ -41,7 +41,10 @@ std::string validate(const LocalPlannerParams& p)
 namespace
 {
 
-double sign(double v) { return v < 0.0 ? -1.0 : 1.0; }
+double sign(double v)
+{
+  return v < 0.0 ? -1.0 : 1.0;
+}
 
 std::vector<double> samples(double lo, double hi, int n)
 {
@@ -64,7 +67,8 @@ std::vector<double> samples(double lo, double hi, int n)
 
 void LocalPlanner::setPlan(const std::vector<Pose2D>& plan)
 {
-  if (plan.empty() || plan_.empty() || std::hypot(plan.back().x - plan_.back().x, plan.back().y - plan_.back().y) > 1e-6)
+  if (plan.empty() || plan_.empty() ||
+      std::hypot(plan.back().x - plan_.back().x, plan.back().y - plan_.back().y) > 1e-6)
     xy_latched_ = false;
   plan_ = plan;
   plan_start_ = 0;
@@ -80,9 +84,9 @@ bool LocalPlanner::isPositionReached(const Pose2D& pose) const
 std::vector<Pose2D> LocalPlanner::simulate(const Pose2D& start, const Velocity2D& v) const
 {
   const double trans = std::hypot(v.vx, v.vy);
-  const int steps = std::max(1, static_cast<int>(std::ceil(std::max(params_.sim_time * trans / params_.sim_granularity,
-                                                                      params_.sim_time * std::abs(v.wz) /
-                                                                          params_.angular_sim_granularity))));
+  const int steps = std::max(
+      1, static_cast<int>(std::ceil(std::max(params_.sim_time * trans / params_.sim_granularity,
+                                             params_.sim_time * std::abs(v.wz) / params_.angular_sim_granularity))));
   const double dt = params_.sim_time / steps;
   std::vector<Pose2D> traj;
   traj.reserve(static_cast<size_t>(steps) + 1);
@@ -183,8 +187,8 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
     if (params_.latch_xy_goal_tolerance)
       xy_latched_ = true;
     const double yaw_err = normalizeAngle(goal.theta - pose.theta);
-    const bool stopped = std::hypot(vel.vx, vel.vy) <= params_.trans_stopped_vel &&
-                         std::abs(vel.wz) <= params_.rot_stopped_vel;
+    const bool stopped =
+        std::hypot(vel.vx, vel.vy) <= params_.trans_stopped_vel && std::abs(vel.wz) <= params_.rot_stopped_vel;
     if (std::abs(yaw_err) <= params_.yaw_goal_tolerance)
     {
       if (stopped)
@@ -203,16 +207,17 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   // Window for the path and goal distance maps: everything a trajectory end point (plus the
   // forward point) can reach.
   const double res = cm.resolution();
-  const double reach = std::max(params_.max_vel_trans, std::hypot(params_.max_vel_x, params_.max_vel_y)) *
-                           params_.sim_time +
-                       params_.forward_point_distance + 0.5;
+  const double reach =
+      std::max(params_.max_vel_trans, std::hypot(params_.max_vel_x, params_.max_vel_y)) * params_.sim_time +
+      params_.forward_point_distance + 0.5;
   const int half = static_cast<int>(std::ceil(reach / res));
   int rx, ry;
   if (!cm.worldToMap(pose.x, pose.y, rx, ry))
     return none;
   const int wx0 = rx - half, wy0 = ry - half, ww = 2 * half + 1;
   std::vector<uint8_t> path_seed(static_cast<size_t>(ww) * ww, 0), goal_seed(path_seed.size(), 0);
-  auto windowIndex = [&](double x, double y, size_t& k) {
+  auto windowIndex = [&](double x, double y, size_t& k)
+  {
     int cx, cy;
     cm.worldToMap(x, y, cx, cy);
     const int lx = cx - wx0, ly = cy - wy0;
@@ -247,7 +252,8 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   }
   const std::vector<float> path_dist = distanceTransform(path_seed, ww, ww);
   const std::vector<float> goal_dist_map = distanceTransform(goal_seed, ww, ww);
-  auto lookup = [&](const std::vector<float>& m, double x, double y, double& out) {
+  auto lookup = [&](const std::vector<float>& m, double x, double y, double& out)
+  {
     size_t k = 0;
     if (!windowIndex(x, y, k))
       return false;
@@ -301,8 +307,8 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   // The least shrink that clears the start: no trajectory may graze deeper than the robot
   // already does, or the planner would steer into shelf corners in narrow gaps.
   // Empty when even kEscapeShrink does not clear the start: only the short escape applies.
-  const std::vector<Point2D> shrunk = start_in_collision ? cm.footprintClearing(pose, kEscapeShrink)
-                                                         : std::vector<Point2D>();
+  const std::vector<Point2D> shrunk =
+      start_in_collision ? cm.footprintClearing(pose, kEscapeShrink) : std::vector<Point2D>();
   LocalResult best;
   best.cost = std::numeric_limits<double>::infinity();
   int n_samples = 0, n_valid = 0;
@@ -315,17 +321,17 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
   {
     const Velocity2D centre = pass == 0 ? vel : Velocity2D();
     const bool honour_flags = pass == 0;
-    const std::vector<double> vxs = samples(std::max(params_.min_vel_x, centre.vx - params_.acc_lim_x * dt),
-                                            std::min(params_.max_vel_x, centre.vx + params_.acc_lim_x * dt),
-                                            params_.vx_samples);
+    const std::vector<double> vxs =
+        samples(std::max(params_.min_vel_x, centre.vx - params_.acc_lim_x * dt),
+                std::min(params_.max_vel_x, centre.vx + params_.acc_lim_x * dt), params_.vx_samples);
     const std::vector<double> vys =
-        params_.holonomic_robot ? samples(std::max(params_.min_vel_y, centre.vy - params_.acc_lim_y * dt),
-                                          std::min(params_.max_vel_y, centre.vy + params_.acc_lim_y * dt),
-                                          params_.vy_samples)
-                                : std::vector<double>{0.0};
-    const std::vector<double> vths = samples(std::max(-params_.max_vel_theta, centre.wz - params_.acc_lim_theta * dt),
-                                             std::min(params_.max_vel_theta, centre.wz + params_.acc_lim_theta * dt),
-                                             params_.vth_samples);
+        params_.holonomic_robot
+            ? samples(std::max(params_.min_vel_y, centre.vy - params_.acc_lim_y * dt),
+                      std::min(params_.max_vel_y, centre.vy + params_.acc_lim_y * dt), params_.vy_samples)
+            : std::vector<double>{0.0};
+    const std::vector<double> vths =
+        samples(std::max(-params_.max_vel_theta, centre.wz - params_.acc_lim_theta * dt),
+                std::min(params_.max_vel_theta, centre.wz + params_.acc_lim_theta * dt), params_.vth_samples);
     for (double vx : vxs)
       for (double vy : vys)
         for (double wz : vths)

@@ -45,7 +45,7 @@ const char* toString(NavState s)
 
 Navigator::Navigator(const NavigatorParams& params, Costmap& global_costmap, Costmap& local_costmap,
                      const GlobalPlanner& planner, LocalPlanner& controller)
-  : params_(params), global_(global_costmap), local_(local_costmap), planner_(planner), controller_(controller)
+    : params_(params), global_(global_costmap), local_(local_costmap), planner_(planner), controller_(controller)
 {
   if (params_.recovery_behavior_enabled)
   {
@@ -169,8 +169,8 @@ bool Navigator::runRecovery(const Pose2D& pose, const Velocity2D& vel, NavOutput
     {
       // move_base's reset recoveries: conservative keeps obstacles within conservative_reset_dist,
       // aggressive keeps those within 4 circumscribed radii.
-      const double keep = rec == Recovery::ConservativeReset ? params_.conservative_reset_dist
-                                                             : 4.0 * global_.circumscribedRadius();
+      const double keep =
+          rec == Recovery::ConservativeReset ? params_.conservative_reset_dist : 4.0 * global_.circumscribedRadius();
       out.message = rec == Recovery::ConservativeReset ? "conservative_reset" : "aggressive_reset";
       global_.clearObstaclesOutside(pose.x, pose.y, keep);
       local_.clearObstaclesOutside(pose.x, pose.y, keep);

@@ -56,9 +56,7 @@ CostmapConfig readCostmap(const ros::NodeHandle& nh, bool rolling_default)
 {
   CostmapConfig c;
   CostmapParams& p = c.params;
-  auto d = [&](const std::string& n, double def) {
-    return readParam<double>(kNode, nh, n, def);
-  };
+  auto d = [&](const std::string& n, double def) { return readParam<double>(kNode, nh, n, def); };
   c.global_frame = readParam<std::string>(kNode, nh, "global_frame", "map");
   c.robot_base_frame = readParam<std::string>(kNode, nh, "robot_base_frame", "base_link");
   c.update_frequency = d("update_frequency", 5.0);
@@ -201,12 +199,12 @@ class MoveBaseNode
 
 public:
   MoveBaseNode()
-    : pnh_("~")
-    , listener_(tf_buffer_)
-    , global_cfg_(readCostmap(ros::NodeHandle(pnh_, "global_costmap"), false))
-    , local_cfg_(readCostmap(ros::NodeHandle(pnh_, "local_costmap"), true))
-    , global_(global_cfg_.params)
-    , local_(local_cfg_.params)
+      : pnh_("~"),
+        listener_(tf_buffer_),
+        global_cfg_(readCostmap(ros::NodeHandle(pnh_, "global_costmap"), false)),
+        local_cfg_(readCostmap(ros::NodeHandle(pnh_, "local_costmap"), true)),
+        global_(global_cfg_.params),
+        local_(local_cfg_.params)
   {
     NavigatorParams np;
     auto d = [&](const std::string& n, double& v) { v = readParam<double>(kNode, pnh_, n, v); };
@@ -227,20 +225,21 @@ public:
     const std::string nav_error = validate(np);
     if (!nav_error.empty())
       fatalParam(kNode, pnh_, "", nav_error);
-    const std::string global_planner = readParam<std::string>(kNode, pnh_, "base_global_planner",
-                                                              "global_planner/GlobalPlanner");
-    const std::string local_planner = readParam<std::string>(kNode, pnh_, "base_local_planner",
-                                                             "dwa_local_planner/DWAPlannerROS");
+    const std::string global_planner =
+        readParam<std::string>(kNode, pnh_, "base_global_planner", "global_planner/GlobalPlanner");
+    const std::string local_planner =
+        readParam<std::string>(kNode, pnh_, "base_local_planner", "dwa_local_planner/DWAPlannerROS");
     if (global_planner != "global_planner/GlobalPlanner" && global_planner != "navfn/NavfnROS")
       ROS_WARN("move_base: base_global_planner \"%s\" is not available; using global_planner/GlobalPlanner",
                global_planner.c_str());
-    if (local_planner != "dwa_local_planner/DWAPlannerROS" && local_planner != "base_local_planner/TrajectoryPlannerROS")
+    if (local_planner != "dwa_local_planner/DWAPlannerROS" &&
+        local_planner != "base_local_planner/TrajectoryPlannerROS")
       ROS_WARN("move_base: base_local_planner \"%s\" is not available; using dwa_local_planner/DWAPlannerROS",
                local_planner.c_str());
     // navfn and TrajectoryPlannerROS configs use their own namespaces; read whichever is named.
     const std::string gp_ns = global_planner == "navfn/NavfnROS" ? "NavfnROS" : "GlobalPlanner";
-    const std::string lp_ns = local_planner == "base_local_planner/TrajectoryPlannerROS" ? "TrajectoryPlannerROS"
-                                                                                        : "DWAPlannerROS";
+    const std::string lp_ns =
+        local_planner == "base_local_planner/TrajectoryPlannerROS" ? "TrajectoryPlannerROS" : "DWAPlannerROS";
     planner_ = std::make_unique<GlobalPlanner>(readPlanner(ros::NodeHandle(pnh_, gp_ns)));
     controller_ = std::make_unique<LocalPlanner>(readLocalPlanner(ros::NodeHandle(pnh_, lp_ns), controller_frequency_));
     navigator_ = std::make_unique<Navigator>(np, global_, local_, *planner_, *controller_);
@@ -279,8 +278,8 @@ public:
     server_->start();
 
     control_timer_ = nh_.createTimer(ros::Duration(1.0 / controller_frequency_), &MoveBaseNode::controlLoop, this);
-    update_timer_ = nh_.createTimer(ros::Duration(1.0 / global_cfg_.update_frequency), &MoveBaseNode::updateCostmaps,
-                                    this);
+    update_timer_ =
+        nh_.createTimer(ros::Duration(1.0 / global_cfg_.update_frequency), &MoveBaseNode::updateCostmaps, this);
     const double pub_rate = std::max(global_cfg_.publish_frequency, local_cfg_.publish_frequency);
     if (pub_rate > 0.0)
       publish_timer_ = nh_.createTimer(ros::Duration(1.0 / pub_rate), &MoveBaseNode::publishCostmaps, this);
@@ -377,7 +376,8 @@ private:
     if (!have_map_)
       return;
     const ros::Time now = ros::Time::now();
-    for (auto [cm, pub] : {std::make_pair(&global_, &global_costmap_pub_), std::make_pair(&local_, &local_costmap_pub_)})
+    for (auto [cm, pub] :
+         {std::make_pair(&global_, &global_costmap_pub_), std::make_pair(&local_, &local_costmap_pub_)})
     {
       nav_msgs::OccupancyGrid msg;
       msg.header.frame_id = global_frame_;
@@ -525,8 +525,8 @@ private:
   // happen. Stop, abort the goal saying why, clear, and go on with the next goal.
   void timeWentBack(const ros::Time& now)
   {
-    ROS_WARN("move_base: time went backwards (%.3f -> %.3f s); stopping, clearing the costmaps%s", last_control_.toSec(),
-             now.toSec(), server_->isActive() ? " and aborting the goal" : "");
+    ROS_WARN("move_base: time went backwards (%.3f -> %.3f s); stopping, clearing the costmaps%s",
+             last_control_.toSec(), now.toSec(), server_->isActive() ? " and aborting the goal" : "");
     pending_goal_.reset();
     navigator_->cancel();
     stop();

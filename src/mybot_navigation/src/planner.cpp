@@ -69,7 +69,8 @@ PlanResult GlobalPlanner::makePlan(const Costmap& cm, const Pose2D& start, const
     return r;
   }
   const double lethal = params_.lethal_cost;
-  auto passable = [&](int x, int y) {
+  auto passable = [&](int x, int y)
+  {
     const uint8_t c = cm.cost(x, y);
     if (c == costs::kNoInformation)
       return params_.allow_unknown;
@@ -78,13 +79,15 @@ PlanResult GlobalPlanner::makePlan(const Costmap& cm, const Pose2D& start, const
   // The robot may stand in inflated space (e.g. after being pushed): let it escape from cells
   // that are not lethal within its own circumscribed radius.
   const double escape2 = std::pow(cm.circumscribedRadius() / cm.resolution() + 1.0, 2);
-  auto traversable = [&](int x, int y) {
+  auto traversable = [&](int x, int y)
+  {
     if (passable(x, y))
       return true;
     const uint8_t c = cm.cost(x, y);
     return c != costs::kLethal && c != costs::kNoInformation && (x - sx) * (x - sx) + (y - sy) * (y - sy) <= escape2;
   };
-  auto cellCost = [&](int x, int y) {
+  auto cellCost = [&](int x, int y)
+  {
     double c = cm.cost(x, y);
     if (c == costs::kNoInformation)
       c = 0.0;
@@ -128,7 +131,8 @@ PlanResult GlobalPlanner::makePlan(const Costmap& cm, const Pose2D& start, const
   std::vector<uint8_t> closed(n, 0);
   using Node = std::pair<float, int>;
   std::priority_queue<Node, std::vector<Node>, std::greater<Node>> open;
-  auto heuristic = [&](int x, int y) {
+  auto heuristic = [&](int x, int y)
+  {
     if (params_.use_dijkstra)
       return 0.0f;
     const int dx = std::abs(x - gx), dy = std::abs(y - gy);
@@ -139,8 +143,14 @@ PlanResult GlobalPlanner::makePlan(const Costmap& cm, const Pose2D& start, const
   open.push({heuristic(sx, sy), start_i});
   static const int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
   static const int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-  static const float kStep[8] = {1, 1, 1, 1, static_cast<float>(M_SQRT2), static_cast<float>(M_SQRT2),
-                                 static_cast<float>(M_SQRT2), static_cast<float>(M_SQRT2)};
+  static const float kStep[8] = {1,
+                                 1,
+                                 1,
+                                 1,
+                                 static_cast<float>(M_SQRT2),
+                                 static_cast<float>(M_SQRT2),
+                                 static_cast<float>(M_SQRT2),
+                                 static_cast<float>(M_SQRT2)};
   bool found = false;
   while (!open.empty())
   {
@@ -202,11 +212,13 @@ PlanResult GlobalPlanner::makePlan(const Costmap& cm, const Pose2D& start, const
       {
         path_max = std::max(path_max, cm.data()[cells[j]]);
         bool ok = true;
-        traceLine(cells[i] % w, cells[i] / w, cells[j] % w, cells[j] / w, [&](int x, int y) {
-          const uint8_t c = cm.cost(x, y);
-          ok = traversable(x, y) && (c == costs::kNoInformation || c <= path_max);
-          return ok;
-        });
+        traceLine(cells[i] % w, cells[i] / w, cells[j] % w, cells[j] / w,
+                  [&](int x, int y)
+                  {
+                    const uint8_t c = cm.cost(x, y);
+                    ok = traversable(x, y) && (c == costs::kNoInformation || c <= path_max);
+                    return ok;
+                  });
         if (ok)
           best = j;
         else if (j > best + 40)

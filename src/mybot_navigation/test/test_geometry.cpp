@@ -35,10 +35,12 @@ TEST(RayCast, ExactDistanceToWall)
 TEST(RayCast, LineVisitsEndpointsInOrder)
 {
   std::vector<std::pair<int, int>> cells;
-  traceLine(0, 0, 5, 2, [&](int x, int y) {
-    cells.emplace_back(x, y);
-    return true;
-  });
+  traceLine(0, 0, 5, 2,
+            [&](int x, int y)
+            {
+              cells.emplace_back(x, y);
+              return true;
+            });
   ASSERT_EQ(cells.size(), 6u);
   EXPECT_EQ(cells.front(), std::make_pair(0, 0));
   EXPECT_EQ(cells.back(), std::make_pair(5, 2));
@@ -50,16 +52,20 @@ TEST(RayCast, SegmentVisitsEveryCellItCrosses)
   // cell (1, 1) skips it; both directions give the same cells, in order.
   const std::vector<std::pair<int, int>> expected{{0, 0}, {0, 1}, {1, 1}};
   std::vector<std::pair<int, int>> cells;
-  traceSegment(0.2, 0.95, 1.8, 1.15, [&](int x, int y) {
-    cells.emplace_back(x, y);
-    return true;
-  });
+  traceSegment(0.2, 0.95, 1.8, 1.15,
+               [&](int x, int y)
+               {
+                 cells.emplace_back(x, y);
+                 return true;
+               });
   EXPECT_EQ(cells, expected);
   cells.clear();
-  traceSegment(1.8, 1.15, 0.2, 0.95, [&](int x, int y) {
-    cells.emplace_back(x, y);
-    return true;
-  });
+  traceSegment(1.8, 1.15, 0.2, 0.95,
+               [&](int x, int y)
+               {
+                 cells.emplace_back(x, y);
+                 return true;
+               });
   const std::vector<std::pair<int, int>> reversed(expected.rbegin(), expected.rend());
   EXPECT_EQ(cells, reversed);
 }

@@ -33,8 +33,8 @@ void writeFixtureImage(const std::string& path)
 
 std::string yaml(const std::string& image, const std::string& extra)
 {
-  return "image: " + image + "\nresolution: 0.1\norigin: [-1.0, 2.0, 0.0]\noccupied_thresh: 0.65\nfree_thresh: 0.196\n" +
-         extra;
+  return "image: " + image +
+         "\nresolution: 0.1\norigin: [-1.0, 2.0, 0.0]\noccupied_thresh: 0.65\nfree_thresh: 0.196\n" + extra;
 }
 
 // Grid rows run bottom-up: grid row 0 is the image's last row.
@@ -114,7 +114,8 @@ TEST(MapIo, ErrorsNameTheFieldAndFile)
 {
   const std::string d = tempDir();
   writeFixtureImage(d + "/m.pgm");
-  auto message = [&](const std::string& content) {
+  auto message = [&](const std::string& content)
+  {
     writeFile(d + "/bad.yaml", content);
     try
     {
@@ -126,14 +127,16 @@ TEST(MapIo, ErrorsNameTheFieldAndFile)
     }
     return std::string("no error");
   };
-  const std::string no_res = message("image: m.pgm\norigin: [0,0,0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  const std::string no_res =
+      message("image: m.pgm\norigin: [0,0,0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
   EXPECT_NE(no_res.find("resolution"), std::string::npos) << no_res;
   EXPECT_NE(no_res.find("bad.yaml"), std::string::npos) << no_res;
   const std::string bad_mode = message(yaml("m.pgm", "negate: 0\nmode: fancy\n"));
   EXPECT_NE(bad_mode.find("mode"), std::string::npos) << bad_mode;
   const std::string missing = message(yaml("nothere.pgm", "negate: 0\n"));
   EXPECT_NE(missing.find("nothere.pgm"), std::string::npos) << missing;
-  const std::string bad_origin = message("image: m.pgm\nresolution: 0.1\norigin: [0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  const std::string bad_origin =
+      message("image: m.pgm\nresolution: 0.1\norigin: [0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
   EXPECT_NE(bad_origin.find("origin"), std::string::npos) << bad_origin;
   EXPECT_NE(message("{{{").find("bad.yaml"), std::string::npos);
   EXPECT_THROW(loadMap(d + "/does_not_exist.yaml"), MapIoError);

@@ -33,7 +33,8 @@ TEST(PoseGraph, LoopEdgeRemovesAccumulatedDrift)
     g.addNode(est);
     g.addEdge({static_cast<int>(i - 1), static_cast<int>(i), z, 0.02, 0.02, false});
   }
-  auto err = [&]() {
+  auto err = [&]()
+  {
     double e = 0;
     for (size_t i = 0; i < truth.size(); ++i)
       e = std::max(e, std::hypot(g.node(i).x - truth[i].x, g.node(i).y - truth[i].y));
@@ -59,7 +60,8 @@ TEST(PoseGraph, ResidualTellsAConsistentClosureFromAWrongOne)
 {
   // A straight 5 m chain measured well, then a closure back to the start: the true one leaves no
   // residual after optimisation, one placed a metre off (a neighbouring aisle) cannot be honoured.
-  auto chain = []() {
+  auto chain = []()
+  {
     PoseGraph g;
     g.addNode({});
     for (int i = 1; i <= 10; ++i)

@@ -13,9 +13,9 @@ using namespace mybot_navigation;
 namespace
 {
 // A loop through both rooms of the office world, back to the start.
-const std::vector<Point2D> kOfficeLoop{{1.0, 1.0}, {5.0, 0.8}, {5.0, 4.2}, {7.5, 4.2}, {10.5, 1.0},
+const std::vector<Point2D> kOfficeLoop{{1.0, 1.0},  {5.0, 0.8}, {5.0, 4.2}, {7.5, 4.2}, {10.5, 1.0},
                                        {10.5, 6.5}, {7.0, 9.0}, {6.8, 4.3}, {3.0, 4.2}, {0.8, 6.5},
-                                       {3.0, 9.0}, {4.5, 6.0}, {1.0, 3.0}, {1.0, 1.0}};
+                                       {3.0, 9.0},  {4.5, 6.0}, {1.0, 3.0}, {1.0, 1.0}};
 
 SlamParams testParams()
 {
@@ -78,7 +78,8 @@ TEST(Slam, LoopClosureImprovesMapUnderOdometryDrift)
   noise.alpha_trans = 0.15;
   noise.alpha_rot = 0.15;
   noise.drift_rot = 0.1;
-  auto run = [&](bool closure, Score* score, SlamStats* stats) {
+  auto run = [&](bool closure, Score* score, SlamStats* stats)
+  {
     DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 1);
     SlamParams p = testParams();
     p.loop_closure = closure;
@@ -92,10 +93,11 @@ TEST(Slam, LoopClosureImprovesMapUnderOdometryDrift)
   SlamStats s_open, s_closed;
   run(false, &open, &s_open);
   run(true, &closed, &s_closed);
-  std::printf("without closure: precision %.3f recall %.3f ATE %.3f; with: precision %.3f recall %.3f ATE %.3f "
-              "(%d closures, %d held for confirmation, %d of them dropped)\n",
-              open.map.precision, open.map.recall, open.ate, closed.map.precision, closed.map.recall, closed.ate,
-              s_closed.loop_closures, s_closed.loop_held, s_closed.loop_unconfirmed);
+  std::printf(
+      "without closure: precision %.3f recall %.3f ATE %.3f; with: precision %.3f recall %.3f ATE %.3f "
+      "(%d closures, %d held for confirmation, %d of them dropped)\n",
+      open.map.precision, open.map.recall, open.ate, closed.map.precision, closed.map.recall, closed.ate,
+      s_closed.loop_closures, s_closed.loop_held, s_closed.loop_unconfirmed);
   EXPECT_GT(s_closed.loop_closures, 0);
   // The drift here needs corrections beyond loop_confirm_correction: they were held, then confirmed.
   EXPECT_GT(s_closed.loop_held, 0);
@@ -112,7 +114,8 @@ TEST(Slam, BadInputIsReportedNotFatal)
   Slam slam(testParams());
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const LaserSpec laser;
-  auto convert = [&](const std::vector<float>& r) {
+  auto convert = [&](const std::vector<float>& r)
+  {
     return convertRanges(r, laser.angle_min, laser.angleIncrement(), laser.range_min, laser.range_max, 30.0,
                          ScanGeometry{});
   };
@@ -141,7 +144,8 @@ TEST(Slam, OdometryEdgesKeepTheHeadingOfTrustedOdometry)
   const LaserSpec laser;
   OdometryNoise noise;
   noise.alpha_trans = 0.15;
-  auto worst_heading = [&](double odom_sigma_theta, Score* score) {
+  auto worst_heading = [&](double odom_sigma_theta, Score* score)
+  {
     DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 3);
     SlamParams p = testParams();
     p.match_rotation_weight = 100.0;  // the matcher's own heading prior, as for the swerve robot
@@ -162,9 +166,10 @@ TEST(Slam, OdometryEdgesKeepTheHeadingOfTrustedOdometry)
   Score chain, with_odom;
   const double chain_worst = worst_heading(0.0, &chain);
   const double odom_worst = worst_heading(0.001, &with_odom);
-  std::printf("worst keyframe heading error: scan-match chain %.4f rad (precision %.3f), with odometry edges "
-              "%.4f rad (precision %.3f)\n",
-              chain_worst, chain.map.precision, odom_worst, with_odom.map.precision);
+  std::printf(
+      "worst keyframe heading error: scan-match chain %.4f rad (precision %.3f), with odometry edges "
+      "%.4f rad (precision %.3f)\n",
+      chain_worst, chain.map.precision, odom_worst, with_odom.map.precision);
   // Seeds 1-6: chain 0.013-0.031 rad, with odometry edges 0.0006-0.0057 rad, precision >= 0.875.
   EXPECT_LT(odom_worst, 0.01);
   EXPECT_LT(odom_worst, 0.5 * chain_worst);

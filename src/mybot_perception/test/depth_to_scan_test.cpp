@@ -11,7 +11,10 @@ using namespace mybot_perception;
 namespace
 {
 // A D435i-like camera: 87 degrees across 640 x 480.
-PinholeColumns d435(int width = 640, int height = 480) { return pinholeFromFov(width, height, 1.5184); }
+PinholeColumns d435(int width = 640, int height = 480)
+{
+  return pinholeFromFov(width, height, 1.5184);
+}
 
 // A float depth image whose every row sees the same column depths.
 std::vector<float> columns(const PinholeColumns& c, const std::function<float(double xr)>& depth_of_ray)
@@ -47,10 +50,12 @@ TEST(DepthToScan, WallAheadIsRangedAlongTheRays)
   EXPECT_NEAR(s.angle_max, 1.5184 / 2.0, 0.002);
   EXPECT_NEAR(s.angle_min, -1.5184 / 2.0, 0.002);
   int finite = 0;
-  forEachPoint(s, [&](double fwd, double) {
-    EXPECT_NEAR(fwd, 2.0, 0.005);
-    ++finite;
-  });
+  forEachPoint(s,
+               [&](double fwd, double)
+               {
+                 EXPECT_NEAR(fwd, 2.0, 0.005);
+                 ++finite;
+               });
   EXPECT_GT(finite, 540);  // a few edge beams get no column (bearings are not evenly spaced)
   EXPECT_NEAR(s.ranges.front(), 2.0 / std::cos(s.angle_min), 0.01);
   EXPECT_NEAR(s.ranges[320], 2.0, 0.002);
@@ -66,10 +71,12 @@ TEST(DepthToScan, WallAtAnAngleKeepsItsLine)
   const auto img = columns(c, [&](double xr) { return static_cast<float>(2.0 / (std::sin(a) * xr + std::cos(a))); });
   const PlanarScan s = depthToScan(img.data(), c.width, c, DepthToScanParams());
   int finite = 0;
-  forEachPoint(s, [&](double fwd, double left) {
-    EXPECT_NEAR(fwd * std::cos(a) - left * std::sin(a), 2.0, 0.01) << fwd << " " << left;
-    ++finite;
-  });
+  forEachPoint(s,
+               [&](double fwd, double left)
+               {
+                 EXPECT_NEAR(fwd * std::cos(a) - left * std::sin(a), 2.0, 0.01) << fwd << " " << left;
+                 ++finite;
+               });
   EXPECT_GT(finite, 500);
   EXPECT_LT(s.ranges[10], s.ranges[630]);  // right side (angle_min) nearer
 }
@@ -79,12 +86,15 @@ TEST(DepthToScan, PoleIsSeenAtItsBearingAndDistance)
 {
   const PinholeColumns c = d435();
   const double px = -0.5, pz = 3.0, radius = 0.1;  // optical frame: x right
-  const auto img = columns(c, [&](double xr) {
-    // Ray (xr, 1) t against the circle |(x, z) - (px, pz)| = radius.
-    const double a = xr * xr + 1, b = -2 * (xr * px + pz), cc = px * px + pz * pz - radius * radius;
-    const double disc = b * b - 4 * a * cc;
-    return disc < 0 ? 8.0f : static_cast<float>((-b - std::sqrt(disc)) / (2 * a));
-  });
+  const auto img = columns(c,
+                           [&](double xr)
+                           {
+                             // Ray (xr, 1) t against the circle |(x, z) - (px, pz)| = radius.
+                             const double a = xr * xr + 1, b = -2 * (xr * px + pz),
+                                          cc = px * px + pz * pz - radius * radius;
+                             const double disc = b * b - 4 * a * cc;
+                             return disc < 0 ? 8.0f : static_cast<float>((-b - std::sqrt(disc)) / (2 * a));
+                           });
   const PlanarScan s = depthToScan(img.data(), c.width, c, DepthToScanParams());
   std::size_t nearest = 0;
   for (std::size_t i = 0; i < s.ranges.size(); ++i)
@@ -126,7 +136,8 @@ TEST(DepthToScan, NoReturnsFollowRep117)
   }
   EXPECT_GT(inf, 48);
   const std::vector<std::uint16_t> zeros(static_cast<std::size_t>(c.width) * c.height, 0);
-  EXPECT_EQ(depthToScan(zeros.data(), c.width, c, DepthToScanParams()).ranges[32], std::numeric_limits<float>::infinity());
+  EXPECT_EQ(depthToScan(zeros.data(), c.width, c, DepthToScanParams()).ranges[32],
+            std::numeric_limits<float>::infinity());
   const auto far = columns(c, [](double) { return 50.0f; });
   const auto near = columns(c, [](double) { return 0.1f; });
   const PlanarScan f = depthToScan(far.data(), c.width, c, DepthToScanParams());

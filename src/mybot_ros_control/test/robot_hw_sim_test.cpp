@@ -15,15 +15,18 @@ using mybot_gazebo_lite::PhysicsWorld;
 using mybot_gazebo_lite::RobotSpec;
 using namespace mybot_ros_control;
 
-namespace {
-std::string readFixture(const std::string& name) {
+namespace
+{
+std::string readFixture(const std::string& name)
+{
   std::ifstream f(std::string(FIXTURE_DIR) + "/" + name);
   std::stringstream ss;
   ss << f.rdbuf();
   return ss.str();
 }
 
-std::string withTransmission(const std::string& type, const std::string& joint, const std::string& iface) {
+std::string withTransmission(const std::string& type, const std::string& joint, const std::string& iface)
+{
   return R"(<robot name="t"><link name="a"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1"/></inertial></link>
     <link name="b"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1"/></inertial></link>
     <joint name="j" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/></joint>
@@ -33,7 +36,8 @@ std::string withTransmission(const std::string& type, const std::string& joint, 
 }
 }  // namespace
 
-TEST(RobotHWSim, ReadsTheTutorialTransmissions) {
+TEST(RobotHWSim, ReadsTheTutorialTransmissions)
+{
   const RobotSpec spec = mybot_gazebo_lite::parseUrdf(readFixture("r2d2_control.urdf"), "r2d2_control.urdf");
   std::vector<std::string> warnings;
   RobotHWSim hw(spec, warnings);
@@ -58,7 +62,8 @@ TEST(RobotHWSim, ReadsTheTutorialTransmissions) {
   EXPECT_DOUBLE_EQ(clampPosition(*head, 7.0), 7.0);  // continuous: never clamped
 }
 
-TEST(RobotHWSim, ValueAttributesSetFrictionAndStiffness) {
+TEST(RobotHWSim, ValueAttributesSetFrictionAndStiffness)
+{
   const RobotSpec spec = mybot_gazebo_lite::parseUrdf(readFixture("r2d2_control.urdf"), "r2d2_control.urdf");
   const auto* wheel = spec.link("right_back_wheel");
   ASSERT_NE(wheel, nullptr);
@@ -70,23 +75,31 @@ TEST(RobotHWSim, ValueAttributesSetFrictionAndStiffness) {
   EXPECT_EQ(spec.transmissions.front().type, "transmission_interface/SimpleTransmission");
 }
 
-TEST(RobotHWSim, RefusesWhatItCannotSimulateNamingTheTransmission) {
+TEST(RobotHWSim, RefusesWhatItCannotSimulateNamingTheTransmission)
+{
   std::vector<std::string> w;
-  const RobotSpec other = mybot_gazebo_lite::parseUrdf(
-      withTransmission("transmission_interface/DifferentialTransmission", "j", "hardware_interface/EffortJointInterface"), "t.urdf");
-  try {
+  const RobotSpec other =
+      mybot_gazebo_lite::parseUrdf(withTransmission("transmission_interface/DifferentialTransmission", "j",
+                                                    "hardware_interface/EffortJointInterface"),
+                                   "t.urdf");
+  try
+  {
     RobotHWSim hw(other, w);
     FAIL() << "a differential transmission was accepted";
-  } catch (const LoadError& e) {
+  }
+  catch (const LoadError& e)
+  {
     EXPECT_NE(std::string(e.what()).find("<transmission name='tr'>"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("DifferentialTransmission"), std::string::npos) << e.what();
   }
   const RobotSpec bad_iface = mybot_gazebo_lite::parseUrdf(
-      withTransmission("transmission_interface/SimpleTransmission", "j", "hardware_interface/JointStateInterface"), "t.urdf");
+      withTransmission("transmission_interface/SimpleTransmission", "j", "hardware_interface/JointStateInterface"),
+      "t.urdf");
   EXPECT_THROW(RobotHWSim(bad_iface, w), LoadError);
-  EXPECT_THROW(mybot_gazebo_lite::parseUrdf(
-                   withTransmission("transmission_interface/SimpleTransmission", "nope", "EffortJointInterface"), "t.urdf"),
-               LoadError);
+  EXPECT_THROW(
+      mybot_gazebo_lite::parseUrdf(
+          withTransmission("transmission_interface/SimpleTransmission", "nope", "EffortJointInterface"), "t.urdf"),
+      LoadError);
   // The short pre-Indigo interface name still works, with a warning.
   const RobotSpec old = mybot_gazebo_lite::parseUrdf(
       withTransmission("transmission_interface/SimpleTransmission", "j", "EffortJointInterface"), "t.urdf");
@@ -96,9 +109,10 @@ TEST(RobotHWSim, RefusesWhatItCannotSimulateNamingTheTransmission) {
   EXPECT_NE(w[0].find("deprecated"), std::string::npos);
 }
 
-TEST(RobotHWSim, PositionCommandsReachTheirTargetAtTheVelocityLimit) {
-  auto spec = std::make_shared<RobotSpec>(
-      mybot_gazebo_lite::parseUrdf(readFixture("r2d2_control.urdf"), "r2d2_control.urdf"));
+TEST(RobotHWSim, PositionCommandsReachTheirTargetAtTheVelocityLimit)
+{
+  auto spec =
+      std::make_shared<RobotSpec>(mybot_gazebo_lite::parseUrdf(readFixture("r2d2_control.urdf"), "r2d2_control.urdf"));
   PhysicsWorld world(mybot_gazebo_lite::WorldSpec{}, PhysicsWorld::Options{});
   auto& robot = world.addRobot(spec, "r2d2", "", btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 5)));
   std::vector<std::string> w;
@@ -108,7 +122,8 @@ TEST(RobotHWSim, PositionCommandsReachTheirTargetAtTheVelocityLimit) {
   hw.claim(head, Interface::POSITION);
   head.command = 0.5;
   double max_speed = 0;
-  for (int k = 0; k < 2000; ++k) {  // 2 s; no gravity: the world has none
+  for (int k = 0; k < 2000; ++k)
+  {  // 2 s; no gravity: the world has none
     hw.read(robot);
     max_speed = std::max(max_speed, std::abs(head.velocity));
     hw.write(robot, world.stepSize());
@@ -119,9 +134,10 @@ TEST(RobotHWSim, PositionCommandsReachTheirTargetAtTheVelocityLimit) {
   EXPECT_LT(max_speed, 1.0 + 1e-6);  // <limit velocity="1.0">
 }
 
-TEST(RobotHWSim, EffortCommandsAreClampedToTheLimit) {
-  auto spec = std::make_shared<RobotSpec>(
-      mybot_gazebo_lite::parseUrdf(readFixture("r2d2_control.urdf"), "r2d2_control.urdf"));
+TEST(RobotHWSim, EffortCommandsAreClampedToTheLimit)
+{
+  auto spec =
+      std::make_shared<RobotSpec>(mybot_gazebo_lite::parseUrdf(readFixture("r2d2_control.urdf"), "r2d2_control.urdf"));
   PhysicsWorld world(mybot_gazebo_lite::WorldSpec{}, PhysicsWorld::Options{});
   auto& robot = world.addRobot(spec, "r2d2", "", btTransform::getIdentity());
   robot.commandEffort("head_swivel", 1000.0);

@@ -19,7 +19,7 @@ namespace mybot_common
 struct ParamError : std::runtime_error
 {
   ParamError(const ros::NodeHandle& nh, const std::string& name, const std::string& why)
-    : std::runtime_error("parameter " + nh.resolveName(name) + ": " + why)
+      : std::runtime_error("parameter " + nh.resolveName(name) + ": " + why)
   {
   }
 };

@@ -44,7 +44,8 @@ std::string writeTemporary(const std::string& path, const std::string& content)
   const int fd = ::mkstemp(tmp.data());
   if (fd < 0)
     fail(path, errno);
-  auto abandon = [&](int err) {
+  auto abandon = [&](int err)
+  {
     ::close(fd);
     ::unlink(tmp.c_str());
     fail(path, err);

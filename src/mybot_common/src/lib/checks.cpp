@@ -40,15 +40,17 @@ std::string scanGeometryError(double angle_min, double angle_max, double angle_i
   const double steps = (angle_max - angle_min) / angle_increment;
   if (steps > 1e7)
   {
-    std::snprintf(text, sizeof text, "has %zu ranges where its angles (angle_min %g, angle_max %g, angle_increment %g) make %.3g",
-                  ranges, angle_min, angle_max, angle_increment, steps + 1);
+    std::snprintf(text, sizeof text,
+                  "has %zu ranges where its angles (angle_min %g, angle_max %g, angle_increment %g) make %.3g", ranges,
+                  angle_min, angle_max, angle_increment, steps + 1);
     return text;
   }
   const auto expected = static_cast<std::size_t>(std::llround(steps)) + 1;
   if (expected == ranges)
     return "";
-  std::snprintf(text, sizeof text, "has %zu ranges where its angles (angle_min %g, angle_max %g, angle_increment %g) make %zu",
-                ranges, angle_min, angle_max, angle_increment, expected);
+  std::snprintf(text, sizeof text,
+                "has %zu ranges where its angles (angle_min %g, angle_max %g, angle_increment %g) make %zu", ranges,
+                angle_min, angle_max, angle_increment, expected);
   return text;
 }
 

@@ -73,7 +73,11 @@ public:
   // Forget the encoder reference (the next reading is a first reading again).
   void resetEncoders();
   void setPose(const Pose2D& pose);
-  void reset() { setPose(Pose2D{}); resetEncoders(); }
+  void reset()
+  {
+    setPose(Pose2D{});
+    resetEncoders();
+  }
 
   const Pose2D& pose() const { return pose_; }
   // Rolling mean of the body twist over the last `velocity_window` updates.

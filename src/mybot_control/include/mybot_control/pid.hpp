@@ -25,7 +25,7 @@ struct PidConfig
   double p = 0.0;
   double i = 0.0;
   double d = 0.0;
-  double f = 0.0;  // feed-forward gain on the setpoint
+  double f = 0.0;                                                 // feed-forward gain on the setpoint
   double i_clamp_min = -std::numeric_limits<double>::infinity();  // bounds on the integral term
   double i_clamp_max = std::numeric_limits<double>::infinity();
   double output_min = -std::numeric_limits<double>::infinity();

@@ -35,7 +35,7 @@ public:
 
   double number(const std::string& name, double default_value) const;
   double requiredNumber(const std::string& name) const;
-  double positive(const std::string& name, double default_value) const;  // > 0
+  double positive(const std::string& name, double default_value) const;     // > 0
   double nonNegative(const std::string& name, double default_value) const;  // >= 0
   bool boolean(const std::string& name, bool default_value) const;
   std::string string(const std::string& name, const std::string& default_value) const;

@@ -18,8 +18,8 @@ class SwerveTwistLimiter
 {
 public:
   SwerveTwistLimiter() = default;
-  SwerveTwistLimiter(const SpeedLimits& vx, const SpeedLimits& vy, const SpeedLimits& wz) 
-    : axes_{SpeedLimiter(vx), SpeedLimiter(vy), SpeedLimiter(wz)}
+  SwerveTwistLimiter(const SpeedLimits& vx, const SpeedLimits& vy, const SpeedLimits& wz)
+      : axes_{SpeedLimiter(vx), SpeedLimiter(vy), SpeedLimiter(wz)}
   {
   }
 

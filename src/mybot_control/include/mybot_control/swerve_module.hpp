@@ -14,8 +14,8 @@ namespace mybot_control
 
 struct SwerveModuleConfig
 {
-  PidConfig pivot;  // setpoint/measurement in rad, output pivot joint velocity (rad/s)
-  PidConfig drive;  // setpoint/measurement in wheel rad/s, output wheel joint velocity (rad/s)
+  PidConfig pivot;             // setpoint/measurement in rad, output pivot joint velocity (rad/s)
+  PidConfig drive;             // setpoint/measurement in wheel rad/s, output wheel joint velocity (rad/s)
   double wheel_radius = 0.05;  // m
   // Gain on the requested angle's rate (rad/s per rad/s). Requested-angle steps larger than
   // rate_ff_max_step (rad, e.g. a new direction or a wheel flip) are left to the PID.

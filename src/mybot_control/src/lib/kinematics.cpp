@@ -64,7 +64,7 @@ Twist2D poseLog(const Pose2D& from, const Pose2D& to)
 }
 
 DiffDriveKinematics::DiffDriveKinematics(double wheel_separation, double left_radius, double right_radius)
-  : separation_(wheel_separation), left_radius_(left_radius), right_radius_(right_radius)
+    : separation_(wheel_separation), left_radius_(left_radius), right_radius_(right_radius)
 {
 }
 

@@ -72,10 +72,10 @@ void WheelEncoder::reset()
 }
 
 DiffDriveOdometry::DiffDriveOdometry(const Params& params)
-  : params_(params)
-  , kin_(params.wheel_separation, params.left_radius, params.right_radius)
-  , vx_(params.velocity_window)
-  , wz_(params.velocity_window)
+    : params_(params),
+      kin_(params.wheel_separation, params.left_radius, params.right_radius),
+      vx_(params.velocity_window),
+      wz_(params.velocity_window)
 {
 }
 

@@ -24,10 +24,10 @@ SpeedLimits SpeedLimits::symmetric(double max_velocity, double max_acceleration,
 std::string SpeedLimits::validate(const std::string& prefix) const
 {
   auto bad = [&](const char* field, const char* why) { return prefix + field + " " + why; };
-  const double values[] = {min_velocity, max_velocity, min_acceleration, max_acceleration,
-                           max_deceleration, min_jerk, max_jerk};
-  const char* names[] = {"min_velocity", "max_velocity", "min_acceleration", "max_acceleration",
-                         "max_deceleration", "min_jerk", "max_jerk"};
+  const double values[] = {min_velocity,     max_velocity, min_acceleration, max_acceleration,
+                           max_deceleration, min_jerk,     max_jerk};
+  const char* names[] = {"min_velocity",     "max_velocity", "min_acceleration", "max_acceleration",
+                         "max_deceleration", "min_jerk",     "max_jerk"};
   for (int k = 0; k < 7; ++k)
     if (!std::isfinite(values[k]))
       return bad(names[k], "must be a finite number");
@@ -110,7 +110,7 @@ double SpeedLimiter::limitJerk(double& v, double v0, double v1, double dt, doubl
 }
 
 TwistLimiter::TwistLimiter(const SpeedLimits& vx, const SpeedLimits& vy, const SpeedLimits& wz)
-  : vx_(vx), vy_(vy), wz_(wz)
+    : vx_(vx), vy_(vy), wz_(wz)
 {
 }
 

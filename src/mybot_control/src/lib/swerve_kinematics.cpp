@@ -66,8 +66,7 @@ std::string SwerveKinematics::validate(const std::vector<Vec2>& offsets, double 
   return "";
 }
 
-SwerveKinematics::SwerveKinematics(const std::vector<Vec2>& offsets)
-  : offsets_(offsets), headings_(offsets.size(), 0.0)
+SwerveKinematics::SwerveKinematics(const std::vector<Vec2>& offsets) : offsets_(offsets), headings_(offsets.size(), 0.0)
 {
   const std::string err = validate(offsets);
   if (!err.empty())

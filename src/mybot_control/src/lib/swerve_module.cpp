@@ -29,9 +29,8 @@ SwerveModuleController::SwerveModuleController(const SwerveModuleConfig& config)
   drive_pid_.setConfig(config_.drive);
 }
 
-SwerveModuleController::Output SwerveModuleController::update(const SwerveModuleState& requested,
-                                                              double measured_angle, double measured_wheel_rate,
-                                                              double dt)
+SwerveModuleController::Output SwerveModuleController::update(const SwerveModuleState& requested, double measured_angle,
+                                                              double measured_wheel_rate, double dt)
 {
   Output out;
   const double angle = wrapAngle(measured_angle);
@@ -50,8 +49,8 @@ SwerveModuleController::Output SwerveModuleController::update(const SwerveModule
   }
   previous_target_angle_ = out.target.angle;
   have_previous_target_ = true;
-  out.pivot_command =
-      std::clamp(pivot_pid_.compute(out.target.angle, angle, dt) + ff, config_.pivot.output_min, config_.pivot.output_max);
+  out.pivot_command = std::clamp(pivot_pid_.compute(out.target.angle, angle, dt) + ff, config_.pivot.output_min,
+                                 config_.pivot.output_max);
 
   if (config_.cosine_scale)
     out.target = cosineScale(out.target, angle);

@@ -21,12 +21,12 @@ const SwerveOdometry::Params& checked(const SwerveOdometry::Params& p)
 }  // namespace
 
 SwerveOdometry::SwerveOdometry(const Params& params)
-  : params_(checked(params))
-  , kin_(params.offsets)
-  , vx_(params.velocity_window)
-  , vy_(params.velocity_window)
-  , wz_(params.velocity_window)
-  , deltas_(params.offsets.size())
+    : params_(checked(params)),
+      kin_(params.offsets),
+      vx_(params.velocity_window),
+      vy_(params.velocity_window),
+      wz_(params.velocity_window),
+      deltas_(params.offsets.size())
 {
 }
 

@@ -21,7 +21,8 @@ int TwistMux::addLock(const MuxSource& source)
 
 std::string TwistMux::validate() const
 {
-  auto check = [](const std::vector<MuxSource>& list, const std::string& kind) -> std::string {
+  auto check = [](const std::vector<MuxSource>& list, const std::string& kind) -> std::string
+  {
     std::set<std::string> names;
     for (std::size_t k = 0; k < list.size(); ++k)
     {

@@ -11,15 +11,18 @@
 
 int main(int argc, char** argv)
 {
-  return mybot_control::runNode(argc, argv, "diffdrive_chain", [] {
-    using namespace mybot_control_nodes;
-    ros::NodeHandle nh, pnh("~");
-    const bool mux = pnh.param("twist_mux", true), wheels = pnh.param("wheel_controller", true),
-               odom = pnh.param("odom", true);
-    const auto n1 = mux ? makeTwistMux(nh, ros::NodeHandle("twist_mux")) : nullptr;
-    const auto n2 = makeDiffDriveController(nh, ros::NodeHandle("diffdrive_controller"));
-    const auto n3 = wheels ? makeWheelController(nh, ros::NodeHandle("wheel_controller")) : nullptr;
-    const auto n4 = odom ? makeDiffDriveOdom(nh, ros::NodeHandle("diffdrive_odom")) : nullptr;
-    ros::spin();
-  });
+  return mybot_control::runNode(
+      argc, argv, "diffdrive_chain",
+      []
+      {
+        using namespace mybot_control_nodes;
+        ros::NodeHandle nh, pnh("~");
+        const bool mux = pnh.param("twist_mux", true), wheels = pnh.param("wheel_controller", true),
+                   odom = pnh.param("odom", true);
+        const auto n1 = mux ? makeTwistMux(nh, ros::NodeHandle("twist_mux")) : nullptr;
+        const auto n2 = makeDiffDriveController(nh, ros::NodeHandle("diffdrive_controller"));
+        const auto n3 = wheels ? makeWheelController(nh, ros::NodeHandle("wheel_controller")) : nullptr;
+        const auto n4 = odom ? makeDiffDriveOdom(nh, ros::NodeHandle("diffdrive_odom")) : nullptr;
+        ros::spin();
+      });
 }

@@ -37,8 +37,10 @@ public:
     right_pub_ = nh_.advertise<std_msgs::Float32>("rwheel_tangent_vel_target", 10);
     if (publish_cmd_)
       cmd_out_pub_ = pnh_.advertise<geometry_msgs::TwistStamped>("cmd_vel_out", 10);
-    cmd_sub_ = mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(nh_, "cmd_vel", 10, [this](const geometry_msgs::Twist& m) { onCmd(m); }, ros::TransportHints().tcpNoDelay());
-    timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / rate, [this](const ros::TimerEvent& e) { onTimer(e); });
+    cmd_sub_ = mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(
+        nh_, "cmd_vel", 10, [this](const geometry_msgs::Twist& m) { onCmd(m); }, ros::TransportHints().tcpNoDelay());
+    timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / rate,
+                                                                 [this](const ros::TimerEvent& e) { onTimer(e); });
     ROS_INFO("diffdrive_controller: wheel_separation %.4f m, %.0f Hz, cmd_vel_timeout %.2f s", g.separation, rate,
              cmd_vel_timeout_);
   }
@@ -75,8 +77,8 @@ private:
     last_step_ = now;
     // A command from before a jump back in time (simulation reset) is not fresh: it times out
     // (otherwise now - last_cmd_ < 0 would keep it forever and the robot would drive itself).
-    const bool timed_out = !have_cmd_ || now < last_cmd_ ||
-                           (cmd_vel_timeout_ > 0.0 && (now - last_cmd_).toSec() > cmd_vel_timeout_);
+    const bool timed_out =
+        !have_cmd_ || now < last_cmd_ || (cmd_vel_timeout_ > 0.0 && (now - last_cmd_).toSec() > cmd_vel_timeout_);
     // On timeout the target is zero, still through the limiter: the robot ramps down.
     Twist2D twist = limiter_.limit(timed_out ? Twist2D{} : command_, dt);
     WheelVelocities wheels = kin_.toWheelTangent(twist);
@@ -127,9 +129,12 @@ std::shared_ptr<void> makeDiffDriveController(const ros::NodeHandle& nh, const r
 #ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "diffdrive_controller", [] {
-    const auto node = mybot_control_nodes::makeDiffDriveController(ros::NodeHandle(), ros::NodeHandle("~"));
-    ros::spin();
-  });
+  return runNode(argc, argv, "diffdrive_controller",
+                 []
+                 {
+                   const auto node =
+                       mybot_control_nodes::makeDiffDriveController(ros::NodeHandle(), ros::NodeHandle("~"));
+                   ros::spin();
+                 });
 }
 #endif

@@ -34,11 +34,15 @@ public:
     op.encoder_period = p.nonNegative("encoder_period", 0.0);
     op.velocity_window = static_cast<std::size_t>(p.positive("velocity_rolling_window_size", 10));
     odom_ = DiffDriveOdometry(op);
-    odometry_pub_ = std::make_unique<OdometryPublisher>(p, nh_, pnh_, [this](const Pose2D& pose) { odom_.setPose(pose); });
+    odometry_pub_ =
+        std::make_unique<OdometryPublisher>(p, nh_, pnh_, [this](const Pose2D& pose) { odom_.setPose(pose); });
 
-    sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(nh_, "joint_states", 50, [this](const sensor_msgs::JointState& m) { onJointStates(m); }, ros::TransportHints().tcpNoDelay());
+    sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(
+        nh_, "joint_states", 50, [this](const sensor_msgs::JointState& m) { onJointStates(m); },
+        ros::TransportHints().tcpNoDelay());
     ROS_INFO("diffdrive_odom: separation %.4f m, radius %.4f/%.4f m, %s -> %s%s", g.separation, g.left_radius,
-             g.right_radius, odometry_pub_->odomFrame().c_str(), odometry_pub_->baseFrame().c_str(), odometry_pub_->tfEnabled() ? " (+tf)" : "");
+             g.right_radius, odometry_pub_->odomFrame().c_str(), odometry_pub_->baseFrame().c_str(),
+             odometry_pub_->tfEnabled() ? " (+tf)" : "");
   }
 
 private:
@@ -104,9 +108,11 @@ std::shared_ptr<void> makeDiffDriveOdom(const ros::NodeHandle& nh, const ros::No
 #ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "diffdrive_odom", [] {
-    const auto node = mybot_control_nodes::makeDiffDriveOdom(ros::NodeHandle(), ros::NodeHandle("~"));
-    ros::spin();
-  });
+  return runNode(argc, argv, "diffdrive_odom",
+                 []
+                 {
+                   const auto node = mybot_control_nodes::makeDiffDriveOdom(ros::NodeHandle(), ros::NodeHandle("~"));
+                   ros::spin();
+                 });
 }
 #endif

@@ -9,12 +9,15 @@
 
 int main(int argc, char** argv)
 {
-  return mybot_control::runNode(argc, argv, "swerve_chain", [] {
-    ros::NodeHandle nh;
-    const bool odom = ros::NodeHandle("~").param("odom", true);
-    const auto controller = mybot_control_nodes::makeSwerveController(nh, ros::NodeHandle("swerve_controller"));
-    const auto module = mybot_control_nodes::makeSwerveModule(nh, ros::NodeHandle("swerve_module"));
-    const auto odometry = odom ? mybot_control_nodes::makeSwerveOdom(nh, ros::NodeHandle("swerve_odom")) : nullptr;
-    ros::spin();
-  });
+  return mybot_control::runNode(
+      argc, argv, "swerve_chain",
+      []
+      {
+        ros::NodeHandle nh;
+        const bool odom = ros::NodeHandle("~").param("odom", true);
+        const auto controller = mybot_control_nodes::makeSwerveController(nh, ros::NodeHandle("swerve_controller"));
+        const auto module = mybot_control_nodes::makeSwerveModule(nh, ros::NodeHandle("swerve_module"));
+        const auto odometry = odom ? mybot_control_nodes::makeSwerveOdom(nh, ros::NodeHandle("swerve_odom")) : nullptr;
+        ros::spin();
+      });
 }

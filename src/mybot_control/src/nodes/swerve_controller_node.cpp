@@ -46,7 +46,7 @@ public:
       center_ = {c[0], c[1]};
     }
     limiter_ = SwerveTwistLimiter(loadSpeedLimits(p, "linear/x/"), loadSpeedLimits(p, "linear/y/"),
-                            loadSpeedLimits(p, "angular/z/"));
+                                  loadSpeedLimits(p, "angular/z/"));
     period_ = 1.0 / rate;
     scheduler_ = StepScheduler(period_);
 
@@ -60,8 +60,10 @@ public:
       const std::string ns = "swerve_" + geometry_.modules[i] + "/";
       angle_pubs_[i] = nh_.advertise<std_msgs::Float64>(ns + "rqst_pivot_angle", 10);
       speed_pubs_[i] = nh_.advertise<std_msgs::Float64>(ns + "rqst_wheel_speed", 10);
-      angle_subs_.push_back(mybot_lockstep::Participant::instance().subscribe<std_msgs::Float64>(nh_, 
-          ns + "pivot_angle", 10, [this, i](const std_msgs::Float64::ConstPtr& m) {
+      angle_subs_.push_back(mybot_lockstep::Participant::instance().subscribe<std_msgs::Float64>(
+          nh_, ns + "pivot_angle", 10,
+          [this, i](const std_msgs::Float64::ConstPtr& m)
+          {
             if (!std::isfinite(m->data))
               return;
             measured_[i] = m->data;
@@ -77,11 +79,14 @@ public:
           ros::TransportHints().tcpNoDelay()));
     }
     if (field_relative_)
-      imu_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::Imu>(nh_, "imu", 10, [this](const sensor_msgs::Imu& m) { onImu(m); });
+      imu_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::Imu>(
+          nh_, "imu", 10, [this](const sensor_msgs::Imu& m) { onImu(m); });
     if (publish_cmd_)
       cmd_out_pub_ = pnh_.advertise<geometry_msgs::TwistStamped>("cmd_vel_out", 10);
-    cmd_sub_ = mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(nh_, "cmd_vel", 10, [this](const geometry_msgs::Twist& m) { onCmd(m); }, ros::TransportHints().tcpNoDelay());
-    timer_ = mybot_lockstep::Participant::instance().createTimer(period_, [this](const ros::TimerEvent& e) { onTimer(e); });
+    cmd_sub_ = mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(
+        nh_, "cmd_vel", 10, [this](const geometry_msgs::Twist& m) { onCmd(m); }, ros::TransportHints().tcpNoDelay());
+    timer_ =
+        mybot_lockstep::Participant::instance().createTimer(period_, [this](const ros::TimerEvent& e) { onTimer(e); });
     ROS_INFO("swerve_controller: %zu modules, %.0f Hz, cmd_vel_timeout %.2f s, angle_error_threshold %.3f rad%s", n,
              rate, cmd_vel_timeout_, angle_error_threshold_, field_relative_ ? ", field-relative" : "");
   }
@@ -128,8 +133,8 @@ private:
     last_step_ = now;
     // A command from before a jump back in time (simulation reset) is not fresh: it times out
     // (otherwise now - last_cmd_ < 0 would keep it forever and the robot would drive itself).
-    const bool timed_out = !have_cmd_ || now < last_cmd_ ||
-                           (cmd_vel_timeout_ > 0.0 && (now - last_cmd_).toSec() > cmd_vel_timeout_);
+    const bool timed_out =
+        !have_cmd_ || now < last_cmd_ || (cmd_vel_timeout_ > 0.0 && (now - last_cmd_).toSec() > cmd_vel_timeout_);
     Twist2D twist = limiter_.limit(timed_out ? Twist2D{} : command_, dt);
     if (field_relative_ && !have_yaw_)
     {
@@ -168,7 +173,8 @@ private:
         s.speed = 0.0;
       // Restart from rest once the modules point the right way, through the acceleration limits.
       limiter_.overrideLast(Twist2D{});
-      if (!timed_out && std::count(have_measured_.begin(), have_measured_.end(), true) < static_cast<long>(states.size()))
+      if (!timed_out &&
+          std::count(have_measured_.begin(), have_measured_.end(), true) < static_cast<long>(states.size()))
         ROS_WARN_THROTTLE(2.0, "swerve_controller: waiting for swerve_<m>/pivot_angle of every module");
     }
 
@@ -213,7 +219,6 @@ private:
   mybot_lockstep::Timer timer_;
 };
 
-
 std::shared_ptr<void> makeSwerveController(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
 {
   return std::make_shared<SwerveControllerNode>(nh, pnh);
@@ -223,9 +228,11 @@ std::shared_ptr<void> makeSwerveController(const ros::NodeHandle& nh, const ros:
 #ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "swerve_controller", [] {
-    const auto node = mybot_control_nodes::makeSwerveController(ros::NodeHandle(), ros::NodeHandle("~"));
-    ros::spin();
-  });
+  return runNode(argc, argv, "swerve_controller",
+                 []
+                 {
+                   const auto node = mybot_control_nodes::makeSwerveController(ros::NodeHandle(), ros::NodeHandle("~"));
+                   ros::spin();
+                 });
 }
 #endif

@@ -27,7 +27,7 @@ namespace mybot_control_nodes
 struct Module
 {
   Module(const std::string& n, const SwerveModuleConfig& c, std::size_t window, double tau)
-    : name(n), ctl(c), encoder(window), mock(tau)
+      : name(n), ctl(c), encoder(window), mock(tau)
   {
   }
   std::string name;
@@ -100,9 +100,10 @@ public:
         mod.pivot_cmd_pub = nh_.advertise<std_msgs::Float64>(geometry_.pivot_joints[i] + "/command", 10);
         mod.wheel_cmd_pub = nh_.advertise<std_msgs::Float64>(geometry_.wheel_joints[i] + "/command", 10);
       }
-      mod.angle_sub = mybot_lockstep::Participant::instance().subscribe<std_msgs::Float64>(nh_, 
-          ns + "rqst_pivot_angle", 10,
-          [this, i](const std_msgs::Float64::ConstPtr& msg) {
+      mod.angle_sub = mybot_lockstep::Participant::instance().subscribe<std_msgs::Float64>(
+          nh_, ns + "rqst_pivot_angle", 10,
+          [this, i](const std_msgs::Float64::ConstPtr& msg)
+          {
             if (std::isfinite(msg->data))
             {
               modules_[i].rqst_angle = msg->data;
@@ -110,9 +111,10 @@ public:
             }
           },
           ros::TransportHints().tcpNoDelay());
-      mod.speed_sub = mybot_lockstep::Participant::instance().subscribe<std_msgs::Float64>(nh_, 
-          ns + "rqst_wheel_speed", 10,
-          [this, i](const std_msgs::Float64::ConstPtr& msg) {
+      mod.speed_sub = mybot_lockstep::Participant::instance().subscribe<std_msgs::Float64>(
+          nh_, ns + "rqst_wheel_speed", 10,
+          [this, i](const std_msgs::Float64::ConstPtr& msg)
+          {
             if (std::isfinite(msg->data))
             {
               modules_[i].rqst_speed = msg->data;
@@ -134,13 +136,15 @@ public:
       joint_state_.position.assign(joints.size(), 0.0);
       joint_state_.velocity.assign(joints.size(), 0.0);
       joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
-      timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / rate, [this](const ros::TimerEvent& e) { onMockTimer(e); });
+      timer_ = mybot_lockstep::Participant::instance().createTimer(
+          1.0 / rate, [this](const ros::TimerEvent& e) { onMockTimer(e); });
     }
     else
     {
       index_ = JointIndex(joints);
-      joint_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(nh_, "joint_states", 10, [this](const sensor_msgs::JointState& m) { onJointStates(m); },
-                                 ros::TransportHints().tcpNoDelay());
+      joint_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(
+          nh_, "joint_states", 10, [this](const sensor_msgs::JointState& m) { onJointStates(m); },
+          ros::TransportHints().tcpNoDelay());
     }
     ROS_INFO("swerve_module: %zu modules, interface %s, wheel_radius %.4f m", n, interface.c_str(),
              geometry_.wheel_radius);
@@ -212,7 +216,8 @@ private:
       const auto out = m.ctl.update(request, angle, rate, dt);
       m.pivot_command = out.pivot_command;
       m.wheel_command = out.wheel_command;
-      auto pub = [&v](ros::Publisher& p, double x) {
+      auto pub = [&v](ros::Publisher& p, double x)
+      {
         v.data = x;
         publishShared(p, v);
       };
@@ -243,7 +248,6 @@ private:
   mybot_lockstep::Timer timer_;
 };
 
-
 std::shared_ptr<void> makeSwerveModule(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
 {
   return std::make_shared<SwerveModuleNode>(nh, pnh);
@@ -253,9 +257,11 @@ std::shared_ptr<void> makeSwerveModule(const ros::NodeHandle& nh, const ros::Nod
 #ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "swerve_module", [] {
-    const auto node = mybot_control_nodes::makeSwerveModule(ros::NodeHandle(), ros::NodeHandle("~"));
-    ros::spin();
-  });
+  return runNode(argc, argv, "swerve_module",
+                 []
+                 {
+                   const auto node = mybot_control_nodes::makeSwerveModule(ros::NodeHandle(), ros::NodeHandle("~"));
+                   ros::spin();
+                 });
 }
 #endif

@@ -37,7 +37,8 @@ public:
     if (op.imu_weight > 1.0)
       p.fail("imu_weight", "must be within [0, 1]");
     odom_ = std::make_unique<SwerveOdometry>(op);
-    odometry_pub_ = std::make_unique<OdometryPublisher>(p, nh_, pnh_, [this](const Pose2D& pose) { odom_->setPose(pose); });
+    odometry_pub_ =
+        std::make_unique<OdometryPublisher>(p, nh_, pnh_, [this](const Pose2D& pose) { odom_->setPose(pose); });
 
     std::vector<std::string> joints;
     for (std::size_t i = 0; i < g.modules.size(); ++i)
@@ -49,11 +50,15 @@ public:
     wheels_.resize(g.modules.size());
     pivots_.resize(g.modules.size());
 
-    sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(nh_, "joint_states", 50, [this](const sensor_msgs::JointState& m) { onJointStates(m); }, ros::TransportHints().tcpNoDelay());
+    sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(
+        nh_, "joint_states", 50, [this](const sensor_msgs::JointState& m) { onJointStates(m); },
+        ros::TransportHints().tcpNoDelay());
     if (use_imu_)
-      imu_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::Imu>(nh_, "imu", 50, [this](const sensor_msgs::Imu& m) { onImu(m); }, ros::TransportHints().tcpNoDelay());
+      imu_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::Imu>(
+          nh_, "imu", 50, [this](const sensor_msgs::Imu& m) { onImu(m); }, ros::TransportHints().tcpNoDelay());
     ROS_INFO("swerve_odom: %zu modules, wheel_radius %.4f m, %s -> %s%s%s", g.modules.size(), g.wheel_radius,
-             odometry_pub_->odomFrame().c_str(), odometry_pub_->baseFrame().c_str(), odometry_pub_->tfEnabled() ? " (+tf)" : "", use_imu_ ? ", IMU yaw fused" : "");
+             odometry_pub_->odomFrame().c_str(), odometry_pub_->baseFrame().c_str(),
+             odometry_pub_->tfEnabled() ? " (+tf)" : "", use_imu_ ? ", IMU yaw fused" : "");
   }
 
 private:
@@ -97,7 +102,6 @@ private:
   std::unique_ptr<OdometryPublisher> odometry_pub_;
 };
 
-
 std::shared_ptr<void> makeSwerveOdom(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
 {
   return std::make_shared<SwerveOdomNode>(nh, pnh);
@@ -107,9 +111,11 @@ std::shared_ptr<void> makeSwerveOdom(const ros::NodeHandle& nh, const ros::NodeH
 #ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "swerve_odom", [] {
-    const auto node = mybot_control_nodes::makeSwerveOdom(ros::NodeHandle(), ros::NodeHandle("~"));
-    ros::spin();
-  });
+  return runNode(argc, argv, "swerve_odom",
+                 []
+                 {
+                   const auto node = mybot_control_nodes::makeSwerveOdom(ros::NodeHandle(), ros::NodeHandle("~"));
+                   ros::spin();
+                 });
 }
 #endif

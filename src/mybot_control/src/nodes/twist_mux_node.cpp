@@ -28,7 +28,8 @@ std::vector<MuxSource> loadSources(const ParamReader& p, const std::string& key,
       p.fail(key, "is required: a list of {name, topic, timeout, priority}");
     return out;
   }
-  auto parse = [&](XmlRpc::XmlRpcValue& e, const std::string& where, const std::string& name_from_key) {
+  auto parse = [&](XmlRpc::XmlRpcValue& e, const std::string& where, const std::string& name_from_key)
+  {
     if (e.getType() != XmlRpc::XmlRpcValue::TypeStruct)
       p.fail(where, "must be a mapping with name, topic, timeout, priority");
     MuxSource s;
@@ -105,18 +106,22 @@ public:
     active_pub_ = pnh_.advertise<std_msgs::String>("active", 1, true);
     diag_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 5);
     for (std::size_t k = 0; k < mux_.topics().size(); ++k)
-      subs_.push_back(mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(nh_, 
-          mux_.topics()[k].topic, 10,
-          [this, k](const geometry_msgs::Twist::ConstPtr& m) { onTwist(static_cast<int>(k), *m); }, 
+      subs_.push_back(mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(
+          nh_, mux_.topics()[k].topic, 10,
+          [this, k](const geometry_msgs::Twist::ConstPtr& m) { onTwist(static_cast<int>(k), *m); },
           ros::TransportHints().tcpNoDelay()));
     for (std::size_t k = 0; k < mux_.locks().size(); ++k)
-      subs_.push_back(mybot_lockstep::Participant::instance().subscribe<std_msgs::Bool>(nh_, 
-          mux_.locks()[k].topic, 10, [this, k](const std_msgs::Bool::ConstPtr& m) {
+      subs_.push_back(mybot_lockstep::Participant::instance().subscribe<std_msgs::Bool>(
+          nh_, mux_.locks()[k].topic, 10,
+          [this, k](const std_msgs::Bool::ConstPtr& m)
+          {
             mux_.lockReceived(static_cast<int>(k), m->data, ros::Time::now().toSec());
             check();
           }));
-    check_timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / check_rate, [this](const ros::TimerEvent&) { check(); });
-    diag_timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / diag_rate, [this](const ros::TimerEvent&) { diagnostics(); });
+    check_timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / check_rate,
+                                                                       [this](const ros::TimerEvent&) { check(); });
+    diag_timer_ = mybot_lockstep::Participant::instance().createTimer(
+        1.0 / diag_rate, [this](const ros::TimerEvent&) { diagnostics(); });
     announce("idle");
   }
 
@@ -164,7 +169,8 @@ private:
     st.message = active >= 0 ? "active: " + mux_.topics()[active].name : "idle (no input alive)";
     if (lock >= 0)
       st.message += ", locked at priority " + std::to_string(lock);
-    auto kv = [&](const std::string& k, const std::string& v) {
+    auto kv = [&](const std::string& k, const std::string& v)
+    {
       diagnostic_msgs::KeyValue e;
       e.key = k;
       e.value = v;
@@ -173,8 +179,8 @@ private:
     kv("active", active >= 0 ? mux_.topics()[active].name : "");
     kv("lock_priority", std::to_string(lock));
     for (std::size_t k = 0; k < mux_.topics().size(); ++k)
-      kv("topic " + mux_.topics()[k].name, mux_.topics()[k].topic + " priority " +
-                                             std::to_string(mux_.topics()[k].priority));
+      kv("topic " + mux_.topics()[k].name,
+         mux_.topics()[k].topic + " priority " + std::to_string(mux_.topics()[k].priority));
     arr.status.push_back(st);
     diag_pub_.publish(arr);
   }
@@ -201,9 +207,11 @@ std::shared_ptr<void> makeTwistMux(const ros::NodeHandle& nh, const ros::NodeHan
 #ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "twist_mux", [] {
-    const auto node = mybot_control_nodes::makeTwistMux(ros::NodeHandle(), ros::NodeHandle("~"));
-    ros::spin();
-  });
+  return runNode(argc, argv, "twist_mux",
+                 []
+                 {
+                   const auto node = mybot_control_nodes::makeTwistMux(ros::NodeHandle(), ros::NodeHandle("~"));
+                   ros::spin();
+                 });
 }
 #endif

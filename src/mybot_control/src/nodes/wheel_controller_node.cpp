@@ -35,7 +35,7 @@ struct Wheel
   Pid pid;
   StepScheduler scheduler{0.02};
   std::deque<std::pair<double, double>> target_history;  // (ROS time, rad/s) commanded
-  double encoder_time = 0.0;                               // stamp of the last encoder reading
+  double encoder_time = 0.0;                             // stamp of the last encoder reading
   ros::Publisher target_pub, control_pub, motor_pub, enc_pub, tangent_enc_pub, joint_cmd_pub;
   ros::Subscriber target_sub;
 };
@@ -68,8 +68,8 @@ public:
     response_time_ = p.nonNegative("response_time", 0.0);
     const std::string interface = p.string("command_interface", "motor");
     if (interface != "motor" && interface != "joints")
-      p.fail("command_interface", "must be 'motor' (GoPiGo driver) or 'joints' (simulator joint commands), got '" +
-                                      interface + "'");
+      p.fail("command_interface",
+             "must be 'motor' (GoPiGo driver) or 'joints' (simulator joint commands), got '" + interface + "'");
     joint_commands_ = interface == "joints";
     const auto window = static_cast<std::size_t>(p.positive("velocity_window", 2));
     const double encoder_period = p.nonNegative("encoder_period", 0.0);
@@ -93,14 +93,16 @@ public:
       if (joint_commands_)
         w.joint_cmd_pub = nh_.advertise<std_msgs::Float64>(
             p.string(k == 0 ? "left_command_topic" : "right_command_topic", w.joint + "/command"), 10);
-      w.target_sub = mybot_lockstep::Participant::instance().subscribe<std_msgs::Float32>(nh_, 
-          w.prefix + "_tangent_vel_target", 10,
-          [this, k](const std_msgs::Float32::ConstPtr& m) { onTarget(k, m->data); }, 
+      w.target_sub = mybot_lockstep::Participant::instance().subscribe<std_msgs::Float32>(
+          nh_, w.prefix + "_tangent_vel_target", 10,
+          [this, k](const std_msgs::Float32::ConstPtr& m) { onTarget(k, m->data); },
           ros::TransportHints().tcpNoDelay());
     }
-    joint_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(nh_, "joint_states", 20, [this](const sensor_msgs::JointState& m) { onJointStates(m); },
-                               ros::TransportHints().tcpNoDelay());
-    timer_ = mybot_lockstep::Participant::instance().createTimer(period_, [this](const ros::TimerEvent& e) { onTimer(e); });
+    joint_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(
+        nh_, "joint_states", 20, [this](const sensor_msgs::JointState& m) { onJointStates(m); },
+        ros::TransportHints().tcpNoDelay());
+    timer_ =
+        mybot_lockstep::Participant::instance().createTimer(period_, [this](const ros::TimerEvent& e) { onTimer(e); });
     ROS_INFO("wheel_controller: radius %.4f/%.4f m, %.0f Hz, pid_on %s, output %s", wheels_[0].radius,
              wheels_[1].radius, rate, pid_on_ ? "true" : "false", interface.c_str());
   }
@@ -185,7 +187,7 @@ private:
         // Closed loop without a measurement is blind: stop rather than guess.
         if (target != 0.0)
           ROS_WARN_THROTTLE(2.0, "wheel_controller: pid_on but no recent joint_states for joint '%s'; motor stopped",
-                          w.joint.c_str());
+                            w.joint.c_str());
         w.pid.reset();
       }
       else
@@ -246,9 +248,11 @@ std::shared_ptr<void> makeWheelController(const ros::NodeHandle& nh, const ros::
 #ifndef MYBOT_CONTROL_NODE_LIBRARY
 int main(int argc, char** argv)
 {
-  return runNode(argc, argv, "wheel_controller", [] {
-    const auto node = mybot_control_nodes::makeWheelController(ros::NodeHandle(), ros::NodeHandle("~"));
-    ros::spin();
-  });
+  return runNode(argc, argv, "wheel_controller",
+                 []
+                 {
+                   const auto node = mybot_control_nodes::makeWheelController(ros::NodeHandle(), ros::NodeHandle("~"));
+                   ros::spin();
+                 });
 }
 #endif

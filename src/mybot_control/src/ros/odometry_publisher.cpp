@@ -12,7 +12,7 @@ namespace mybot_control
 
 OdometryPublisher::OdometryPublisher(const ParamReader& p, ros::NodeHandle& nh, ros::NodeHandle& pnh,
                                      std::function<void(const Pose2D&)> set_pose)
-  : set_pose_(std::move(set_pose))
+    : set_pose_(std::move(set_pose))
 {
   odom_frame_ = p.string("odom_frame_id", "odom");
   base_frame_ = p.string("base_frame_id", "base_footprint");

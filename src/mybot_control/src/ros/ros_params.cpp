@@ -167,7 +167,8 @@ PidConfig loadPid(const ParamReader& p, const std::string& name, bool required, 
       const std::string where = b + "schedule[" + std::to_string(k) + "]";
       if (list[k].getType() != XmlRpc::XmlRpcValue::TypeStruct || !list[k].hasMember("error"))
         p.fail(where, "must be a mapping with error, p, i, d");
-      auto get = [&](const char* key, double dflt) {
+      auto get = [&](const char* key, double dflt)
+      {
         if (!list[k].hasMember(key))
           return dflt;
         XmlRpc::XmlRpcValue& v = list[k][key];
@@ -220,7 +221,8 @@ double wheelRadius(const urdf::Model& model, const urdf::JointConstSharedPtr& jo
 }
 }  // namespace
 
-WheelGeometry wheelGeometryFromUrdf(const std::string& xml, const std::string& left_joint, const std::string& right_joint)
+WheelGeometry wheelGeometryFromUrdf(const std::string& xml, const std::string& left_joint,
+                                    const std::string& right_joint)
 {
   urdf::Model model;
   if (!model.initString(xml))

@@ -81,8 +81,8 @@ SwerveGeometry loadSwerveGeometry(const ParamReader& p, bool need_offsets, bool 
   {
     std::vector<Vec2> from_urdf;
     if (!all_offsets)
-      from_urdf = moduleOffsetsFromUrdf(robotDescription(p, "module offsets (" + p.full(g.modules[0] + "/offset") + ")"),
-                                        g.pivot_joints);
+      from_urdf = moduleOffsetsFromUrdf(
+          robotDescription(p, "module offsets (" + p.full(g.modules[0] + "/offset") + ")"), g.pivot_joints);
     for (std::size_t i = 0; i < g.modules.size(); ++i)
     {
       const std::string name = g.modules[i] + "/offset";
@@ -120,7 +120,8 @@ SwerveGeometry loadSwerveGeometry(const ParamReader& p, bool need_offsets, bool 
         g.wheel_radius = r;
       }
       if (!(g.wheel_radius > 0.0))
-        p.fail("wheel_radius", "must be > 0 (robot_description's wheel radius is " + std::to_string(g.wheel_radius) + ")");
+        p.fail("wheel_radius",
+               "must be > 0 (robot_description's wheel radius is " + std::to_string(g.wheel_radius) + ")");
     }
   }
   return g;

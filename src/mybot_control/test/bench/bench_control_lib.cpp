@@ -33,22 +33,28 @@ int main()
   {
     TwistLimiter lim(SpeedLimits::symmetric(1.0, 1.0, 5.0), SpeedLimits{}, SpeedLimits::symmetric(2.0, 2.0, 10.0));
     const DiffDriveKinematics kin(0.3, 0.1, 0.1);
-    std::printf("controller_step %.1f\n", nsPerCall([&](int k) {
-                  Twist2D t = lim.limit({0.5 + 1e-6 * (k & 7), 0.0, 0.3}, 0.02);
-                  WheelVelocities w = kin.toWheelTangent(t);
-                  desaturate(w, 1.0);
-                  sink = w.left;
-                }, n));
+    std::printf("controller_step %.1f\n", nsPerCall(
+                                              [&](int k)
+                                              {
+                                                Twist2D t = lim.limit({0.5 + 1e-6 * (k & 7), 0.0, 0.3}, 0.02);
+                                                WheelVelocities w = kin.toWheelTangent(t);
+                                                desaturate(w, 1.0);
+                                                sink = w.left;
+                                              },
+                                              n));
   }
   // diffdrive_odom per joint_states: one odometry update.
   {
     DiffDriveOdometry::Params p;
     p.velocity_window = 10;
     DiffDriveOdometry odom(p);
-    std::printf("odometry_update %.1f\n", nsPerCall([&](int k) {
-                  odom.update(0.01 * k, 0.011 * k, 0.02 * k);
-                  sink = odom.pose().x;
-                }, n));
+    std::printf("odometry_update %.1f\n", nsPerCall(
+                                              [&](int k)
+                                              {
+                                                odom.update(0.01 * k, 0.011 * k, 0.02 * k);
+                                                sink = odom.pose().x;
+                                              },
+                                              n));
   }
   // wheel_controller per wheel step: encoder + PID.
   {
@@ -62,10 +68,13 @@ int main()
     c.output_max = 12.0;
     Pid pid(c);
     WheelEncoder enc(2);
-    std::printf("wheel_pid_step %.1f\n", nsPerCall([&](int k) {
-                  enc.update(0.1 * k, 0.02 * k);
-                  sink = pid.compute(5.0, enc.velocity(), 0.02);
-                }, n));
+    std::printf("wheel_pid_step %.1f\n", nsPerCall(
+                                             [&](int k)
+                                             {
+                                               enc.update(0.1 * k, 0.02 * k);
+                                               sink = pid.compute(5.0, enc.velocity(), 0.02);
+                                             },
+                                             n));
   }
   // twist_mux per message: selection among 3 topics and 1 lock.
   {
@@ -74,11 +83,14 @@ int main()
     mux.addTopic({"key", "key_vel", 0.5, 90});
     mux.addTopic({"joy", "joy_vel", 0.5, 100});
     mux.addLock({"pause", "pause", 0.0, 100});
-    std::printf("mux_message %.1f\n", nsPerCall([&](int k) {
-                  const double t = 0.01 * k;
-                  mux.topicReceived(k % 3, t);
-                  sink = mux.shouldForward(k % 3, t) + mux.checkStop(t);
-                }, n));
+    std::printf("mux_message %.1f\n", nsPerCall(
+                                          [&](int k)
+                                          {
+                                            const double t = 0.01 * k;
+                                            mux.topicReceived(k % 3, t);
+                                            sink = mux.shouldForward(k % 3, t) + mux.checkStop(t);
+                                          },
+                                          n));
   }
   return 0;
 }

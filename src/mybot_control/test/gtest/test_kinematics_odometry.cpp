@@ -252,7 +252,7 @@ TEST(WheelEncoder, VelocityOverWindowWithWrapAndNaN)
   EXPECT_TRUE(enc.valid());
   EXPECT_NEAR(enc.velocity(), 1.0, 1e-9);
   EXPECT_FALSE(enc.update(std::numeric_limits<double>::quiet_NaN(), 0.2));
-  EXPECT_FALSE(enc.update(3.3, 0.1));  // stale stamp
+  EXPECT_FALSE(enc.update(3.3, 0.1));            // stale stamp
   EXPECT_TRUE(enc.update(wrapAngle(3.5), 0.2));  // window of 2 steps: (3.5 - 3.0) / 0.2
   EXPECT_NEAR(enc.velocity(), 2.5, 1e-9);
   EXPECT_TRUE(enc.update(wrapAngle(3.6), 0.3));  // (3.6 - 3.1) / 0.2

@@ -21,8 +21,8 @@ struct Plant
 
 struct StepResult
 {
-  double overshoot = 0.0;     // fraction of the step
-  double settle_time = 1e9;   // s, last time outside +/-2 %
+  double overshoot = 0.0;    // fraction of the step
+  double settle_time = 1e9;  // s, last time outside +/-2 %
   double final_value = 0.0;
   bool ever_saturated = false;
 };
@@ -122,7 +122,7 @@ TEST(Pid, DerivativeOnMeasurementHasNoSetpointKick)
   c.d = 1.0;
   Pid pid(c);
   pid.compute(0.0, 0.0, 0.01);
-  EXPECT_EQ(pid.compute(100.0, 0.0, 0.01), 0.0);  // setpoint step, measurement still
+  EXPECT_EQ(pid.compute(100.0, 0.0, 0.01), 0.0);            // setpoint step, measurement still
   EXPECT_NEAR(pid.compute(100.0, 0.1, 0.01), -10.0, 1e-9);  // measurement rises 10/s
 }
 
@@ -198,8 +198,8 @@ TEST(Pid, GainScheduleNearestKey)
   c.p = 100.0;  // ignored while a schedule exists
   c.schedule = {{1.0, 1.0, 0.0, 0.0}, {2.0, 3.0, 0.0, 0.0}};
   Pid pid(c);
-  EXPECT_DOUBLE_EQ(pid.compute(0.4, 0.0, 0.01), 0.4);   // |e| 0.4 -> key 1.0 -> p 1
-  EXPECT_DOUBLE_EQ(pid.compute(1.6, 0.0, 0.01), 4.8);   // |e| 1.6 -> key 2.0 -> p 3
+  EXPECT_DOUBLE_EQ(pid.compute(0.4, 0.0, 0.01), 0.4);  // |e| 0.4 -> key 1.0 -> p 1
+  EXPECT_DOUBLE_EQ(pid.compute(1.6, 0.0, 0.01), 4.8);  // |e| 1.6 -> key 2.0 -> p 3
   EXPECT_DOUBLE_EQ(pid.compute(-5.0, 0.0, 0.01), -15.0);
 }
 
@@ -265,7 +265,8 @@ TEST(Pid, NoReverseKeepsAWheelBelowItsDeadBandFromSwinging)
   // A motor behind the GoPiGo tutorial's motor map: any non-zero request turns the wheel at
   // 1.28 rad/s at least. Asked for 0.3 rad/s, the trim must pulse the wheel forward (mean near
   // the target), not drive it backwards.
-  auto run = [](bool no_reverse, double* mean, double* min_speed) {
+  auto run = [](bool no_reverse, double* mean, double* min_speed)
+  {
     PidConfig c;
     c.p = 1.0;
     c.i = 10.0;

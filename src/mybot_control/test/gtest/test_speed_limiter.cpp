@@ -180,7 +180,8 @@ TEST(SpeedLimiter, ValidateNamesTheField)
 
 TEST(TwistLimiter, LimitsEachAxisAndKeepsHistory)
 {
-  TwistLimiter lim(SpeedLimits::symmetric(1.0, 1.0), SpeedLimits::symmetric(0.5, 0.5), SpeedLimits::symmetric(2.0, 2.0));
+  TwistLimiter lim(SpeedLimits::symmetric(1.0, 1.0), SpeedLimits::symmetric(0.5, 0.5),
+                   SpeedLimits::symmetric(2.0, 2.0));
   Twist2D out;
   for (int k = 0; k < 25; ++k)
     out = lim.limit({10.0, -10.0, 10.0}, 0.02);

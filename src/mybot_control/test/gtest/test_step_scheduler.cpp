@@ -9,7 +9,7 @@ TEST(StepScheduler, EventsDriveAndTimerTakesOverWhenTheyStop)
   StepScheduler s(0.02);
   double dt = 0.0;
   EXPECT_TRUE(s.onEvent(1.000, dt));
-  EXPECT_DOUBLE_EQ(dt, 0.02);  // first step: nominal period
+  EXPECT_DOUBLE_EQ(dt, 0.02);         // first step: nominal period
   EXPECT_FALSE(s.onTick(1.010, dt));  // events are driving
   EXPECT_TRUE(s.onEvent(1.020, dt));
   EXPECT_NEAR(dt, 0.02, 1e-12);
@@ -17,7 +17,7 @@ TEST(StepScheduler, EventsDriveAndTimerTakesOverWhenTheyStop)
   EXPECT_FALSE(s.onTick(1.040, dt));  // 20 ms < 1.25 periods
   EXPECT_TRUE(s.onTick(1.050, dt));   // events stopped: watchdog steps
   EXPECT_NEAR(dt, 0.03, 1e-12);
-  EXPECT_TRUE(s.onTick(1.070, dt));   // and keeps stepping every tick
+  EXPECT_TRUE(s.onTick(1.070, dt));  // and keeps stepping every tick
   EXPECT_NEAR(dt, 0.02, 1e-12);
 }
 

@@ -18,8 +18,18 @@ TwistMux exampleMux()
   mux.addLock({"joystick", "joy_priority", 0.0, 100});
   return mux;
 }
-enum { NAV, JOY, KEY };
-enum { PAUSE, LOOP, JOYLOCK };
+enum
+{
+  NAV,
+  JOY,
+  KEY
+};
+enum
+{
+  PAUSE,
+  LOOP,
+  JOYLOCK
+};
 }  // namespace
 
 TEST(TwistMux, ExampleConfigIsValid)
@@ -61,7 +71,7 @@ TEST(TwistMux, TimeGoingBackwardsLeavesNoSourceAlive)
   TwistMux mux = exampleMux();
   mux.topicReceived(JOY, 100.0);
   EXPECT_EQ(mux.active(100.2), JOY);
-  EXPECT_EQ(mux.active(0.1), -1);   // clock reset to 0.1 s
+  EXPECT_EQ(mux.active(0.1), -1);  // clock reset to 0.1 s
   mux.topicReceived(NAV, 0.2);
   EXPECT_TRUE(mux.shouldForward(NAV, 0.2));  // the joystick's stale stamp does not outrank it
 }

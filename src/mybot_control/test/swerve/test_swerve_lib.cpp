@@ -362,7 +362,14 @@ TEST(SwerveOdometry, ImuYawReplacesTheWheelsHeading)
   sim.step({0.4, 0.0, 0.0}, 0.02);
   EXPECT_TRUE(odom.update(sim.wheels, sim.pivots, t += 0.02, std::nan("")));
   EXPECT_NEAR(0.5, odom.pose().theta, 1e-9);
-  EXPECT_THROW(SwerveOdometry([] { auto p = odomParams(); p.wheel_radius = 0.0; return p; }()), std::invalid_argument);
+  EXPECT_THROW(SwerveOdometry(
+                   []
+                   {
+                     auto p = odomParams();
+                     p.wheel_radius = 0.0;
+                     return p;
+                   }()),
+               std::invalid_argument);
 }
 
 TEST(SwerveOdometry, MidStepPivotAngle)

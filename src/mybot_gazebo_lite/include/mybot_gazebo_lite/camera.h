@@ -13,10 +13,12 @@
 #include <memory>
 #include <vector>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
 // Pinhole intrinsics as gazebo_ros_camera_utils computes them (pixels).
-struct CameraIntrinsics {
+struct CameraIntrinsics
+{
   int width = 0, height = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0;
 };
@@ -26,13 +28,16 @@ struct CameraIntrinsics {
 CameraIntrinsics gazeboIntrinsics(int width, int height, double hfov, double focal = 0, double cx = 0, double cy = 0);
 
 // A level camera: optical axis along yaw in the world's horizontal plane.
-struct CameraPose {
+struct CameraPose
+{
   double x = 0, y = 0, z = 0, yaw = 0;
 };
 
-class PrismScene {
- public:
-  struct Prism {
+class PrismScene
+{
+public:
+  struct Prism
+  {
     double zmin, zmax;
     float color[3];
   };
@@ -41,7 +46,8 @@ class PrismScene {
   bool ground() const { return ground_; }
 
   // The prism entered/exited by a horizontal ray, with the entry's 2D normal.
-  struct ColumnHit {
+  struct ColumnHit
+  {
     int prism;
     double t_in, t_out;  // along the unit 2D direction
     double nx, ny;
@@ -49,7 +55,7 @@ class PrismScene {
   // Hits sorted by t_in; scratch is reused between calls.
   void column(double x, double y, double dx, double dy, double max_range, std::vector<ColumnHit>& out) const;
 
- private:
+private:
   std::vector<Prism> prisms_;
   std::vector<Segment2> segments_;
   std::vector<Circle2> circles_;
@@ -59,7 +65,8 @@ class PrismScene {
   mutable std::vector<RayCaster2D::Crossing> crossings_;
 };
 
-struct RenderSettings {
+struct RenderSettings
+{
   double near = 0.1, far = 100.0;  // <clip>
 };
 
@@ -73,12 +80,13 @@ void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const Came
 
 // Cheap Gaussian noise for images: a table of N(0, 1) samples read from a
 // random start with a random odd stride, so a 640x480 frame costs no Box-Muller.
-class NoiseTable {
- public:
+class NoiseTable
+{
+public:
   explicit NoiseTable(uint32_t seed, size_t size = 1 << 18);
   void addToBytes(uint8_t* data, size_t n, double mean, double stddev);  // stddev in units of 255
   void addToFloats(float* data, size_t n, double mean, double stddev);   // only finite values
- private:
+private:
   size_t start(size_t* stride);
   std::vector<float> table_;
   uint64_t state_;

@@ -10,20 +10,31 @@
 #include <string>
 #include <vector>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
 // Thrown for malformed input; what() names the file and the element.
-class LoadError : public std::runtime_error {
- public:
+class LoadError : public std::runtime_error
+{
+public:
   using std::runtime_error::runtime_error;
 };
 
-struct Triangle {
+struct Triangle
+{
   btVector3 a, b, c;
 };
 
-struct Shape {
-  enum Type { BOX, CYLINDER, SPHERE, PLANE, MESH } type = BOX;
+struct Shape
+{
+  enum Type
+  {
+    BOX,
+    CYLINDER,
+    SPHERE,
+    PLANE,
+    MESH
+  } type = BOX;
   btVector3 size{0, 0, 0};        // box full extents
   double radius = 0, length = 0;  // cylinder (axis z) / sphere
   btVector3 normal{0, 0, 1};      // plane
@@ -37,36 +48,44 @@ struct Shape {
   double kp = 0, kd = 0;
 };
 
-struct Inertial {
+struct Inertial
+{
   double mass = 0;
   btTransform origin = btTransform::getIdentity();  // COM frame relative to link
   double ixx = 0, ixy = 0, ixz = 0, iyy = 0, iyz = 0, izz = 0;
 };
 
 // A generic XML subtree (plugin and sensor blocks) kept for the plugins.
-struct XmlNode {
+struct XmlNode
+{
   std::string name;
   std::string text;
   std::map<std::string, std::string> attributes;
   std::vector<XmlNode> children;
-  const XmlNode* child(const std::string& n) const {
+  const XmlNode* child(const std::string& n) const
+  {
     for (const auto& c : children)
-      if (c.name == n) return &c;
+      if (c.name == n)
+        return &c;
     return nullptr;
   }
-  std::vector<const XmlNode*> all(const std::string& n) const {
+  std::vector<const XmlNode*> all(const std::string& n) const
+  {
     std::vector<const XmlNode*> out;
     for (const auto& c : children)
-      if (c.name == n) out.push_back(&c);
+      if (c.name == n)
+        out.push_back(&c);
     return out;
   }
-  std::string attr(const std::string& k, const std::string& def = "") const {
+  std::string attr(const std::string& k, const std::string& def = "") const
+  {
     auto it = attributes.find(k);
     return it == attributes.end() ? def : it->second;
   }
 };
 
-struct LinkSpec {
+struct LinkSpec
+{
   std::string name;
   bool has_inertial = false;
   Inertial inertial;
@@ -74,8 +93,17 @@ struct LinkSpec {
   std::vector<XmlNode> sensors;  // <sensor> blocks from <gazebo reference>
 };
 
-struct JointSpec {
-  enum Type { FIXED, REVOLUTE, CONTINUOUS, PRISMATIC, FLOATING, PLANAR } type = FIXED;
+struct JointSpec
+{
+  enum Type
+  {
+    FIXED,
+    REVOLUTE,
+    CONTINUOUS,
+    PRISMATIC,
+    FLOATING,
+    PLANAR
+  } type = FIXED;
   std::string name, parent, child;
   btTransform origin = btTransform::getIdentity();  // child frame in parent frame
   btVector3 axis{1, 0, 0};
@@ -86,13 +114,15 @@ struct JointSpec {
 };
 
 // A URDF <transmission> (transmission_interface/SimpleTransmission): one joint, one actuator.
-struct TransmissionSpec {
+struct TransmissionSpec
+{
   std::string name, type, joint, actuator;
   std::vector<std::string> interfaces;  // "hardware_interface/EffortJointInterface" ... as written
   double reduction = 1.0;               // <mechanicalReduction>
 };
 
-struct PluginSpec {
+struct PluginSpec
+{
   std::string name, filename;
   std::string reference;  // link for sensor plugins, empty for model plugins
   XmlNode xml;            // the <plugin> element
@@ -100,7 +130,8 @@ struct PluginSpec {
   XmlNode sensor;  // owning <sensor> element for sensor plugins
 };
 
-struct RobotSpec {
+struct RobotSpec
+{
   std::string name;
   std::string source;  // file name or parameter, for messages
   std::vector<LinkSpec> links;
@@ -109,20 +140,25 @@ struct RobotSpec {
   std::vector<TransmissionSpec> transmissions;
   std::string root;
   std::vector<std::string> warnings;  // what the loader corrected, each naming its element; for the log
-  const LinkSpec* link(const std::string& n) const {
+  const LinkSpec* link(const std::string& n) const
+  {
     for (const auto& l : links)
-      if (l.name == n) return &l;
+      if (l.name == n)
+        return &l;
     return nullptr;
   }
-  const JointSpec* joint(const std::string& n) const {
+  const JointSpec* joint(const std::string& n) const
+  {
     for (const auto& j : joints)
-      if (j.name == n) return &j;
+      if (j.name == n)
+        return &j;
     return nullptr;
   }
 };
 
 // World models (SDF links with shapes; static or dynamic rigid bodies).
-struct WorldLink {
+struct WorldLink
+{
   std::string name;
   btTransform pose = btTransform::getIdentity();  // relative to model
   double mass = 1.0;
@@ -132,7 +168,8 @@ struct WorldLink {
   float color[3] = {0.7f, 0.7f, 0.7f};
 };
 
-struct WorldModel {
+struct WorldModel
+{
   std::string name;
   btTransform pose = btTransform::getIdentity();
   bool is_static = true;
@@ -140,14 +177,16 @@ struct WorldModel {
 };
 
 // A world's <physics> block; each value only when the world sets it (launch parameters win).
-struct PhysicsSpec {
+struct PhysicsSpec
+{
   bool has_step = false, has_iterations = false, has_real_time_factor = false;
   double max_step_size = 0.001;
   int iterations = 10;  // <ode><solver><iters> (or <bullet><solver><iters>)
   double real_time_factor = 1.0;
 };
 
-struct WorldSpec {
+struct WorldSpec
+{
   std::string name = "default";
   PhysicsSpec physics;
   std::string source;

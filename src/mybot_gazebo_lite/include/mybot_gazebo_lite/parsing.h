@@ -8,11 +8,13 @@
 #include <functional>
 #include <string>
 
-namespace tinyxml2 {
+namespace tinyxml2
+{
 class XMLElement;
 }
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
 // Resolves package:// and model:// URIs and plain paths to a file path.
 // Returns "" when not found. Relative paths resolve against base_dir.
@@ -23,8 +25,7 @@ std::string defaultResolveUri(const std::string& uri, const std::string& base_di
 std::string findPackage(const std::string& pkg);
 
 // Parses a URDF document. `source` names the file/parameter in error messages.
-RobotSpec parseUrdf(const std::string& xml, const std::string& source,
-                    const UriResolver& resolver = defaultResolveUri);
+RobotSpec parseUrdf(const std::string& xml, const std::string& source, const UriResolver& resolver = defaultResolveUri);
 
 // Loads a world: .yaml -> occupancy-image floor plan, anything else -> SDF. An image with more
 // than max_image_side pixels on a side is refused (from its header, before decoding).

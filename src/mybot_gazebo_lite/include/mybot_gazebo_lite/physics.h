@@ -24,24 +24,35 @@ class btMultiBodyConstraintSolver;
 class btMultiBodyConstraint;
 class btPersistentManifold;
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
 // One collision's contact surface: its friction (the smaller of Gazebo's mu1, mu2). Contacts are
 // rigid: see the README's Gazebo tags for kp, kd.
-struct Surface {
+struct Surface
+{
   double mu = 1.0;
 };
 
-struct Pose {
+struct Pose
+{
   btTransform tf = btTransform::getIdentity();
   btVector3 linear{0, 0, 0};   // world-frame velocity of the frame origin
   btVector3 angular{0, 0, 0};  // world-frame angular velocity
 };
 
-class Robot {
- public:
-  enum class Mode { NONE, VELOCITY, POSITION, EFFORT };
-  struct Joint {
+class Robot
+{
+public:
+  enum class Mode
+  {
+    NONE,
+    VELOCITY,
+    POSITION,
+    EFFORT
+  };
+  struct Joint
+  {
     const JointSpec* spec = nullptr;
     int link = -1;  // btMultiBody link index
     btMultiBodyJointMotor* motor = nullptr;
@@ -50,7 +61,8 @@ class Robot {
     double target = 0, max_effort = 0, target_velocity = 0;
   };
   // A URDF link lives in a body (-1 = multibody base, else link index).
-  struct LinkRef {
+  struct LinkRef
+  {
     int body = -1;
     btTransform in_body_inertial;  // URDF link frame in the body's inertial frame
   };
@@ -87,14 +99,16 @@ class Robot {
 
   // Penetrating contacts with world models and other robots (never the ground plane), counted
   // by the physics engine at every step since spawn or the last world reset.
-  struct Contacts {
+  struct Contacts
+  {
     uint64_t steps = 0;            // steps with at least one contact
     double max_depth = 0;          // deepest penetration (m)
     double first_time = -1;        // sim time of the first contact (s), -1 = none yet
     std::string first_model;       // what it touched first
     std::vector<std::string> now;  // what it touches at the last step
     // Every contact point of the last step, with the ground too (bumpers).
-    struct Point {
+    struct Point
+    {
       std::vector<std::string> links;  // the URDF links of the body that touched
       std::string other;               // model name, "ground_plane" for the ground
       btVector3 position, normal;      // world frame; normal points from the other body into ours
@@ -107,7 +121,7 @@ class Robot {
   // Contacts::points are gathered only for robots that ask (a bumper): they cost a string per point.
   void recordContactPoints(bool on) { record_points_ = on; }
 
- private:
+private:
   friend class PhysicsWorld;
   std::string name_, ns_;
   std::shared_ptr<const RobotSpec> spec_;
@@ -126,16 +140,19 @@ class Robot {
 };
 
 // A collision object that may intersect a sensor ray (robots and dynamic world bodies).
-struct DynamicObstacle {
+struct DynamicObstacle
+{
   const btCollisionObject* object;
   btVector3 center;  // AABB centre
   double radius;     // bounding sphere radius
   double zmin, zmax;
 };
 
-class PhysicsWorld {
- public:
-  struct Options {
+class PhysicsWorld
+{
+public:
+  struct Options
+  {
     double step = 0.001;
     int solver_iterations = 10;
   };
@@ -158,7 +175,11 @@ class PhysicsWorld {
 
   // Robots back to their spawn poses at rest, dynamic world models to their initial poses.
   void resetWorld();
-  void resetTime() { time_ = 0; steps_ = 0; }
+  void resetTime()
+  {
+    time_ = 0;
+    steps_ = 0;
+  }
 
   // Sets the velocity of a robot's root link frame (world frame), for the next step.
   void setRobotVelocity(Robot& r, const btVector3& lin, const btVector3& ang);
@@ -173,7 +194,7 @@ class PhysicsWorld {
   // Closest hit of a ray against all collision objects except those of `exclude`; -1 when missed.
   double rayTest(const btVector3& from, const btVector3& to, const Robot* exclude) const;
 
- private:
+private:
   void addWorldModel(const WorldModel& m);
   void updateContacts();
   void recordPoints(const btPersistentManifold* m);
@@ -194,7 +215,8 @@ class PhysicsWorld {
   std::unique_ptr<btMultiBodyConstraintSolver> solver_;
   std::unique_ptr<btMultiBodyDynamicsWorld> world_;
   std::vector<std::unique_ptr<Robot>> robots_;
-  struct WorldBody {
+  struct WorldBody
+  {
     std::string model;
     btCollisionObject* obj;
     btRigidBody* body;  // null for static

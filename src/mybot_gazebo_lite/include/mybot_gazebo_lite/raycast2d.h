@@ -6,18 +6,22 @@
 
 #include <vector>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-struct Segment2 {
+struct Segment2
+{
   double x0, y0, x1, y1;
 };
-struct Circle2 {
+struct Circle2
+{
   double cx, cy, r;
 };
 
 // Cross-section of solids at a height: convex polygons (boxes, tilted
 // cylinders), circles (upright cylinders, spheres) and loose segments (meshes).
-struct Slice2D {
+struct Slice2D
+{
   std::vector<std::vector<std::pair<double, double>>> polygons;
   std::vector<Circle2> circles;
   std::vector<Segment2> segments;  // mesh cuts
@@ -29,8 +33,9 @@ struct Slice2D {
 Slice2D sliceWorld(const WorldSpec& world, double z, bool include_dynamic = false);
 void sliceShape(const Shape& s, const btTransform& world_tf, double z, Slice2D& out);
 
-class RayCaster2D {
- public:
+class RayCaster2D
+{
+public:
   explicit RayCaster2D(const Slice2D& slice, double cell = 0.25);
   // Distance to the first hit along the unit direction (dx, dy), or +inf beyond max_range.
   double cast(double x, double y, double dx, double dy, double max_range) const;
@@ -38,7 +43,8 @@ class RayCaster2D {
 
   // One crossing of the ray with a segment (index into the slice's allSegments()
   // order) or a circle boundary (index into its circles).
-  struct Crossing {
+  struct Crossing
+  {
     double t;
     int index;
     bool circle;
@@ -47,8 +53,9 @@ class RayCaster2D {
   // need entry and exit of every solid, not just the first hit).
   void castAll(double x, double y, double dx, double dy, double max_range, std::vector<Crossing>& out) const;
 
- private:
-  struct Cell {
+private:
+  struct Cell
+  {
     std::vector<int> segs, circles;
   };
   template <class F>

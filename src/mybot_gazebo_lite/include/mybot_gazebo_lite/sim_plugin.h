@@ -22,22 +22,25 @@
 #include <set>
 #include <string>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
 // Static world cross-sections shared by all lasers (one per height).
-class StaticSliceCache {
- public:
+class StaticSliceCache
+{
+public:
   explicit StaticSliceCache(const WorldSpec& w) : world_(w) {}
   const RayCaster2D& at(double z);
   const PrismScene& prisms();  // the cameras' 2.5D view, built on first use
 
- private:
+private:
   const WorldSpec& world_;
   std::map<long, std::unique_ptr<RayCaster2D>> cache_;
   std::unique_ptr<PrismScene> prisms_;
 };
 
-struct PluginContext {
+struct PluginContext
+{
   PhysicsWorld* world;
   Robot* robot;
   const PluginSpec* spec;
@@ -53,13 +56,16 @@ struct PluginContext {
 // participant sent for it is handled) and queued deep enough that none is dropped; otherwise
 // only the latest matters (queue of 1).
 template <class M, class F>
-ros::Subscriber subscribeCommand(const PluginContext& c, ros::NodeHandle& nh, const std::string& topic, F cb) {
-  if (c.lockstep) return c.lockstep->subscribe<M>(nh, topic, 100, cb);
+ros::Subscriber subscribeCommand(const PluginContext& c, ros::NodeHandle& nh, const std::string& topic, F cb)
+{
+  if (c.lockstep)
+    return c.lockstep->subscribe<M>(nh, topic, 100, cb);
   return nh.subscribe<M>(topic, 1, boost::function<void(const typename M::ConstPtr&)>(cb));
 }
 
-class SimPlugin {
- public:
+class SimPlugin
+{
+public:
   virtual ~SimPlugin() = default;
   virtual void preStep(double /*t*/) {}  // apply commands
   virtual void update(double t) = 0;     // after a physics step
@@ -67,8 +73,9 @@ class SimPlugin {
 };
 
 // Reads plugin/sensor parameters; every error names tag, link and file.
-class PluginParams {
- public:
+class PluginParams
+{
+public:
   PluginParams(const PluginContext& c, const XmlNode& x) : c_(c), x_(x) {}
   [[noreturn]] void fail(const std::string& tag, const std::string& msg) const;
   const XmlNode* node(const std::string& path) const;  // "a/b/c"
@@ -80,14 +87,14 @@ class PluginParams {
   double requiredNum(const std::string& tag) const;
   bool boolean(const std::string& tag, bool def) const;
   std::string joint(const std::string& tag, const std::string& def) const;  // must be a movable joint
-  btTransform pose(const std::string& tag) const;                            // "x y z r p y"
+  btTransform pose(const std::string& tag) const;                           // "x y z r p y"
   // Whether any plugin looked this child of a <plugin> block up (warnUnknownTags uses it).
   static bool wasRead(const XmlNode& child);
   // Clears the record for `parent`'s children (before and after a plugin is made: a later spec
   // may be allocated where this one was).
   static void forgetReads(const XmlNode& parent);
 
- private:
+private:
   double parse(const std::string& tag, const std::string& t) const;
   const PluginContext& c_;
   const XmlNode& x_;
@@ -95,13 +102,18 @@ class PluginParams {
 
 // Fires at a fixed sim-time period (0 = every step). Time going backwards (reset_simulation
 // sends the clock back, as Gazebo does) starts it over: the next step fires.
-struct Rate {
+struct Rate
+{
   double period = 0, next = 0, last = -1;
   explicit Rate(double hz = 0) : period(hz > 0 ? 1.0 / hz : 0) {}
-  bool due(double t) {
-    if (period <= 0) return true;
-    if (t < last) next = t;
-    if (t + 1e-9 < next) return false;
+  bool due(double t)
+  {
+    if (period <= 0)
+      return true;
+    if (t < last)
+      next = t;
+    if (t + 1e-9 < next)
+      return false;
     last = t;
     next = (next + period < t) ? t + period : next + period;
     return true;
@@ -122,10 +134,10 @@ void warnUnknownTags(const PluginContext& c, const std::set<std::string>& known)
 
 // A plugin library's factory: throws LoadError naming tag, link and file on a bad parameter.
 using PluginFactory = SimPlugin* (*)(const PluginContext&);
-#define MYBOT_GAZEBO_LITE_PLUGIN(CLASS)                                                                \
-  extern "C" mybot_gazebo_lite::SimPlugin* mybot_gazebo_lite_create_plugin(                            \
-      const mybot_gazebo_lite::PluginContext& c) {                                                     \
-    return new CLASS(c);                                                                               \
+#define MYBOT_GAZEBO_LITE_PLUGIN(CLASS)                                                                               \
+  extern "C" mybot_gazebo_lite::SimPlugin* mybot_gazebo_lite_create_plugin(const mybot_gazebo_lite::PluginContext& c) \
+  {                                                                                                                   \
+    return new CLASS(c);                                                                                              \
   }
 
 // nullptr + one warning naming the file when the plugin is unknown.

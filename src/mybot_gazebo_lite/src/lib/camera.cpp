@@ -5,42 +5,50 @@
 #include <limits>
 #include <random>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
+namespace
+{
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // World z-extent of a shape (the prism's height range).
-bool zExtent(const Shape& s, const btTransform& tf, double& zmin, double& zmax) {
+bool zExtent(const Shape& s, const btTransform& tf, double& zmin, double& zmax)
+{
   zmin = kInf;
   zmax = -kInf;
-  auto add = [&](double z) {
+  auto add = [&](double z)
+  {
     zmin = std::min(zmin, z);
     zmax = std::max(zmax, z);
   };
   const double cz = tf.getOrigin().z();
-  switch (s.type) {
+  switch (s.type)
+  {
     case Shape::PLANE:
       return false;
     case Shape::SPHERE:
       add(cz - s.radius);
       add(cz + s.radius);
       return true;
-    case Shape::CYLINDER: {
+    case Shape::CYLINDER:
+    {
       double az = std::abs(tf.getBasis().getColumn(2).z());
       double h = az * s.length / 2 + s.radius * std::sqrt(std::max(0.0, 1 - az * az));
       add(cz - h);
       add(cz + h);
       return true;
     }
-    case Shape::BOX: {
+    case Shape::BOX:
+    {
       btVector3 h = s.size * 0.5;
       for (int i = 0; i < 8; ++i)
         add((tf * btVector3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z())).z());
       return true;
     }
     case Shape::MESH:
-      for (const auto& t : *s.triangles) {
+      for (const auto& t : *s.triangles)
+      {
         add((tf * t.a).z());
         add((tf * t.b).z());
         add((tf * t.c).z());
@@ -50,10 +58,14 @@ bool zExtent(const Shape& s, const btTransform& tf, double& zmin, double& zmax) 
   return false;
 }
 
-inline uint8_t toByte(double v) { return static_cast<uint8_t>(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5); }
+inline uint8_t toByte(double v)
+{
+  return static_cast<uint8_t>(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5);
+}
 }  // namespace
 
-CameraIntrinsics gazeboIntrinsics(int width, int height, double hfov, double focal, double cx, double cy) {
+CameraIntrinsics gazeboIntrinsics(int width, int height, double hfov, double focal, double cx, double cy)
+{
   CameraIntrinsics k;
   k.width = width;
   k.height = height;
@@ -63,25 +75,33 @@ CameraIntrinsics gazeboIntrinsics(int width, int height, double hfov, double foc
   return k;
 }
 
-PrismScene::PrismScene(const WorldSpec& world, double cell) : ground_(world.ground_plane) {
-  for (const auto& m : world.models) {
-    if (!m.is_static) continue;  // dynamic bodies move; the cameras draw the static world only
+PrismScene::PrismScene(const WorldSpec& world, double cell) : ground_(world.ground_plane)
+{
+  for (const auto& m : world.models)
+  {
+    if (!m.is_static)
+      continue;  // dynamic bodies move; the cameras draw the static world only
     for (const auto& l : m.links)
-      for (const auto& s : l.shapes) {
+      for (const auto& s : l.shapes)
+      {
         btTransform tf = m.pose * l.pose * s.pose;
         Prism p;
-        if (!zExtent(s, tf, p.zmin, p.zmax) || p.zmax - p.zmin < 1e-9) continue;
+        if (!zExtent(s, tf, p.zmin, p.zmax) || p.zmax - p.zmin < 1e-9)
+          continue;
         Slice2D cut;
         sliceShape(s, tf, 0.5 * (p.zmin + p.zmax), cut);
-        if (cut.empty()) continue;
+        if (cut.empty())
+          continue;
         std::copy(l.color, l.color + 3, p.color);
         const int id = static_cast<int>(prisms_.size());
         prisms_.push_back(p);
-        for (const auto& seg : cut.allSegments()) {
+        for (const auto& seg : cut.allSegments())
+        {
           segments_.push_back(seg);
           seg_prism_.push_back(id);
         }
-        for (const auto& c : cut.circles) {
+        for (const auto& c : cut.circles)
+        {
           circles_.push_back(c);
           circle_prism_.push_back(id);
         }
@@ -93,28 +113,35 @@ PrismScene::PrismScene(const WorldSpec& world, double cell) : ground_(world.grou
   caster_ = std::make_unique<RayCaster2D>(all, cell);
 }
 
-void PrismScene::column(double x, double y, double dx, double dy, double max_range, std::vector<ColumnHit>& out) const {
+void PrismScene::column(double x, double y, double dx, double dy, double max_range, std::vector<ColumnHit>& out) const
+{
   out.clear();
   caster_->castAll(x, y, dx, dy, max_range, crossings_);
-  for (const auto& c : crossings_) {
+  for (const auto& c : crossings_)
+  {
     const int prism = c.circle ? circle_prism_[c.index] : seg_prism_[c.index];
     double nx, ny;
-    if (c.circle) {
+    if (c.circle)
+    {
       const Circle2& ci = circles_[c.index];
       nx = (x + dx * c.t - ci.cx) / ci.r;
       ny = (y + dy * c.t - ci.cy) / ci.r;
-    } else {
+    }
+    else
+    {
       const Segment2& s = segments_[c.index];
       double ex = s.x1 - s.x0, ey = s.y1 - s.y0, len = std::hypot(ex, ey);
       nx = len > 0 ? -ey / len : 0;
       ny = len > 0 ? ex / len : 0;
     }
     auto it = std::find_if(out.begin(), out.end(), [&](const ColumnHit& h) { return h.prism == prism; });
-    if (it == out.end()) {
+    if (it == out.end())
+    {
       out.push_back({prism, c.t, c.t, nx, ny});
       continue;
     }
-    if (c.t < it->t_in) {
+    if (c.t < it->t_in)
+    {
       it->t_in = c.t;
       it->nx = nx;
       it->ny = ny;
@@ -125,7 +152,8 @@ void PrismScene::column(double x, double y, double dx, double dy, double max_ran
 }
 
 void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const CameraPose& pose, const RenderSettings& s,
-                  uint8_t* rgb, float* depth) {
+                  uint8_t* rgb, float* depth)
+{
   const int w = k.width, h = k.height;
   const double fwx = std::cos(pose.yaw), fwy = std::sin(pose.yaw);
   const double rx = fwy, ry = -fwx;  // image x (right) in the world
@@ -135,42 +163,53 @@ void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const Came
   // Per-row vertical slope of the pixel ray: z = zc + m * depth.
   // Floor depth, haze and sky colour depend on the row only.
   std::vector<double> slope(h), floor_d(h), fog(h), sky(3 * h);
-  for (int v = 0; v < h; ++v) {
+  for (int v = 0; v < h; ++v)
+  {
     const double m = slope[v] = -(v - k.cy) / k.fy;
     floor_d[v] = (scene.ground() && m < 0 && zc > 0) ? zc / -m : kInf;
-    fog[v] = 1 - std::exp(-floor_d[v] / 30.0);  // checker fades into haze: no aliasing at the horizon
+    fog[v] = 1 - std::exp(-floor_d[v] / 30.0);     // checker fades into haze: no aliasing at the horizon
     const double e = std::clamp(m * 2, 0.0, 1.0);  // sky: pale at the horizon, blue above
     sky[3 * v] = 0.75 - 0.3 * e;
     sky[3 * v + 1] = 0.85 - 0.2 * e;
     sky[3 * v + 2] = 0.95 - 0.05 * e;
   }
-  for (int u = 0; u < w; ++u) {
+  for (int u = 0; u < w; ++u)
+  {
     const double a = (u - k.cx) / k.fx;
     const double kn = std::sqrt(1 + a * a);  // 2D ray length per unit of depth
     const double dx = (fwx + a * rx) / kn, dy = (fwy + a * ry) / kn;
     scene.column(pose.x, pose.y, dx, dy, s.far * kn, hits);
-    for (int v = 0; v < h; ++v) {
+    for (int v = 0; v < h; ++v)
+    {
       const double m = slope[v];
       const double d_floor = floor_d[v];
       double d = kInf, shade = 0;
       const PrismScene::Prism* hit = nullptr;
-      for (const auto& c : hits) {
+      for (const auto& c : hits)
+      {
         const double din = c.t_in / kn, dout = c.t_out / kn;
-        if (din >= d_floor || din > s.far) break;
+        if (din >= d_floor || din > s.far)
+          break;
         const PrismScene::Prism& p = prisms[c.prism];
         const double zin = zc + m * din;
         double dh = kInf, sh = 0;
-        if (zin >= p.zmin && zin <= p.zmax) {
+        if (zin >= p.zmin && zin <= p.zmax)
+        {
           dh = din;  // side face, lit by the angle between ray and normal
           sh = 0.3 + 0.7 * std::abs(dx * c.nx + dy * c.ny);
-        } else if (zin > p.zmax && m < 0) {
+        }
+        else if (zin > p.zmax && m < 0)
+        {
           dh = (p.zmax - zc) / m;
           sh = 0.95;  // top face
-        } else if (zin < p.zmin && m > 0) {
+        }
+        else if (zin < p.zmin && m > 0)
+        {
           dh = (p.zmin - zc) / m;
           sh = 0.25;  // underside
         }
-        if (dh <= dout + 1e-9 && dh >= s.near && dh <= s.far) {
+        if (dh <= dout + 1e-9 && dh >= s.near && dh <= s.far)
+        {
           d = dh;
           shade = sh;
           hit = &p;
@@ -178,35 +217,50 @@ void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const Came
         }
       }
       const bool floor = !hit && d_floor >= s.near && d_floor <= s.far;
-      if (floor) d = d_floor;
+      if (floor)
+        d = d_floor;
       const size_t idx = static_cast<size_t>(v) * w + u;
-      if (depth) depth[idx] = static_cast<float>(d);
-      if (!rgb) continue;
+      if (depth)
+        depth[idx] = static_cast<float>(d);
+      if (!rgb)
+        continue;
       double c[3];
-      if (hit) {
-        for (int i = 0; i < 3; ++i) c[i] = hit->color[i] * shade;
-      } else if (floor) {
+      if (hit)
+      {
+        for (int i = 0; i < 3; ++i)
+          c[i] = hit->color[i] * shade;
+      }
+      else if (floor)
+      {
         const double px = pose.x + dx * d * kn, py = pose.y + dy * d * kn;
         const double g = ((static_cast<long>(std::floor(px)) + static_cast<long>(std::floor(py))) & 1) ? 0.55 : 0.42;
-        for (double& ci : c) ci = g * (1 - fog[v]) + 0.7 * fog[v];
-      } else {
+        for (double& ci : c)
+          ci = g * (1 - fog[v]) + 0.7 * fog[v];
+      }
+      else
+      {
         std::copy(&sky[3 * v], &sky[3 * v] + 3, c);
       }
-      for (int i = 0; i < 3; ++i) rgb[idx * 3 + i] = toByte(c[i]);
+      for (int i = 0; i < 3; ++i)
+        rgb[idx * 3 + i] = toByte(c[i]);
     }
   }
 }
 
-NoiseTable::NoiseTable(uint32_t seed, size_t size) : state_(seed * 2654435761ull + 1) {
+NoiseTable::NoiseTable(uint32_t seed, size_t size) : state_(seed * 2654435761ull + 1)
+{
   size_t len = 2;
-  while (len < size) len <<= 1;  // power of two, so an odd stride visits every entry
+  while (len < size)
+    len <<= 1;  // power of two, so an odd stride visits every entry
   table_.resize(len);
   std::mt19937 gen(seed);
   std::normal_distribution<float> n(0, 1);
-  for (auto& x : table_) x = n(gen);
+  for (auto& x : table_)
+    x = n(gen);
 }
 
-size_t NoiseTable::start(size_t* stride) {
+size_t NoiseTable::start(size_t* stride)
+{
   auto next = [&]() {  // xorshift64
     state_ ^= state_ << 13;
     state_ ^= state_ >> 7;
@@ -217,18 +271,21 @@ size_t NoiseTable::start(size_t* stride) {
   return next() % table_.size();
 }
 
-void NoiseTable::addToBytes(uint8_t* data, size_t n, double mean, double stddev) {
+void NoiseTable::addToBytes(uint8_t* data, size_t n, double mean, double stddev)
+{
   size_t stride, i = start(&stride);
   const size_t mask = table_.size() - 1;
   for (size_t j = 0; j < n; ++j, i = (i + stride) & mask)
     data[j] = toByte(data[j] / 255.0 + mean + stddev * table_[i]);
 }
 
-void NoiseTable::addToFloats(float* data, size_t n, double mean, double stddev) {
+void NoiseTable::addToFloats(float* data, size_t n, double mean, double stddev)
+{
   size_t stride, i = start(&stride);
   const size_t mask = table_.size() - 1;
   for (size_t j = 0; j < n; ++j, i = (i + stride) & mask)
-    if (std::isfinite(data[j])) data[j] = static_cast<float>(data[j] + mean + stddev * table_[i]);
+    if (std::isfinite(data[j]))
+      data[j] = static_cast<float>(data[j] + mean + stddev * table_[i]);
 }
 
 }  // namespace mybot_gazebo_lite

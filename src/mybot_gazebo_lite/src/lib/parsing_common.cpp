@@ -14,32 +14,41 @@
 #include <dirent.h>
 #include <sys/stat.h>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
-bool fileExists(const std::string& p) {
+namespace
+{
+bool fileExists(const std::string& p)
+{
   struct stat st;
   return !p.empty() && stat(p.c_str(), &st) == 0;
 }
 
-std::vector<std::string> splitPathList(const char* env) {
+std::vector<std::string> splitPathList(const char* env)
+{
   std::vector<std::string> out;
-  if (!env) return out;
+  if (!env)
+    return out;
   std::stringstream ss(env);
   std::string item;
   while (std::getline(ss, item, ':'))
-    if (!item.empty()) out.push_back(item);
+    if (!item.empty())
+      out.push_back(item);
   return out;
 }
-bool isDir(const std::string& p) {
+bool isDir(const std::string& p)
+{
   struct stat st;
   return stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
 // The <name> of a package.xml, "" when there is none.
-std::string packageName(const std::string& dir) {
+std::string packageName(const std::string& dir)
+{
   tinyxml2::XMLDocument doc;
-  if (doc.LoadFile((dir + "/package.xml").c_str()) != tinyxml2::XML_SUCCESS) return "";
+  if (doc.LoadFile((dir + "/package.xml").c_str()) != tinyxml2::XML_SUCCESS)
+    return "";
   const tinyxml2::XMLElement* pkg = doc.FirstChildElement("package");
   const tinyxml2::XMLElement* name = pkg ? pkg->FirstChildElement("name") : nullptr;
   return name && name->GetText() ? name->GetText() : "";
@@ -47,70 +56,93 @@ std::string packageName(const std::string& dir) {
 
 // rospack's search, without ROS: the folders of ROS_PACKAGE_PATH and below them, a folder with a
 // package.xml being a package (not searched further), CATKIN_IGNORE'd folders skipped.
-std::string findPackageBelow(const std::string& dir, const std::string& pkg, int depth) {
-  if (fileExists(dir + "/package.xml")) return packageName(dir) == pkg ? dir : "";
-  if (depth <= 0 || fileExists(dir + "/CATKIN_IGNORE")) return "";
+std::string findPackageBelow(const std::string& dir, const std::string& pkg, int depth)
+{
+  if (fileExists(dir + "/package.xml"))
+    return packageName(dir) == pkg ? dir : "";
+  if (depth <= 0 || fileExists(dir + "/CATKIN_IGNORE"))
+    return "";
   DIR* d = opendir(dir.c_str());
-  if (!d) return "";
+  if (!d)
+    return "";
   std::vector<std::string> subdirs;
-  while (dirent* e = readdir(d)) {
+  while (dirent* e = readdir(d))
+  {
     const std::string n = e->d_name;
-    if (n.empty() || n[0] == '.') continue;
-    if (isDir(dir + "/" + n)) subdirs.push_back(dir + "/" + n);
+    if (n.empty() || n[0] == '.')
+      continue;
+    if (isDir(dir + "/" + n))
+      subdirs.push_back(dir + "/" + n);
   }
   closedir(d);
   std::sort(subdirs.begin(), subdirs.end());
   for (const auto& sd : subdirs)
-    if (std::string found = findPackageBelow(sd, pkg, depth - 1); !found.empty()) return found;
+    if (std::string found = findPackageBelow(sd, pkg, depth - 1); !found.empty())
+      return found;
   return "";
 }
 }  // namespace
 
-std::string findPackage(const std::string& pkg) {
+std::string findPackage(const std::string& pkg)
+{
   static std::mutex mtx;
   static std::map<std::string, std::string> cache;
   std::lock_guard<std::mutex> lock(mtx);
   auto it = cache.find(pkg);
-  if (it != cache.end()) return it->second;
+  if (it != cache.end())
+    return it->second;
   std::string found;
   const std::vector<std::string> roots = splitPathList(std::getenv("ROS_PACKAGE_PATH"));
   // The usual layout first (<root>/<pkg>, as Debian installs them), then the full search.
   for (const auto& root : roots)
-    if (packageName(root + "/" + pkg) == pkg) {
+    if (packageName(root + "/" + pkg) == pkg)
+    {
       found = root + "/" + pkg;
       break;
     }
   for (const auto& root : roots)
-    if (found.empty() && !(found = findPackageBelow(root, pkg, 6)).empty()) break;
-  if (!found.empty()) cache[pkg] = found;
+    if (found.empty() && !(found = findPackageBelow(root, pkg, 6)).empty())
+      break;
+  if (!found.empty())
+    cache[pkg] = found;
   return found;
 }
 
-std::string defaultResolveUri(const std::string& uri, const std::string& base_dir) {
-  if (uri.rfind("file://", 0) == 0) return fileExists(uri.substr(7)) ? uri.substr(7) : "";
-  if (uri.rfind("package://", 0) == 0) {
+std::string defaultResolveUri(const std::string& uri, const std::string& base_dir)
+{
+  if (uri.rfind("file://", 0) == 0)
+    return fileExists(uri.substr(7)) ? uri.substr(7) : "";
+  if (uri.rfind("package://", 0) == 0)
+  {
     std::string rest = uri.substr(10);
     auto slash = rest.find('/');
     std::string pkg = rest.substr(0, slash);
     std::string dir = findPackage(pkg);
-    if (dir.empty()) return "";
+    if (dir.empty())
+      return "";
     std::string p = dir + (slash == std::string::npos ? "" : rest.substr(slash));
     return fileExists(p) ? p : "";
   }
-  if (uri.rfind("model://", 0) == 0) {
+  if (uri.rfind("model://", 0) == 0)
+  {
     // Gazebo looks in GAZEBO_MODEL_PATH; we also accept <pkg>/models of every package path.
     std::string rest = uri.substr(8);
     std::vector<std::string> dirs = splitPathList(std::getenv("GAZEBO_MODEL_PATH"));
-    if (!base_dir.empty()) {
+    if (!base_dir.empty())
+    {
       dirs.push_back(base_dir + "/models");
       dirs.push_back(base_dir + "/../models");
     }
     std::string own = findPackage("mybot_gazebo_lite");
-    if (!own.empty()) dirs.push_back(own + "/models");
-    for (const auto& pp : splitPathList(std::getenv("ROS_PACKAGE_PATH"))) dirs.push_back(pp + "/../models");
-    for (const auto& d : dirs) {
+    if (!own.empty())
+      dirs.push_back(own + "/models");
+    for (const auto& pp : splitPathList(std::getenv("ROS_PACKAGE_PATH")))
+      dirs.push_back(pp + "/../models");
+    for (const auto& d : dirs)
+    {
       std::string p = d + "/" + rest;
-      if (fileExists(p)) return p;
+      if (fileExists(p))
+        return p;
     }
     return "";
   }
@@ -118,70 +150,88 @@ std::string defaultResolveUri(const std::string& uri, const std::string& base_di
   return fileExists(p) ? p : "";
 }
 
-btVector3 parseVec3(const std::string& s, const std::string& what) {
+btVector3 parseVec3(const std::string& s, const std::string& what)
+{
   std::istringstream is(s);
   double v[3];
   for (double& x : v)
-    if (!(is >> x) || !std::isfinite(x)) throw LoadError(what + ": expected 3 numbers, got '" + s + "'");
+    if (!(is >> x) || !std::isfinite(x))
+      throw LoadError(what + ": expected 3 numbers, got '" + s + "'");
   std::string extra;
-  if (is >> extra) throw LoadError(what + ": expected 3 numbers, got '" + s + "'");
+  if (is >> extra)
+    throw LoadError(what + ": expected 3 numbers, got '" + s + "'");
   return btVector3(v[0], v[1], v[2]);
 }
 
-btTransform makeTransform(const btVector3& xyz, const btVector3& rpy) {
+btTransform makeTransform(const btVector3& xyz, const btVector3& rpy)
+{
   btQuaternion q;
   q.setEulerZYX(rpy.z(), rpy.y(), rpy.x());  // URDF/SDF fixed-axis roll, pitch, yaw
   return btTransform(q, xyz);
 }
 
-btTransform parsePose6(const std::string& s, const std::string& what) {
+btTransform parsePose6(const std::string& s, const std::string& what)
+{
   std::istringstream is(s);
   double v[6];
   for (double& x : v)
-    if (!(is >> x) || !std::isfinite(x)) throw LoadError(what + ": expected 6 numbers 'x y z roll pitch yaw', got '" + s + "'");
+    if (!(is >> x) || !std::isfinite(x))
+      throw LoadError(what + ": expected 6 numbers 'x y z roll pitch yaw', got '" + s + "'");
   return makeTransform(btVector3(v[0], v[1], v[2]), btVector3(v[3], v[4], v[5]));
 }
 
-XmlNode toXmlNode(const tinyxml2::XMLElement* e) {
+XmlNode toXmlNode(const tinyxml2::XMLElement* e)
+{
   XmlNode n;
   n.name = e->Name();
-  if (e->GetText()) n.text = e->GetText();
+  if (e->GetText())
+    n.text = e->GetText();
   // Trim surrounding whitespace of text values.
   auto b = n.text.find_first_not_of(" \t\r\n");
   auto en = n.text.find_last_not_of(" \t\r\n");
   n.text = b == std::string::npos ? "" : n.text.substr(b, en - b + 1);
-  for (auto* a = e->FirstAttribute(); a; a = a->Next()) n.attributes[a->Name()] = a->Value();
-  for (auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) n.children.push_back(toXmlNode(c));
+  for (auto* a = e->FirstAttribute(); a; a = a->Next())
+    n.attributes[a->Name()] = a->Value();
+  for (auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement())
+    n.children.push_back(toXmlNode(c));
   return n;
 }
 
-std::shared_ptr<const std::vector<Triangle>> loadMesh(const std::string& path, const btVector3& scale) {
+std::shared_ptr<const std::vector<Triangle>> loadMesh(const std::string& path, const btVector3& scale)
+{
   static std::mutex mtx;
   static std::map<std::string, std::shared_ptr<const std::vector<Triangle>>> cache;
   std::ostringstream key;
   key << path << '|' << scale.x() << ',' << scale.y() << ',' << scale.z();
   std::lock_guard<std::mutex> lock(mtx);
   auto it = cache.find(key.str());
-  if (it != cache.end()) return it->second;
+  if (it != cache.end())
+    return it->second;
   Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                                     aiProcess_PreTransformVertices);
-  if (!scene || !scene->mRootNode) throw LoadError("mesh '" + path + "': " + importer.GetErrorString());
+  const aiScene* scene =
+      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices);
+  if (!scene || !scene->mRootNode)
+    throw LoadError("mesh '" + path + "': " + importer.GetErrorString());
   auto tris = std::make_shared<std::vector<Triangle>>();
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m)
+  {
     const aiMesh* mesh = scene->mMeshes[m];
-    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f)
+    {
       const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices != 3) continue;
+      if (face.mNumIndices != 3)
+        continue;
       btVector3 v[3];
-      for (int k = 0; k < 3; ++k) {
+      for (int k = 0; k < 3; ++k)
+      {
         const aiVector3D& p = mesh->mVertices[face.mIndices[k]];
         v[k] = btVector3(p.x * scale.x(), p.y * scale.y(), p.z * scale.z());
       }
       tris->push_back({v[0], v[1], v[2]});
     }
   }
-  if (tris->empty()) throw LoadError("mesh '" + path + "': no triangles");
+  if (tris->empty())
+    throw LoadError("mesh '" + path + "': no triangles");
   cache[key.str()] = tris;
   return tris;
 }

@@ -15,51 +15,63 @@
 #include <cmath>
 #include <functional>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
+namespace
+{
 constexpr int kStaticGroup = btBroadphaseProxy::StaticFilter;
 constexpr int kDynamicGroup = btBroadphaseProxy::DefaultFilter;
 
 // Per-child friction: colliders carry a pointer to one mu per compound child,
 // so a frictionless caster lumped into the chassis stays frictionless.
-Surface childSurface(const btCollisionObjectWrapper* w, int index) {
+Surface childSurface(const btCollisionObjectWrapper* w, int index)
+{
   const btCollisionObject* o = w->getCollisionObject();
   auto* s = static_cast<const std::vector<Surface>*>(o->getUserPointer());
-  if (s && index >= 0 && index < static_cast<int>(s->size())) return (*s)[index];
-  if (s && s->size() == 1) return (*s)[0];
+  if (s && index >= 0 && index < static_cast<int>(s->size()))
+    return (*s)[index];
+  if (s && s->size() == 1)
+    return (*s)[0];
   return Surface{o->getFriction()};
 }
 
 bool contactAdded(btManifoldPoint& cp, const btCollisionObjectWrapper* w0, int, int i0,
-                  const btCollisionObjectWrapper* w1, int, int i1) {
+                  const btCollisionObjectWrapper* w1, int, int i1)
+{
   cp.m_combinedFriction = std::min(childSurface(w0, i0).mu, childSurface(w1, i1).mu);  // ODE-style, as in Gazebo
   cp.m_combinedRestitution = 0;
   return true;
 }
 
-struct MassProps {
+struct MassProps
+{
   double mass = 0;
   btTransform inertial = btTransform::getIdentity();  // in body root frame
   btVector3 diag{0, 0, 0};
 };
 
-MassProps composite(const std::vector<std::pair<const LinkSpec*, btTransform>>& members) {
+MassProps composite(const std::vector<std::pair<const LinkSpec*, btTransform>>& members)
+{
   MassProps mp;
   Eigen::Vector3d com = Eigen::Vector3d::Zero();
-  struct Part {
+  struct Part
+  {
     double m;
     Eigen::Vector3d c;
     Eigen::Matrix3d I;
   };
   std::vector<Part> parts;
-  for (const auto& [link, tf] : members) {
-    if (!link->has_inertial || link->inertial.mass <= 0) continue;
+  for (const auto& [link, tf] : members)
+  {
+    if (!link->has_inertial || link->inertial.mass <= 0)
+      continue;
     const Inertial& in = link->inertial;
     btTransform t = tf * in.origin;
     Eigen::Matrix3d R;
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) R(r, c) = t.getBasis()[r][c];
+      for (int c = 0; c < 3; ++c)
+        R(r, c) = t.getBasis()[r][c];
     Eigen::Matrix3d I;
     I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
     Eigen::Vector3d c(t.getOrigin().x(), t.getOrigin().y(), t.getOrigin().z());
@@ -67,16 +79,19 @@ MassProps composite(const std::vector<std::pair<const LinkSpec*, btTransform>>& 
     mp.mass += in.mass;
     com += in.mass * c;
   }
-  if (mp.mass <= 0) return mp;
+  if (mp.mass <= 0)
+    return mp;
   com /= mp.mass;
   Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
-  for (const auto& p : parts) {
+  for (const auto& p : parts)
+  {
     Eigen::Vector3d d = p.c - com;
     I += p.I + p.m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
   }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
   Eigen::Matrix3d V = es.eigenvectors();
-  if (V.determinant() < 0) V.col(2) = -V.col(2);
+  if (V.determinant() < 0)
+    V.col(2) = -V.col(2);
   btMatrix3x3 basis(V(0, 0), V(0, 1), V(0, 2), V(1, 0), V(1, 1), V(1, 2), V(2, 0), V(2, 1), V(2, 2));
   mp.inertial = btTransform(basis, btVector3(com.x(), com.y(), com.z()));
   Eigen::Vector3d ev = es.eigenvalues();
@@ -88,22 +103,28 @@ MassProps composite(const std::vector<std::pair<const LinkSpec*, btTransform>>& 
 
 // ---------------------------------------------------------------- Robot
 
-std::vector<std::string> Robot::movableJoints() const {
+std::vector<std::string> Robot::movableJoints() const
+{
   std::vector<std::string> out;
-  for (const auto& j : joints_) out.push_back(j.spec->name);
+  for (const auto& j : joints_)
+    out.push_back(j.spec->name);
   return out;
 }
 
-Pose Robot::linkState(const std::string& link) const {
+Pose Robot::linkState(const std::string& link) const
+{
   const LinkRef& ref = links_.at(link);
   Pose p;
   btTransform body_world;
   btVector3 v, w;
-  if (ref.body < 0) {
+  if (ref.body < 0)
+  {
     body_world = mb_->getBaseWorldTransform();
     v = mb_->getBaseVel();
     w = mb_->getBaseOmega();
-  } else {
+  }
+  else
+  {
     body_world = mb_->getLink(ref.body).m_cachedWorldTransform;
     // Link velocities in local frames; index 0 is the base.
     btAlignedObjectArray<btVector3> omega, vel;
@@ -119,64 +140,85 @@ Pose Robot::linkState(const std::string& link) const {
   return p;
 }
 
-double Robot::jointPosition(const std::string& j) const { return mb_->getJointPos(joint(j).link); }
-double Robot::jointVelocity(const std::string& j) const { return mb_->getJointVel(joint(j).link); }
+double Robot::jointPosition(const std::string& j) const
+{
+  return mb_->getJointPos(joint(j).link);
+}
+double Robot::jointVelocity(const std::string& j) const
+{
+  return mb_->getJointVel(joint(j).link);
+}
 
-void Robot::commandVelocity(const std::string& n, double vel, double max_effort) {
+void Robot::commandVelocity(const std::string& n, double vel, double max_effort)
+{
   Joint& j = joints_.at(joint_index_.at(n));
-  if (j.mode != Mode::VELOCITY || j.target != vel || j.max_effort != max_effort) mb_->wakeUp();
+  if (j.mode != Mode::VELOCITY || j.target != vel || j.max_effort != max_effort)
+    mb_->wakeUp();
   j.mode = Mode::VELOCITY;
   j.target = vel;
   j.max_effort = max_effort;
 }
 
-void Robot::commandPosition(const std::string& n, double pos, double max_effort, double velocity) {
+void Robot::commandPosition(const std::string& n, double pos, double max_effort, double velocity)
+{
   Joint& j = joints_.at(joint_index_.at(n));
-  if (j.mode != Mode::POSITION || j.target != pos || j.max_effort != max_effort) mb_->wakeUp();
+  if (j.mode != Mode::POSITION || j.target != pos || j.max_effort != max_effort)
+    mb_->wakeUp();
   j.mode = Mode::POSITION;
   j.target = pos;
   j.target_velocity = velocity;
   j.max_effort = max_effort;
 }
 
-void Robot::commandNone(const std::string& n) { joints_.at(joint_index_.at(n)).mode = Mode::NONE; }
+void Robot::commandNone(const std::string& n)
+{
+  joints_.at(joint_index_.at(n)).mode = Mode::NONE;
+}
 
-void Robot::commandEffort(const std::string& n, double effort) {
+void Robot::commandEffort(const std::string& n, double effort)
+{
   Joint& j = joints_.at(joint_index_.at(n));
-  if (j.spec->effort > 0) effort = std::max(-j.spec->effort, std::min(j.spec->effort, effort));
-  if (j.mode != Mode::EFFORT || j.target != effort) mb_->wakeUp();
+  if (j.spec->effort > 0)
+    effort = std::max(-j.spec->effort, std::min(j.spec->effort, effort));
+  if (j.mode != Mode::EFFORT || j.target != effort)
+    mb_->wakeUp();
   j.mode = Mode::EFFORT;
   j.target = effort;
 }
 
 // Only a commanded effort is known: Bullet allocates a motor's impulse record lazily (reading
 // it before the solver has seen the motor crashes), so motor efforts are not reported.
-double Robot::jointEffort(const std::string& n) const {
+double Robot::jointEffort(const std::string& n) const
+{
   const Joint& j = joint(n);
   return j.mode == Mode::EFFORT ? j.target : 0.0;
 }
 
-void Robot::setContactFriction(double mu) {
+void Robot::setContactFriction(double mu)
+{
   for (auto& surfaces : child_mu_)
-    for (auto& sf : *surfaces) sf.mu = mu;
+    for (auto& sf : *surfaces)
+      sf.mu = mu;
 }
 
 // ---------------------------------------------------------------- World
 
-PhysicsWorld::PhysicsWorld(const WorldSpec& world, const Options& opt) : opt_(opt), spec_(world) {
+PhysicsWorld::PhysicsWorld(const WorldSpec& world, const Options& opt) : opt_(opt), spec_(world)
+{
   gContactAddedCallback = contactAdded;
   config_ = std::make_unique<btDefaultCollisionConfiguration>();
   dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
   broadphase_ = std::make_unique<btDbvtBroadphase>();
   solver_ = std::make_unique<btMultiBodyConstraintSolver>();
-  world_ = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
-                                                       config_.get());
+  world_ =
+      std::make_unique<btMultiBodyDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
   world_->setGravity(spec_.gravity);
   auto& si = world_->getSolverInfo();
   si.m_numIterations = opt_.solver_iterations;
   si.m_timeStep = opt_.step;
   si.m_splitImpulse = 1;
-  if (spec_.ground_plane) {
+  if (spec_.ground_plane)
+  {
     WorldModel g;
     g.name = "ground_plane";
     g.is_static = true;
@@ -188,32 +230,41 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const Options& opt) : opt_(op
     g.links.push_back(l);
     addWorldModel(g);
   }
-  for (const auto& m : spec_.models) addWorldModel(m);
+  for (const auto& m : spec_.models)
+    addWorldModel(m);
 }
 
-PhysicsWorld::~PhysicsWorld() {
-  while (!robots_.empty()) removeRobot(robots_.back()->name());
-  for (auto& wb : world_bodies_) {
+PhysicsWorld::~PhysicsWorld()
+{
+  while (!robots_.empty())
+    removeRobot(robots_.back()->name());
+  for (auto& wb : world_bodies_)
+  {
     if (wb.body)
       world_->removeRigidBody(wb.body);
     else
       world_->removeCollisionObject(wb.obj);
     delete wb.obj;
   }
-  for (auto* s : world_shapes_) delete s;
+  for (auto* s : world_shapes_)
+    delete s;
 }
 
 btCollisionShape* PhysicsWorld::buildShape(const Shape& s, bool dynamic_body, std::vector<btCollisionShape*>& owned,
-                                           const std::string& where) {
+                                           const std::string& where)
+{
   btCollisionShape* shape = nullptr;
-  switch (s.type) {
-    case Shape::BOX: {
+  switch (s.type)
+  {
+    case Shape::BOX:
+    {
       shape = new btBoxShape(s.size * 0.5);
       // Bullet's default 4 cm margin would round small boxes away.
       shape->setMargin(std::min(0.004, 0.1 * std::min({s.size.x(), s.size.y(), s.size.z()})));
       break;
     }
-    case Shape::CYLINDER: {
+    case Shape::CYLINDER:
+    {
       shape = new btCylinderShapeZ(btVector3(s.radius, s.radius, s.length * 0.5));
       shape->setMargin(std::min(0.002, 0.1 * std::min(s.radius, s.length)));
       break;
@@ -222,13 +273,17 @@ btCollisionShape* PhysicsWorld::buildShape(const Shape& s, bool dynamic_body, st
       shape = new btSphereShape(s.radius);
       break;
     case Shape::PLANE:
-      if (dynamic_body) throw LoadError(where + ": <plane> geometry only in static models");
+      if (dynamic_body)
+        throw LoadError(where + ": <plane> geometry only in static models");
       shape = new btStaticPlaneShape(s.normal, 0);
       break;
-    case Shape::MESH: {
-      if (dynamic_body) {
+    case Shape::MESH:
+    {
+      if (dynamic_body)
+      {
         auto* hull = new btConvexHullShape();
-        for (const auto& t : *s.triangles) {
+        for (const auto& t : *s.triangles)
+        {
           hull->addPoint(t.a, false);
           hull->addPoint(t.b, false);
           hull->addPoint(t.c, false);
@@ -237,9 +292,12 @@ btCollisionShape* PhysicsWorld::buildShape(const Shape& s, bool dynamic_body, st
         hull->optimizeConvexHull();
         hull->setMargin(0.001);
         shape = hull;
-      } else {
+      }
+      else
+      {
         auto* mesh = new btTriangleMesh();
-        for (const auto& t : *s.triangles) mesh->addTriangle(t.a, t.b, t.c, true);
+        for (const auto& t : *s.triangles)
+          mesh->addTriangle(t.a, t.b, t.c, true);
         shape = new btBvhTriangleMeshShape(mesh, true);
       }
       break;
@@ -249,15 +307,19 @@ btCollisionShape* PhysicsWorld::buildShape(const Shape& s, bool dynamic_body, st
   return shape;
 }
 
-void PhysicsWorld::addWorldModel(const WorldModel& m) {
-  for (const auto& l : m.links) {
-    if (l.shapes.empty()) continue;
+void PhysicsWorld::addWorldModel(const WorldModel& m)
+{
+  for (const auto& l : m.links)
+  {
+    if (l.shapes.empty())
+      continue;
     std::string where = spec_.source + ": model '" + m.name + "' link '" + l.name + "'";
     auto* compound = new btCompoundShape(true, static_cast<int>(l.shapes.size()));
     world_shapes_.push_back(compound);
     auto mus = std::make_unique<std::vector<Surface>>();
     bool has_plane = false;
-    for (const auto& s : l.shapes) {
+    for (const auto& s : l.shapes)
+    {
       btCollisionShape* cs = buildShape(s, !m.is_static, world_shapes_, where);
       has_plane |= s.type == Shape::PLANE;
       compound->addChildShape(s.pose, cs);
@@ -267,18 +329,22 @@ void PhysicsWorld::addWorldModel(const WorldModel& m) {
     btCollisionObject* obj = nullptr;
     btRigidBody* body = nullptr;
     btCollisionShape* shape = compound;
-    if (has_plane && l.shapes.size() == 1) {
+    if (has_plane && l.shapes.size() == 1)
+    {
       // Planes cannot live in compounds sensibly; use the plane directly.
       shape = compound->getChildShape(0);
       tf = tf * l.shapes[0].pose;
     }
-    if (m.is_static) {
+    if (m.is_static)
+    {
       obj = new btCollisionObject();
       obj->setCollisionShape(shape);
       obj->setWorldTransform(tf);
       obj->setFriction(1.0);
       world_->addCollisionObject(obj, kStaticGroup, btBroadphaseProxy::AllFilter ^ kStaticGroup);
-    } else {
+    }
+    else
+    {
       btVector3 inertia(0, 0, 0);
       shape->calculateLocalInertia(l.mass, inertia);
       btRigidBody::btRigidBodyConstructionInfo ci(l.mass, nullptr, shape, inertia);
@@ -288,17 +354,21 @@ void PhysicsWorld::addWorldModel(const WorldModel& m) {
       obj = body;
       world_->addRigidBody(body, kDynamicGroup, btBroadphaseProxy::AllFilter);
     }
-    if (shape == compound) obj->setUserPointer(mus.get());
+    if (shape == compound)
+      obj->setUserPointer(mus.get());
     world_mu_.push_back(std::move(mus));
     world_bodies_.push_back({m.name, obj, body, tf, has_plane});
   }
 }
 
 Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::string& name, const std::string& ns,
-                              const btTransform& pose) {
-  if (robot(name)) throw LoadError("model name '" + name + "' already exists");
+                              const btTransform& pose)
+{
+  if (robot(name))
+    throw LoadError("model name '" + name + "' already exists");
   for (const auto& wb : world_bodies_)
-    if (wb.model == name) throw LoadError("model name '" + name + "' already exists");
+    if (wb.model == name)
+      throw LoadError("model name '" + name + "' already exists");
   auto r = std::make_unique<Robot>();
   r->name_ = name;
   r->ns_ = ns;
@@ -307,7 +377,8 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   const RobotSpec& rs = *spec;
 
   // Lump fixed joints: bodies in breadth-first order so parents precede children.
-  struct Body {
+  struct Body
+  {
     std::string root;
     int parent = -2;
     const JointSpec* joint = nullptr;
@@ -317,19 +388,26 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   };
   std::vector<Body> bodies;
   std::map<std::string, std::pair<int, btTransform>> where;  // link -> (body, link frame in body root)
-  bodies.push_back(Body{rs.root, -1, nullptr, btTransform::getIdentity(), {{rs.link(rs.root), btTransform::getIdentity()}}, {}});
+  bodies.push_back(
+      Body{rs.root, -1, nullptr, btTransform::getIdentity(), {{rs.link(rs.root), btTransform::getIdentity()}}, {}});
   where[rs.root] = {0, btTransform::getIdentity()};
   std::vector<std::string> queue{rs.root};
-  for (size_t qi = 0; qi < queue.size(); ++qi) {
+  for (size_t qi = 0; qi < queue.size(); ++qi)
+  {
     const std::string cur = queue[qi];
-    for (const auto& j : rs.joints) {
-      if (j.parent != cur) continue;
+    for (const auto& j : rs.joints)
+    {
+      if (j.parent != cur)
+        continue;
       auto [pb, ptf] = where[cur];
-      if (j.type == JointSpec::FIXED) {
+      if (j.type == JointSpec::FIXED)
+      {
         btTransform t = ptf * j.origin;
         where[j.child] = {pb, t};
         bodies[pb].members.push_back({rs.link(j.child), t});
-      } else {
+      }
+      else
+      {
         Body b;
         b.root = j.child;
         b.parent = pb;
@@ -342,9 +420,11 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
       queue.push_back(j.child);
     }
   }
-  for (auto& b : bodies) {
+  for (auto& b : bodies)
+  {
     b.mp = composite(b.members);
-    if (b.mp.mass <= 0) {
+    if (b.mp.mass <= 0)
+    {
       if (b.parent == -1)
         throw LoadError(rs.source + ": link '" + b.root + "': the root body (with its fixed children) has no mass");
       // Massless moving links are kept with a token mass (Gazebo would drop them).
@@ -361,7 +441,8 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   mb->setUseGyroTerm(true);
   mb->setMaxCoordinateVelocity(1000);
   r->base_root_in_inertial_ = bodies[0].mp.inertial.inverse();
-  for (int i = 1; i <= nlinks; ++i) {
+  for (int i = 1; i <= nlinks; ++i)
+  {
     const Body& b = bodies[i];
     const btTransform& Pi = bodies[b.parent].mp.inertial;
     const btTransform& Ci = b.mp.inertial;
@@ -381,22 +462,26 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   world_->addMultiBody(mb);
   r->mb_ = mb;
 
-  for (const auto& [lname, bw] : where) r->links_[lname] = Robot::LinkRef{bw.first - 1, bodies[bw.first].mp.inertial.inverse() * bw.second};
+  for (const auto& [lname, bw] : where)
+    r->links_[lname] = Robot::LinkRef{bw.first - 1, bodies[bw.first].mp.inertial.inverse() * bw.second};
 
   // Colliders: one compound per body in its inertial frame.
-  for (int i = 0; i <= nlinks; ++i) {
+  for (int i = 0; i <= nlinks; ++i)
+  {
     const Body& b = bodies[i];
     auto* compound = new btCompoundShape(true);
     auto mus = std::make_unique<std::vector<Surface>>();
     btTransform inv = b.mp.inertial.inverse();
     for (const auto& [link, tf] : b.members)
-      for (const auto& s : link->collisions) {
+      for (const auto& s : link->collisions)
+      {
         btCollisionShape* cs = buildShape(s, true, r->shapes_, rs.source + ": link '" + link->name + "'");
         compound->addChildShape(inv * tf * s.pose, cs);
         mus->push_back(Surface{std::min(s.mu1, s.mu2)});
       }
     r->shapes_.push_back(compound);
-    if (compound->getNumChildShapes() == 0) continue;
+    if (compound->getNumChildShapes() == 0)
+      continue;
     auto* col = new btMultiBodyLinkCollider(mb, i - 1);
     col->setCollisionShape(compound);
     col->setFriction(1.0);
@@ -413,7 +498,8 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   }
 
   // Joints: a motor for commands, one for Coulomb friction, limits.
-  for (int i = 1; i <= nlinks; ++i) {
+  for (int i = 1; i <= nlinks; ++i)
+  {
     const JointSpec* js = bodies[i].joint;
     Robot::Joint j;
     j.spec = js;
@@ -422,12 +508,14 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
     j.motor->setMaxAppliedImpulse(0);
     world_->addMultiBodyConstraint(j.motor);
     r->constraints_.push_back(j.motor);
-    if (js->friction > 0) {
+    if (js->friction > 0)
+    {
       j.friction = new btMultiBodyJointMotor(mb, i - 1, 0, js->friction * opt_.step);
       world_->addMultiBodyConstraint(j.friction);
       r->constraints_.push_back(j.friction);
     }
-    if (js->has_limits) {
+    if (js->has_limits)
+    {
       auto* lim = new btMultiBodyJointLimitConstraint(mb, i - 1, js->lower, js->upper);
       world_->addMultiBodyConstraint(lim);
       r->constraints_.push_back(lim);
@@ -440,7 +528,8 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   return *robots_.back();
 }
 
-void PhysicsWorld::setRobotPose(Robot& r, const btTransform& root_pose, const btVector3& lin, const btVector3& ang) {
+void PhysicsWorld::setRobotPose(Robot& r, const btTransform& root_pose, const btVector3& lin, const btVector3& ang)
+{
   btMultiBody* mb = r.mb_;
   btTransform base = root_pose * r.base_root_in_inertial_.inverse();
   mb->setBaseWorldTransform(base);
@@ -451,58 +540,76 @@ void PhysicsWorld::setRobotPose(Robot& r, const btTransform& root_pose, const bt
   syncRobotTransforms(r);
 }
 
-void PhysicsWorld::syncRobotTransforms(Robot& r) {
+void PhysicsWorld::syncRobotTransforms(Robot& r)
+{
   r.mb_->forwardKinematics(scratch_q_, scratch_m_);
   r.mb_->updateCollisionObjectWorldTransforms(scratch_q_, scratch_m_);
-  for (auto* c : r.colliders_) world_->updateSingleAabb(c);
+  for (auto* c : r.colliders_)
+    world_->updateSingleAabb(c);
 }
 
-bool PhysicsWorld::removeRobot(const std::string& name) {
-  for (auto it = robots_.begin(); it != robots_.end(); ++it) {
+bool PhysicsWorld::removeRobot(const std::string& name)
+{
+  for (auto it = robots_.begin(); it != robots_.end(); ++it)
+  {
     Robot& r = **it;
-    if (r.name_ != name) continue;
-    for (auto* c : r.constraints_) {
+    if (r.name_ != name)
+      continue;
+    for (auto* c : r.constraints_)
+    {
       world_->removeMultiBodyConstraint(c);
       delete c;
     }
-    for (auto* c : r.colliders_) {
+    for (auto* c : r.colliders_)
+    {
       world_->removeCollisionObject(c);
       delete c;
     }
     world_->removeMultiBody(r.mb_);
     delete r.mb_;
-    for (auto* s : r.shapes_) delete s;
+    for (auto* s : r.shapes_)
+      delete s;
     robots_.erase(it);
     return true;
   }
   return false;
 }
 
-Robot* PhysicsWorld::robot(const std::string& name) {
+Robot* PhysicsWorld::robot(const std::string& name)
+{
   for (auto& r : robots_)
-    if (r->name_ == name) return r.get();
+    if (r->name_ == name)
+      return r.get();
   return nullptr;
 }
 
-std::vector<Robot*> PhysicsWorld::robots() {
+std::vector<Robot*> PhysicsWorld::robots()
+{
   std::vector<Robot*> out;
-  for (auto& r : robots_) out.push_back(r.get());
+  for (auto& r : robots_)
+    out.push_back(r.get());
   return out;
 }
 
-void PhysicsWorld::step() {
+void PhysicsWorld::step()
+{
   const double dt = opt_.step;
-  for (auto& rp : robots_) {
+  for (auto& rp : robots_)
+  {
     Robot& r = *rp;
     btMultiBody* mb = r.mb_;
-    for (auto& j : r.joints_) {
+    for (auto& j : r.joints_)
+    {
       double qd = mb->getJointVel(j.link);
-      if (j.spec->damping > 0) mb->addJointTorque(j.link, -j.spec->damping * qd);
-      switch (j.mode) {
+      if (j.spec->damping > 0)
+        mb->addJointTorque(j.link, -j.spec->damping * qd);
+      switch (j.mode)
+      {
         case Robot::Mode::NONE:
           j.motor->setMaxAppliedImpulse(0);
           break;
-        case Robot::Mode::VELOCITY: {
+        case Robot::Mode::VELOCITY:
+        {
           // A motor cannot exceed the URDF <limit velocity> (when given).
           double vmax = j.spec->velocity > 0 ? j.spec->velocity : 1e9;
           j.motor->setVelocityTarget(std::max(-vmax, std::min(vmax, j.target)), 1.0);
@@ -529,35 +636,48 @@ void PhysicsWorld::step() {
   updateContacts();
 }
 
-Robot* PhysicsWorld::robotOf(const btCollisionObject* o) const {
+Robot* PhysicsWorld::robotOf(const btCollisionObject* o) const
+{
   const auto* c = btMultiBodyLinkCollider::upcast(o);
-  if (!c) return nullptr;
+  if (!c)
+    return nullptr;
   for (const auto& r : robots_)
-    if (r->mb_ == c->m_multiBody) return r.get();
+    if (r->mb_ == c->m_multiBody)
+      return r.get();
   return nullptr;
 }
 
-std::string PhysicsWorld::modelOf(const btCollisionObject* o) const {
-  if (Robot* r = robotOf(o)) return r->name_;
+std::string PhysicsWorld::modelOf(const btCollisionObject* o) const
+{
+  if (Robot* r = robotOf(o))
+    return r->name_;
   for (const auto& wb : world_bodies_)
-    if (wb.obj == o) return wb.ground ? std::string() : wb.model;
+    if (wb.obj == o)
+      return wb.ground ? std::string() : wb.model;
   return "?";
 }
 
-void PhysicsWorld::recordPoints(const btPersistentManifold* m) {
-  for (int side = 0; side < 2; ++side) {
+void PhysicsWorld::recordPoints(const btPersistentManifold* m)
+{
+  for (int side = 0; side < 2; ++side)
+  {
     const btCollisionObject* self = side == 0 ? m->getBody0() : m->getBody1();
     Robot* r = robotOf(self);
-    if (!r || !r->record_points_) continue;
+    if (!r || !r->record_points_)
+      continue;
     const auto* col = btMultiBodyLinkCollider::upcast(self);
     std::vector<std::string> links;
     for (const auto& [name, ref] : r->links_)
-      if (ref.body == col->m_link) links.push_back(name);
+      if (ref.body == col->m_link)
+        links.push_back(name);
     std::string other = modelOf(side == 0 ? m->getBody1() : m->getBody0());
-    if (other.empty()) other = "ground_plane";
-    for (int k = 0; k < m->getNumContacts(); ++k) {
+    if (other.empty())
+      other = "ground_plane";
+    for (int k = 0; k < m->getNumContacts(); ++k)
+    {
       const btManifoldPoint& p = m->getContactPoint(k);
-      if (p.getDistance() > 0) continue;
+      if (p.getDistance() > 0)
+        continue;
       Robot::Contacts::Point pt;
       pt.links = links;
       pt.other = other;
@@ -571,54 +691,73 @@ void PhysicsWorld::recordPoints(const btPersistentManifold* m) {
   }
 }
 
-void PhysicsWorld::updateContacts() {
-  for (auto& r : robots_) {
+void PhysicsWorld::updateContacts()
+{
+  for (auto& r : robots_)
+  {
     r->contacts_.now.clear();
     r->contacts_.points.clear();
   }
   const int n = dispatcher_->getNumManifolds();
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < n; ++i)
+  {
     const btPersistentManifold* m = dispatcher_->getManifoldByIndexInternal(i);
     recordPoints(m);
     // Points within the contact margin are kept before bodies touch: only penetration counts.
     double depth = 0;
-    for (int k = 0; k < m->getNumContacts(); ++k) depth = std::max(depth, -double(m->getContactPoint(k).getDistance()));
-    if (depth <= 0) continue;
+    for (int k = 0; k < m->getNumContacts(); ++k)
+      depth = std::max(depth, -double(m->getContactPoint(k).getDistance()));
+    if (depth <= 0)
+      continue;
     Robot* ra = robotOf(m->getBody0());
     Robot* rb = robotOf(m->getBody1());
-    if ((!ra && !rb) || ra == rb) continue;  // world-world, or a robot's own links
-    for (auto [r, other] : {std::make_pair(ra, m->getBody1()), std::make_pair(rb, m->getBody0())}) {
-      if (!r) continue;
+    if ((!ra && !rb) || ra == rb)
+      continue;  // world-world, or a robot's own links
+    for (auto [r, other] : {std::make_pair(ra, m->getBody1()), std::make_pair(rb, m->getBody0())})
+    {
+      if (!r)
+        continue;
       std::string what = modelOf(other);
-      if (what.empty()) continue;
+      if (what.empty())
+        continue;
       auto& c = r->contacts_;
-      if (std::find(c.now.begin(), c.now.end(), what) == c.now.end()) c.now.push_back(what);
+      if (std::find(c.now.begin(), c.now.end(), what) == c.now.end())
+        c.now.push_back(what);
       c.max_depth = std::max(c.max_depth, depth);
-      if (c.first_time < 0) {
+      if (c.first_time < 0)
+      {
         c.first_time = time_;
         c.first_model = what;
       }
     }
   }
   for (auto& r : robots_)
-    if (!r->contacts_.now.empty()) ++r->contacts_.steps;
+    if (!r->contacts_.now.empty())
+      ++r->contacts_.steps;
 }
 
-void PhysicsWorld::resetWorld() {
-  for (auto& rp : robots_) {
+void PhysicsWorld::resetWorld()
+{
+  for (auto& rp : robots_)
+  {
     Robot& r = *rp;
     r.contacts_ = Robot::Contacts();
-    for (int i = 0; i < r.mb_->getNumLinks(); ++i) {
+    for (int i = 0; i < r.mb_->getNumLinks(); ++i)
+    {
       r.mb_->setJointPos(i, 0);
       r.mb_->setJointVel(i, 0);
     }
-    for (auto& j : r.joints_) {
-      if (j.mode == Robot::Mode::VELOCITY) j.target = 0;
+    for (auto& j : r.joints_)
+    {
+      if (j.mode == Robot::Mode::VELOCITY)
+        j.target = 0;
     }
     setRobotPose(r, r.spawn_, btVector3(0, 0, 0), btVector3(0, 0, 0));
   }
-  for (auto& wb : world_bodies_) {
-    if (!wb.body) continue;
+  for (auto& wb : world_bodies_)
+  {
+    if (!wb.body)
+      continue;
     wb.body->setWorldTransform(wb.initial);
     wb.body->setLinearVelocity(btVector3(0, 0, 0));
     wb.body->setAngularVelocity(btVector3(0, 0, 0));
@@ -628,7 +767,8 @@ void PhysicsWorld::resetWorld() {
   world_->getConstraintSolver()->reset();
 }
 
-void PhysicsWorld::setRobotVelocity(Robot& r, const btVector3& lin, const btVector3& ang) {
+void PhysicsWorld::setRobotVelocity(Robot& r, const btVector3& lin, const btVector3& ang)
+{
   const Pose root = r.linkState(r.spec().root);
   const btVector3 base = r.mb_->getBaseWorldTransform().getOrigin();
   r.mb_->setBaseVel(lin + ang.cross(base - root.tf.getOrigin()));
@@ -637,14 +777,18 @@ void PhysicsWorld::setRobotVelocity(Robot& r, const btVector3& lin, const btVect
 }
 
 bool PhysicsWorld::setModelState(const std::string& name, const btTransform& pose, const btVector3& lin,
-                                 const btVector3& ang) {
-  if (Robot* r = robot(name)) {
+                                 const btVector3& ang)
+{
+  if (Robot* r = robot(name))
+  {
     setRobotPose(*r, pose, lin, ang);
     return true;
   }
   bool found = false;
-  for (auto& wb : world_bodies_) {
-    if (wb.model != name || !wb.body) continue;
+  for (auto& wb : world_bodies_)
+  {
+    if (wb.model != name || !wb.body)
+      continue;
     wb.body->setWorldTransform(pose);
     wb.body->setLinearVelocity(lin);
     wb.body->setAngularVelocity(ang);
@@ -654,16 +798,20 @@ bool PhysicsWorld::setModelState(const std::string& name, const btTransform& pos
   return found;
 }
 
-bool PhysicsWorld::getModelState(const std::string& name, Pose& out) const {
+bool PhysicsWorld::getModelState(const std::string& name, Pose& out) const
+{
   for (const auto& r : robots_)
-    if (r->name_ == name) {
+    if (r->name_ == name)
+    {
       out = r->linkState(r->spec_->root);
       return true;
     }
   for (const auto& wb : world_bodies_)
-    if (wb.model == name) {
+    if (wb.model == name)
+    {
       out.tf = wb.obj->getWorldTransform();
-      if (wb.body) {
+      if (wb.body)
+      {
         out.linear = wb.body->getLinearVelocity();
         out.angular = wb.body->getAngularVelocity();
       }
@@ -672,44 +820,58 @@ bool PhysicsWorld::getModelState(const std::string& name, Pose& out) const {
   return false;
 }
 
-std::vector<DynamicObstacle> PhysicsWorld::dynamicObstacles(const Robot* exclude) const {
+std::vector<DynamicObstacle> PhysicsWorld::dynamicObstacles(const Robot* exclude) const
+{
   std::vector<DynamicObstacle> out;
-  auto add = [&](const btCollisionObject* o) {
+  auto add = [&](const btCollisionObject* o)
+  {
     btVector3 mn, mx;
     o->getCollisionShape()->getAabb(o->getWorldTransform(), mn, mx);
     out.push_back({o, (mn + mx) * 0.5, (mx - mn).length() * 0.5, mn.z(), mx.z()});
   };
-  for (const auto& r : robots_) {
-    if (r.get() == exclude) continue;
-    for (auto* c : r->colliders_) add(c);
+  for (const auto& r : robots_)
+  {
+    if (r.get() == exclude)
+      continue;
+    for (auto* c : r->colliders_)
+      add(c);
   }
   for (const auto& wb : world_bodies_)
-    if (wb.body) add(wb.obj);
+    if (wb.body)
+      add(wb.obj);
   return out;
 }
 
-double PhysicsWorld::rayTestObject(const btCollisionObject* obj, const btVector3& from, const btVector3& to) const {
+double PhysicsWorld::rayTestObject(const btCollisionObject* obj, const btVector3& from, const btVector3& to) const
+{
   btCollisionWorld::ClosestRayResultCallback cb(from, to);
   btTransform tf_from(btQuaternion::getIdentity(), from), tf_to(btQuaternion::getIdentity(), to);
   btCollisionWorld::rayTestSingle(tf_from, tf_to, const_cast<btCollisionObject*>(obj), obj->getCollisionShape(),
                                   obj->getWorldTransform(), cb);
-  if (!cb.hasHit()) return -1;
+  if (!cb.hasHit())
+    return -1;
   return cb.m_closestHitFraction * (to - from).length();
 }
 
-double PhysicsWorld::rayTest(const btVector3& from, const btVector3& to, const Robot* exclude) const {
-  struct Cb : btCollisionWorld::ClosestRayResultCallback {
+double PhysicsWorld::rayTest(const btVector3& from, const btVector3& to, const Robot* exclude) const
+{
+  struct Cb : btCollisionWorld::ClosestRayResultCallback
+  {
     const Robot* ex;
     Cb(const btVector3& a, const btVector3& b, const Robot* e) : ClosestRayResultCallback(a, b), ex(e) {}
-    bool needsCollision(btBroadphaseProxy* proxy) const override {
+    bool needsCollision(btBroadphaseProxy* proxy) const override
+    {
       auto* o = static_cast<const btCollisionObject*>(proxy->m_clientObject);
       if (ex)
-        for (auto* c : ex->colliders()) if (c == o) return false;
+        for (auto* c : ex->colliders())
+          if (c == o)
+            return false;
       return ClosestRayResultCallback::needsCollision(proxy);
     }
   } cb(from, to, exclude);
   world_->rayTest(from, to, cb);
-  if (!cb.hasHit()) return -1;
+  if (!cb.hasHit())
+    return -1;
   return cb.m_closestHitFraction * (to - from).length();
 }
 

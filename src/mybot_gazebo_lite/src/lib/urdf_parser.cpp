@@ -9,24 +9,31 @@
 #include <cstdio>
 #include <set>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
+namespace
+{
 using tinyxml2::XMLElement;
 
-struct Ctx {
+struct Ctx
+{
   std::string source;
   const UriResolver* resolver;
-  [[noreturn]] void fail(const std::string& where, const std::string& msg) const {
+  [[noreturn]] void fail(const std::string& where, const std::string& msg) const
+  {
     throw LoadError(source + ": " + where + ": " + msg);
   }
 };
 
 double attrDouble(const Ctx& c, const XMLElement* e, const char* name, const std::string& where, bool required,
-                  double def = 0.0) {
+                  double def = 0.0)
+{
   const char* v = e->Attribute(name);
-  if (!v) {
-    if (required) c.fail(where, std::string("<") + e->Name() + "> missing attribute '" + name + "'");
+  if (!v)
+  {
+    if (required)
+      c.fail(where, std::string("<") + e->Name() + "> missing attribute '" + name + "'");
     return def;
   }
   char* end = nullptr;
@@ -36,95 +43,141 @@ double attrDouble(const Ctx& c, const XMLElement* e, const char* name, const std
   return d;
 }
 
-btTransform parseOrigin(const Ctx& c, const XMLElement* parent, const std::string& where) {
+btTransform parseOrigin(const Ctx& c, const XMLElement* parent, const std::string& where)
+{
   const XMLElement* o = parent->FirstChildElement("origin");
-  if (!o) return btTransform::getIdentity();
+  if (!o)
+    return btTransform::getIdentity();
   btVector3 xyz(0, 0, 0), rpy(0, 0, 0);
-  try {
-    if (o->Attribute("xyz")) xyz = parseVec3(o->Attribute("xyz"), "<origin xyz>");
-    if (o->Attribute("rpy")) rpy = parseVec3(o->Attribute("rpy"), "<origin rpy>");
-  } catch (const LoadError& e) {
+  try
+  {
+    if (o->Attribute("xyz"))
+      xyz = parseVec3(o->Attribute("xyz"), "<origin xyz>");
+    if (o->Attribute("rpy"))
+      rpy = parseVec3(o->Attribute("rpy"), "<origin rpy>");
+  }
+  catch (const LoadError& e)
+  {
     c.fail(where, e.what());
   }
   return makeTransform(xyz, rpy);
 }
 
-Shape parseGeometry(const Ctx& c, const XMLElement* coll, const std::string& where) {
+Shape parseGeometry(const Ctx& c, const XMLElement* coll, const std::string& where)
+{
   const XMLElement* g = coll->FirstChildElement("geometry");
-  if (!g || !g->FirstChildElement()) c.fail(where, "<collision> without <geometry>");
+  if (!g || !g->FirstChildElement())
+    c.fail(where, "<collision> without <geometry>");
   const XMLElement* s = g->FirstChildElement();
   Shape shape;
   std::string t = s->Name();
   std::string w = where + " <" + t + ">";
-  if (t == "box") {
+  if (t == "box")
+  {
     shape.type = Shape::BOX;
-    if (!s->Attribute("size")) c.fail(w, "missing attribute 'size'");
-    try {
+    if (!s->Attribute("size"))
+      c.fail(w, "missing attribute 'size'");
+    try
+    {
       shape.size = parseVec3(s->Attribute("size"), "size");
-    } catch (const LoadError& e) {
+    }
+    catch (const LoadError& e)
+    {
       c.fail(w, e.what());
     }
-    if (shape.size.x() <= 0 || shape.size.y() <= 0 || shape.size.z() <= 0) c.fail(w, "box size must be positive");
-  } else if (t == "cylinder") {
+    if (shape.size.x() <= 0 || shape.size.y() <= 0 || shape.size.z() <= 0)
+      c.fail(w, "box size must be positive");
+  }
+  else if (t == "cylinder")
+  {
     shape.type = Shape::CYLINDER;
     shape.radius = attrDouble(c, s, "radius", w, true);
     shape.length = attrDouble(c, s, "length", w, true);
-    if (shape.radius <= 0 || shape.length <= 0) c.fail(w, "cylinder radius and length must be positive");
-  } else if (t == "sphere") {
+    if (shape.radius <= 0 || shape.length <= 0)
+      c.fail(w, "cylinder radius and length must be positive");
+  }
+  else if (t == "sphere")
+  {
     shape.type = Shape::SPHERE;
     shape.radius = attrDouble(c, s, "radius", w, true);
-    if (shape.radius <= 0) c.fail(w, "sphere radius must be positive");
-  } else if (t == "mesh") {
+    if (shape.radius <= 0)
+      c.fail(w, "sphere radius must be positive");
+  }
+  else if (t == "mesh")
+  {
     shape.type = Shape::MESH;
     const char* fn = s->Attribute("filename");
-    if (!fn) c.fail(w, "missing attribute 'filename'");
-    if (s->Attribute("scale")) {
-      try {
+    if (!fn)
+      c.fail(w, "missing attribute 'filename'");
+    if (s->Attribute("scale"))
+    {
+      try
+      {
         shape.mesh_scale = parseVec3(s->Attribute("scale"), "scale");
-      } catch (const LoadError& e) {
+      }
+      catch (const LoadError& e)
+      {
         c.fail(w, e.what());
       }
     }
     shape.mesh_path = (*c.resolver)(fn, "");
-    if (shape.mesh_path.empty()) c.fail(w, std::string("mesh file '") + fn + "' not found");
-    try {
+    if (shape.mesh_path.empty())
+      c.fail(w, std::string("mesh file '") + fn + "' not found");
+    try
+    {
       shape.triangles = loadMesh(shape.mesh_path, shape.mesh_scale);
-    } catch (const LoadError& e) {
+    }
+    catch (const LoadError& e)
+    {
       c.fail(w, e.what());
     }
-  } else {
+  }
+  else
+  {
     c.fail(w, "unsupported geometry");
   }
   shape.pose = parseOrigin(c, coll, where);
   return shape;
 }
 
-JointSpec::Type jointType(const Ctx& c, const std::string& t, const std::string& where) {
-  if (t == "fixed") return JointSpec::FIXED;
-  if (t == "revolute") return JointSpec::REVOLUTE;
-  if (t == "continuous") return JointSpec::CONTINUOUS;
-  if (t == "prismatic") return JointSpec::PRISMATIC;
-  if (t == "floating") return JointSpec::FLOATING;
-  if (t == "planar") return JointSpec::PLANAR;
+JointSpec::Type jointType(const Ctx& c, const std::string& t, const std::string& where)
+{
+  if (t == "fixed")
+    return JointSpec::FIXED;
+  if (t == "revolute")
+    return JointSpec::REVOLUTE;
+  if (t == "continuous")
+    return JointSpec::CONTINUOUS;
+  if (t == "prismatic")
+    return JointSpec::PRISMATIC;
+  if (t == "floating")
+    return JointSpec::FLOATING;
+  if (t == "planar")
+    return JointSpec::PLANAR;
   c.fail(where, "unknown joint type '" + t + "'");
 }
 
 // The solid body of the link's first collision (a sphere of 5 cm if it has none or a mesh):
 // principal moments about its centre, for a mass whose inertia the URDF left unusable.
-btVector3 solidInertia(const LinkSpec& link) {
+btVector3 solidInertia(const LinkSpec& link)
+{
   const double m = link.inertial.mass;
-  if (!link.collisions.empty()) {
+  if (!link.collisions.empty())
+  {
     const Shape& s = link.collisions.front();
-    if (s.type == Shape::BOX) {
+    if (s.type == Shape::BOX)
+    {
       const btVector3& d = s.size;
       return btVector3(d.y() * d.y() + d.z() * d.z(), d.x() * d.x() + d.z() * d.z(), d.x() * d.x() + d.y() * d.y()) *
              (m / 12.0);
     }
-    if (s.type == Shape::CYLINDER) {
+    if (s.type == Shape::CYLINDER)
+    {
       const double side = m * (3 * s.radius * s.radius + s.length * s.length) / 12.0;
       return btVector3(side, side, m * s.radius * s.radius / 2.0);
     }
-    if (s.type == Shape::SPHERE) return btVector3(1, 1, 1) * (0.4 * m * s.radius * s.radius);
+    if (s.type == Shape::SPHERE)
+      return btVector3(1, 1, 1) * (0.4 * m * s.radius * s.radius);
   }
   return btVector3(1, 1, 1) * (0.4 * m * 0.05 * 0.05);
 }
@@ -134,17 +187,21 @@ btVector3 solidInertia(const LinkSpec& link) {
 // moments obey the triangle inequality (all zero, as many hand-written URDFs have, or
 // impossible ones: corrected with a warning naming the link, as Gazebo's URDF import does
 // rather than let the robot sit still or explode).
-void checkInertia(const Ctx& c, LinkSpec& link, const std::string& where, std::vector<std::string>& warnings) {
+void checkInertia(const Ctx& c, LinkSpec& link, const std::string& where, std::vector<std::string>& warnings)
+{
   Inertial& in = link.inertial;
   const std::string w = where + " <inertia>";
   for (auto [name, v] : {std::pair<const char*, double>{"ixx", in.ixx}, {"iyy", in.iyy}, {"izz", in.izz}})
-    if (v < 0) c.fail(w, std::string(name) + "=" + std::to_string(v) + " is negative");
-  if (in.mass <= 0) return;
+    if (v < 0)
+      c.fail(w, std::string(name) + "=" + std::to_string(v) + " is negative");
+  if (in.mass <= 0)
+    return;
   Eigen::Matrix3d I;
   I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();  // ascending
   // Relative tolerances: a sensor link of a few grams has moments of 1e-9 and is fine.
-  if (ev(2) > 0 && ev(0) > 1e-9 * ev(2) && ev(0) + ev(1) >= ev(2) * (1 - 1e-9)) return;
+  if (ev(2) > 0 && ev(0) > 1e-9 * ev(2) && ev(0) + ev(1) >= ev(2) * (1 - 1e-9))
+    return;
   const btVector3 d = solidInertia(link);
   char msg[512];
   std::snprintf(msg, sizeof msg,
@@ -159,10 +216,12 @@ void checkInertia(const Ctx& c, LinkSpec& link, const std::string& where, std::v
   in.ixy = in.ixz = in.iyz = 0;
 }
 
-bool textDouble(const XmlNode& n, double& out) {
+bool textDouble(const XmlNode& n, double& out)
+{
   char* end = nullptr;
   double d = std::strtod(n.text.c_str(), &end);
-  if (n.text.empty() || *end != '\0' || !std::isfinite(d)) return false;
+  if (n.text.empty() || *end != '\0' || !std::isfinite(d))
+    return false;
   out = d;
   return true;
 }
@@ -171,61 +230,107 @@ bool textDouble(const XmlNode& n, double& out) {
 constexpr double kSoftContactKp = 1e5;
 
 // The tags of <gazebo reference> (gazebo_ros's URDF import) and what gazebo_lite does with each.
-struct GazeboTag {
-  enum Kind { PLUGIN, SENSOR, FRICTION, CONTACT, FDIR, COSMETIC, NOT_SIMULATED, UNKNOWN } kind;
+struct GazeboTag
+{
+  enum Kind
+  {
+    PLUGIN,
+    SENSOR,
+    FRICTION,
+    CONTACT,
+    FDIR,
+    COSMETIC,
+    NOT_SIMULATED,
+    UNKNOWN
+  } kind;
   std::string name;
 };
 
-GazeboTag classifyGazeboTag(const std::string& n, bool on_link, bool has_ref) {
-  if (!has_ref && n == "plugin") return {GazeboTag::PLUGIN, n};
-  if (on_link && n == "sensor") return {GazeboTag::SENSOR, n};
-  if (on_link && (n == "mu1" || n == "mu2")) return {GazeboTag::FRICTION, n};
-  if (on_link && (n == "kp" || n == "kd")) return {GazeboTag::CONTACT, n};
-  if (on_link && n == "fdir1") return {GazeboTag::FDIR, n};
+GazeboTag classifyGazeboTag(const std::string& n, bool on_link, bool has_ref)
+{
+  if (!has_ref && n == "plugin")
+    return {GazeboTag::PLUGIN, n};
+  if (on_link && n == "sensor")
+    return {GazeboTag::SENSOR, n};
+  if (on_link && (n == "mu1" || n == "mu2"))
+    return {GazeboTag::FRICTION, n};
+  if (on_link && (n == "kp" || n == "kd"))
+    return {GazeboTag::CONTACT, n};
+  if (on_link && n == "fdir1")
+    return {GazeboTag::FDIR, n};
   // Looks, and what changes no motion (feedback, contact counts, laser retro-reflection).
-  static const std::set<std::string> cosmetic = {"material", "visual", "gui", "scene", "provideFeedback",
-                                                 "maxContacts", "laserRetro", "static", "self_collide",
-                                                 "selfCollide", "enable_wind", "audio_source", "projector"};
-  if (cosmetic.count(n)) return {GazeboTag::COSMETIC, n};
-  static const std::set<std::string> not_simulated = {
-      "minDepth", "maxVel", "gravity", "turnGravityOff", "dampingFactor", "implicitSpringDamper", "cfmDamping",
-      "stopCfm", "stopErp", "fudgeFactor", "springReference", "springStiffness", "disableFixedJointLumping",
-      "preserveFixedJoint", "collision", "velocity_decay", "kinematic"};
-  if (not_simulated.count(n)) return {GazeboTag::NOT_SIMULATED, n};
+  static const std::set<std::string> cosmetic = {
+      "material", "visual",       "gui",         "scene",       "provideFeedback", "maxContacts", "laserRetro",
+      "static",   "self_collide", "selfCollide", "enable_wind", "audio_source",    "projector"};
+  if (cosmetic.count(n))
+    return {GazeboTag::COSMETIC, n};
+  static const std::set<std::string> not_simulated = {"minDepth",
+                                                      "maxVel",
+                                                      "gravity",
+                                                      "turnGravityOff",
+                                                      "dampingFactor",
+                                                      "implicitSpringDamper",
+                                                      "cfmDamping",
+                                                      "stopCfm",
+                                                      "stopErp",
+                                                      "fudgeFactor",
+                                                      "springReference",
+                                                      "springStiffness",
+                                                      "disableFixedJointLumping",
+                                                      "preserveFixedJoint",
+                                                      "collision",
+                                                      "velocity_decay",
+                                                      "kinematic"};
+  if (not_simulated.count(n))
+    return {GazeboTag::NOT_SIMULATED, n};
   return {GazeboTag::UNKNOWN, n};
 }
 
 void applyGazeboTag(const Ctx& c, const GazeboTag& tag, const std::string& v, const std::string& where, LinkSpec* link,
-                    std::vector<std::string>& warnings) {
-  if (tag.kind == GazeboTag::FDIR) {
+                    std::vector<std::string>& warnings)
+{
+  if (tag.kind == GazeboTag::FDIR)
+  {
     btVector3 d;
-    try {
+    try
+    {
       d = parseVec3(v, "fdir1");
-    } catch (const LoadError& e) {
+    }
+    catch (const LoadError& e)
+    {
       c.fail(where, e.what());
     }
-    if (d.length() < 1e-9) c.fail(where, "zero direction");
+    if (d.length() < 1e-9)
+      c.fail(where, "zero direction");
     warnings.push_back(c.source + ": " + where + ": friction is isotropic in gazebo_lite (the smaller of mu1 and mu2 " +
                        "in every direction): Bullet's multibody contacts take one coefficient");
     return;
   }
-  if (tag.kind == GazeboTag::NOT_SIMULATED) {
+  if (tag.kind == GazeboTag::NOT_SIMULATED)
+  {
     // Their default values change nothing.
     if ((tag.name == "gravity" && (v == "true" || v == "1")) ||
         (tag.name == "turnGravityOff" && (v == "false" || v == "0")))
       return;
-    warnings.push_back(c.source + ": " + where + " = '" + v + "' is not simulated by gazebo_lite (see README: Gazebo tags)");
+    warnings.push_back(c.source + ": " + where + " = '" + v +
+                       "' is not simulated by gazebo_lite (see README: Gazebo tags)");
     return;
   }
   XmlNode n;
   n.text = v;
   double d;
-  if (!textDouble(n, d) || d < 0) c.fail(where, "expected a non-negative number, got '" + v + "'");
-  for (auto& s : link->collisions) {
-    if (tag.name == "mu1") s.mu1 = d;
-    if (tag.name == "mu2") s.mu2 = d;
-    if (tag.name == "kp") s.kp = d;
-    if (tag.name == "kd") s.kd = d;
+  if (!textDouble(n, d) || d < 0)
+    c.fail(where, "expected a non-negative number, got '" + v + "'");
+  for (auto& s : link->collisions)
+  {
+    if (tag.name == "mu1")
+      s.mu1 = d;
+    if (tag.name == "mu2")
+      s.mu2 = d;
+    if (tag.name == "kp")
+      s.kp = d;
+    if (tag.name == "kd")
+      s.kd = d;
   }
   // Contacts are rigid. Bullet can make them soft from kp and kd, but from the values robots
   // use in Gazebo (kp 1e6, kd 100) it made mybot's wheels slip (313 of 360 degrees in a turn in
@@ -236,33 +341,42 @@ void applyGazeboTag(const Ctx& c, const GazeboTag& tag, const std::string& v, co
 }
 }  // namespace
 
-RobotSpec parseUrdf(const std::string& xml, const std::string& source, const UriResolver& resolver) {
+RobotSpec parseUrdf(const std::string& xml, const std::string& source, const UriResolver& resolver)
+{
   Ctx c{source, &resolver};
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
     c.fail("XML", std::string(doc.ErrorStr() ? doc.ErrorStr() : "parse error"));
   const XMLElement* robot = doc.FirstChildElement("robot");
-  if (!robot) c.fail("document", "no <robot> element");
+  if (!robot)
+    c.fail("document", "no <robot> element");
   RobotSpec spec;
   spec.source = source;
   spec.name = robot->Attribute("name") ? robot->Attribute("name") : "robot";
 
   std::set<std::string> names;
-  for (const XMLElement* l = robot->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
+  for (const XMLElement* l = robot->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
+  {
     LinkSpec link;
-    if (!l->Attribute("name")) c.fail("<link>", "missing attribute 'name'");
+    if (!l->Attribute("name"))
+      c.fail("<link>", "missing attribute 'name'");
     link.name = l->Attribute("name");
     std::string where = "link '" + link.name + "'";
-    if (!names.insert(link.name).second) c.fail(where, "duplicate link name");
-    if (const XMLElement* in = l->FirstChildElement("inertial")) {
+    if (!names.insert(link.name).second)
+      c.fail(where, "duplicate link name");
+    if (const XMLElement* in = l->FirstChildElement("inertial"))
+    {
       link.has_inertial = true;
       link.inertial.origin = parseOrigin(c, in, where + " <inertial>");
       const XMLElement* m = in->FirstChildElement("mass");
-      if (!m) c.fail(where, "<inertial> without <mass>");
+      if (!m)
+        c.fail(where, "<inertial> without <mass>");
       link.inertial.mass = attrDouble(c, m, "value", where + " <inertial>", true);
-      if (link.inertial.mass < 0) c.fail(where + " <mass>", "negative mass");
+      if (link.inertial.mass < 0)
+        c.fail(where + " <mass>", "negative mass");
       const XMLElement* i = in->FirstChildElement("inertia");
-      if (!i) c.fail(where, "<inertial> without <inertia>");
+      if (!i)
+        c.fail(where, "<inertial> without <inertia>");
       std::string w = where + " <inertia>";
       link.inertial.ixx = attrDouble(c, i, "ixx", w, true);
       link.inertial.ixy = attrDouble(c, i, "ixy", w, false);
@@ -274,66 +388,92 @@ RobotSpec parseUrdf(const std::string& xml, const std::string& source, const Uri
     int k = 0;
     for (const XMLElement* col = l->FirstChildElement("collision"); col; col = col->NextSiblingElement("collision"))
       link.collisions.push_back(parseGeometry(c, col, where + " <collision> #" + std::to_string(k++)));
-    if (link.has_inertial) checkInertia(c, link, where, spec.warnings);
+    if (link.has_inertial)
+      checkInertia(c, link, where, spec.warnings);
     spec.links.push_back(std::move(link));
   }
-  if (spec.links.empty()) c.fail("<robot>", "no <link> elements");
+  if (spec.links.empty())
+    c.fail("<robot>", "no <link> elements");
 
   std::set<std::string> children, jnames;
-  for (const XMLElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+  for (const XMLElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+  {
     JointSpec js;
-    if (!j->Attribute("name")) c.fail("<joint>", "missing attribute 'name'");
+    if (!j->Attribute("name"))
+      c.fail("<joint>", "missing attribute 'name'");
     js.name = j->Attribute("name");
     std::string where = "joint '" + js.name + "'";
-    if (!jnames.insert(js.name).second) c.fail(where, "duplicate joint name");
-    if (!j->Attribute("type")) c.fail(where, "missing attribute 'type'");
+    if (!jnames.insert(js.name).second)
+      c.fail(where, "duplicate joint name");
+    if (!j->Attribute("type"))
+      c.fail(where, "missing attribute 'type'");
     js.type = jointType(c, j->Attribute("type"), where);
     const XMLElement* p = j->FirstChildElement("parent");
     const XMLElement* ch = j->FirstChildElement("child");
-    if (!p || !p->Attribute("link")) c.fail(where, "missing <parent link=...>");
-    if (!ch || !ch->Attribute("link")) c.fail(where, "missing <child link=...>");
+    if (!p || !p->Attribute("link"))
+      c.fail(where, "missing <parent link=...>");
+    if (!ch || !ch->Attribute("link"))
+      c.fail(where, "missing <child link=...>");
     js.parent = p->Attribute("link");
     js.child = ch->Attribute("link");
-    if (!names.count(js.parent)) c.fail(where, "<parent link='" + js.parent + "'> is not a link");
-    if (!names.count(js.child)) c.fail(where, "<child link='" + js.child + "'> is not a link");
-    if (!children.insert(js.child).second) c.fail(where, "link '" + js.child + "' has two parents");
+    if (!names.count(js.parent))
+      c.fail(where, "<parent link='" + js.parent + "'> is not a link");
+    if (!names.count(js.child))
+      c.fail(where, "<child link='" + js.child + "'> is not a link");
+    if (!children.insert(js.child).second)
+      c.fail(where, "link '" + js.child + "' has two parents");
     js.origin = parseOrigin(c, j, where);
-    if (const XMLElement* a = j->FirstChildElement("axis")) {
-      if (a->Attribute("xyz")) {
-        try {
+    if (const XMLElement* a = j->FirstChildElement("axis"))
+    {
+      if (a->Attribute("xyz"))
+      {
+        try
+        {
           js.axis = parseVec3(a->Attribute("xyz"), "<axis xyz>");
-        } catch (const LoadError& e) {
+        }
+        catch (const LoadError& e)
+        {
           c.fail(where, e.what());
         }
       }
-      if (js.axis.length() < 1e-9) c.fail(where + " <axis>", "zero axis");
+      if (js.axis.length() < 1e-9)
+        c.fail(where + " <axis>", "zero axis");
       js.axis.normalize();
     }
-    if (const XMLElement* lim = j->FirstChildElement("limit")) {
+    if (const XMLElement* lim = j->FirstChildElement("limit"))
+    {
       std::string w = where + " <limit>";
       js.has_effort = lim->Attribute("effort") != nullptr;
       js.has_velocity = lim->Attribute("velocity") != nullptr;
       js.effort = attrDouble(c, lim, "effort", w, js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC);
-      js.velocity = attrDouble(c, lim, "velocity", w, js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC);
-      if (js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC) {
+      js.velocity =
+          attrDouble(c, lim, "velocity", w, js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC);
+      if (js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC)
+      {
         js.lower = attrDouble(c, lim, "lower", w, false);
         js.upper = attrDouble(c, lim, "upper", w, false);
         js.has_limits = js.upper > js.lower;
       }
-      if (js.effort < 0) c.fail(w, "negative effort");
-    } else if (js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC) {
+      if (js.effort < 0)
+        c.fail(w, "negative effort");
+    }
+    else if (js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC)
+    {
       c.fail(where, "revolute/prismatic joint without <limit>");
     }
-    if (const XMLElement* d = j->FirstChildElement("dynamics")) {
+    if (const XMLElement* d = j->FirstChildElement("dynamics"))
+    {
       js.damping = attrDouble(c, d, "damping", where + " <dynamics>", false);
       js.friction = attrDouble(c, d, "friction", where + " <dynamics>", false);
-      if (js.damping < 0 || js.friction < 0) c.fail(where + " <dynamics>", "negative damping/friction");
+      if (js.damping < 0 || js.friction < 0)
+        c.fail(where + " <dynamics>", "negative damping/friction");
     }
     if (js.type == JointSpec::FLOATING || js.type == JointSpec::PLANAR)
       c.fail(where, "floating/planar joints are not supported");
     spec.joints.push_back(js);
   }
-  for (const XMLElement* t = robot->FirstChildElement("transmission"); t; t = t->NextSiblingElement("transmission")) {
+  for (const XMLElement* t = robot->FirstChildElement("transmission"); t; t = t->NextSiblingElement("transmission"))
+  {
     TransmissionSpec ts;
     ts.name = t->Attribute("name") ? t->Attribute("name") : "";
     const std::string where = "<transmission name='" + ts.name + "'>";
@@ -343,20 +483,29 @@ RobotSpec parseUrdf(const std::string& xml, const std::string& source, const Uri
     else if (t->Attribute("type"))
       ts.type = t->Attribute("type");
     const XMLElement* j = t->FirstChildElement("joint");
-    if (!j || !j->Attribute("name")) c.fail(where, "missing <joint name=...>");
+    if (!j || !j->Attribute("name"))
+      c.fail(where, "missing <joint name=...>");
     ts.joint = j->Attribute("name");
-    if (!jnames.count(ts.joint)) c.fail(where + " <joint name='" + ts.joint + "'>", "no such joint");
-    for (const XMLElement* hi = j->FirstChildElement("hardwareInterface"); hi; hi = hi->NextSiblingElement("hardwareInterface"))
-      if (hi->GetText()) ts.interfaces.push_back(toXmlNode(hi).text);
+    if (!jnames.count(ts.joint))
+      c.fail(where + " <joint name='" + ts.joint + "'>", "no such joint");
+    for (const XMLElement* hi = j->FirstChildElement("hardwareInterface"); hi;
+         hi = hi->NextSiblingElement("hardwareInterface"))
+      if (hi->GetText())
+        ts.interfaces.push_back(toXmlNode(hi).text);
     const XMLElement* a = t->FirstChildElement("actuator");
-    if (a && a->Attribute("name")) ts.actuator = a->Attribute("name");
+    if (a && a->Attribute("name"))
+      ts.actuator = a->Attribute("name");
     // Before ROS Indigo the interface sat in <actuator>; gazebo_ros_control still reads it there.
     if (ts.interfaces.empty() && a)
-      for (const XMLElement* hi = a->FirstChildElement("hardwareInterface"); hi; hi = hi->NextSiblingElement("hardwareInterface"))
-        if (hi->GetText()) ts.interfaces.push_back(toXmlNode(hi).text);
+      for (const XMLElement* hi = a->FirstChildElement("hardwareInterface"); hi;
+           hi = hi->NextSiblingElement("hardwareInterface"))
+        if (hi->GetText())
+          ts.interfaces.push_back(toXmlNode(hi).text);
     const XMLElement* mr = a ? a->FirstChildElement("mechanicalReduction") : nullptr;
-    if (!mr) mr = t->FirstChildElement("mechanicalReduction");
-    if (mr) {
+    if (!mr)
+      mr = t->FirstChildElement("mechanicalReduction");
+    if (mr)
+    {
       XmlNode n = toXmlNode(mr);
       if (!textDouble(n, ts.reduction) || ts.reduction == 0)
         c.fail(where + " <mechanicalReduction>", "expected a non-zero number, got '" + n.text + "'");
@@ -365,36 +514,52 @@ RobotSpec parseUrdf(const std::string& xml, const std::string& source, const Uri
   }
   std::vector<std::string> roots;
   for (const auto& l : spec.links)
-    if (!children.count(l.name)) roots.push_back(l.name);
-  if (roots.size() != 1) c.fail("<robot>", "expected exactly one root link, found " + std::to_string(roots.size()));
+    if (!children.count(l.name))
+      roots.push_back(l.name);
+  if (roots.size() != 1)
+    c.fail("<robot>", "expected exactly one root link, found " + std::to_string(roots.size()));
   spec.root = roots[0];
 
   // <gazebo> extensions.
-  for (const XMLElement* g = robot->FirstChildElement("gazebo"); g; g = g->NextSiblingElement("gazebo")) {
+  for (const XMLElement* g = robot->FirstChildElement("gazebo"); g; g = g->NextSiblingElement("gazebo"))
+  {
     std::string ref = g->Attribute("reference") ? g->Attribute("reference") : "";
     LinkSpec* link = nullptr;
-    if (!ref.empty()) {
+    if (!ref.empty())
+    {
       for (auto& l : spec.links)
-        if (l.name == ref) link = &l;
-      if (!link && !jnames.count(ref)) c.fail("<gazebo reference='" + ref + "'>", "no such link or joint");
+        if (l.name == ref)
+          link = &l;
+      if (!link && !jnames.count(ref))
+        c.fail("<gazebo reference='" + ref + "'>", "no such link or joint");
     }
-    for (const XMLElement* e = g->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    for (const XMLElement* e = g->FirstChildElement(); e; e = e->NextSiblingElement())
+    {
       const XmlNode x = toXmlNode(e);
-      const std::string where = "<gazebo" + (ref.empty() ? std::string() : " reference='" + ref + "'") + "> <" + x.name + ">";
+      const std::string where =
+          "<gazebo" + (ref.empty() ? std::string() : " reference='" + ref + "'") + "> <" + x.name + ">";
       const GazeboTag tag = classifyGazeboTag(x.name, link != nullptr, !ref.empty());
-      if (tag.kind == GazeboTag::PLUGIN) {
+      if (tag.kind == GazeboTag::PLUGIN)
+      {
         PluginSpec ps;
         ps.xml = x;
         ps.name = ps.xml.attr("name");
         ps.filename = ps.xml.attr("filename");
-        if (ps.filename.empty()) c.fail("<gazebo> <plugin name='" + ps.name + "'>", "missing attribute 'filename'");
+        if (ps.filename.empty())
+          c.fail("<gazebo> <plugin name='" + ps.name + "'>", "missing attribute 'filename'");
         spec.plugins.push_back(std::move(ps));
-      } else if (tag.kind == GazeboTag::SENSOR) {
+      }
+      else if (tag.kind == GazeboTag::SENSOR)
+      {
         link->sensors.push_back(x);
-      } else if (tag.kind == GazeboTag::UNKNOWN) {
+      }
+      else if (tag.kind == GazeboTag::UNKNOWN)
+      {
         spec.warnings.push_back(source + ": " + where + ": unknown tag ignored (gazebo_lite reads the tags listed in " +
                                 "mybot_gazebo_lite/README.md)");
-      } else if (tag.kind != GazeboTag::COSMETIC) {
+      }
+      else if (tag.kind != GazeboTag::COSMETIC)
+      {
         // Gazebo takes the value as element text or as a value="..." attribute.
         const std::string v = x.text.empty() ? x.attr("value") : x.text;
         applyGazeboTag(c, tag, v, where, link, spec.warnings);
@@ -405,7 +570,8 @@ RobotSpec parseUrdf(const std::string& xml, const std::string& source, const Uri
   for (const auto& l : spec.links)
     for (const auto& s : l.sensors)
       for (const auto& p : s.children)
-        if (p.name == "plugin") {
+        if (p.name == "plugin")
+        {
           PluginSpec ps;
           ps.xml = p;
           ps.name = p.attr("name");

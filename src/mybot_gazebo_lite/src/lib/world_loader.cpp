@@ -12,164 +12,227 @@
 #include <fstream>
 #include <sstream>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
+namespace
+{
 using tinyxml2::XMLElement;
 
-std::string dirOf(const std::string& p) {
+std::string dirOf(const std::string& p)
+{
   auto s = p.find_last_of('/');
   return s == std::string::npos ? "." : p.substr(0, s);
 }
 
-std::string readFile(const std::string& path, const std::string& what) {
+std::string readFile(const std::string& path, const std::string& what)
+{
   std::ifstream f(path);
-  if (!f) throw LoadError(what + ": cannot read '" + path + "'");
+  if (!f)
+    throw LoadError(what + ": cannot read '" + path + "'");
   std::stringstream ss;
   ss << f.rdbuf();
   return ss.str();
 }
 
-struct SdfCtx {
+struct SdfCtx
+{
   std::string source, base_dir;
   const UriResolver* resolver;
-  [[noreturn]] void fail(const std::string& where, const std::string& msg) const {
+  [[noreturn]] void fail(const std::string& where, const std::string& msg) const
+  {
     throw LoadError(source + ": " + where + ": " + msg);
   }
   std::string text(const XMLElement* e, const char* child, const std::string& where, bool required,
-                   const std::string& def = "") const {
+                   const std::string& def = "") const
+  {
     const XMLElement* c = e->FirstChildElement(child);
-    if (!c || !c->GetText()) {
-      if (required) fail(where, std::string("missing <") + child + ">");
+    if (!c || !c->GetText())
+    {
+      if (required)
+        fail(where, std::string("missing <") + child + ">");
       return def;
     }
     return c->GetText();
   }
-  double number(const XMLElement* e, const char* child, const std::string& where, bool required,
-                double def = 0) const {
+  double number(const XMLElement* e, const char* child, const std::string& where, bool required, double def = 0) const
+  {
     std::string t = text(e, child, where, required);
-    if (t.empty()) return def;
+    if (t.empty())
+      return def;
     char* end = nullptr;
     double d = std::strtod(t.c_str(), &end);
-    while (end && (*end == ' ' || *end == '\n' || *end == '\t' || *end == '\r')) ++end;
-    if (*end != '\0' || !std::isfinite(d)) fail(where + " <" + child + ">", "not a number: '" + t + "'");
+    while (end && (*end == ' ' || *end == '\n' || *end == '\t' || *end == '\r'))
+      ++end;
+    if (*end != '\0' || !std::isfinite(d))
+      fail(where + " <" + child + ">", "not a number: '" + t + "'");
     return d;
   }
-  btTransform pose(const XMLElement* e, const std::string& where) const {
+  btTransform pose(const XMLElement* e, const std::string& where) const
+  {
     const XMLElement* p = e->FirstChildElement("pose");
-    if (!p || !p->GetText()) return btTransform::getIdentity();
-    try {
+    if (!p || !p->GetText())
+      return btTransform::getIdentity();
+    try
+    {
       return parsePose6(p->GetText(), "<pose>");
-    } catch (const LoadError& ex) {
+    }
+    catch (const LoadError& ex)
+    {
       fail(where, ex.what());
     }
   }
 };
 
-Shape parseSdfGeometry(const SdfCtx& c, const XMLElement* g, const std::string& where) {
+Shape parseSdfGeometry(const SdfCtx& c, const XMLElement* g, const std::string& where)
+{
   const XMLElement* s = g ? g->FirstChildElement() : nullptr;
-  if (!s) c.fail(where, "missing <geometry> content");
+  if (!s)
+    c.fail(where, "missing <geometry> content");
   Shape shape;
   std::string t = s->Name();
   std::string w = where + " <" + t + ">";
-  if (t == "box") {
+  if (t == "box")
+  {
     shape.type = Shape::BOX;
-    try {
+    try
+    {
       shape.size = parseVec3(c.text(s, "size", w, true), "<size>");
-    } catch (const LoadError& e) {
+    }
+    catch (const LoadError& e)
+    {
       c.fail(w, e.what());
     }
-    if (shape.size.x() <= 0 || shape.size.y() <= 0 || shape.size.z() <= 0) c.fail(w, "size must be positive");
-  } else if (t == "cylinder") {
+    if (shape.size.x() <= 0 || shape.size.y() <= 0 || shape.size.z() <= 0)
+      c.fail(w, "size must be positive");
+  }
+  else if (t == "cylinder")
+  {
     shape.type = Shape::CYLINDER;
     shape.radius = c.number(s, "radius", w, true);
     shape.length = c.number(s, "length", w, true);
-    if (shape.radius <= 0 || shape.length <= 0) c.fail(w, "radius and length must be positive");
-  } else if (t == "sphere") {
+    if (shape.radius <= 0 || shape.length <= 0)
+      c.fail(w, "radius and length must be positive");
+  }
+  else if (t == "sphere")
+  {
     shape.type = Shape::SPHERE;
     shape.radius = c.number(s, "radius", w, true);
-    if (shape.radius <= 0) c.fail(w, "radius must be positive");
-  } else if (t == "plane") {
+    if (shape.radius <= 0)
+      c.fail(w, "radius must be positive");
+  }
+  else if (t == "plane")
+  {
     shape.type = Shape::PLANE;
     std::string n = c.text(s, "normal", w, false, "0 0 1");
-    try {
+    try
+    {
       shape.normal = parseVec3(n, "<normal>");
-    } catch (const LoadError& e) {
+    }
+    catch (const LoadError& e)
+    {
       c.fail(w, e.what());
     }
-    if (shape.normal.length() < 1e-9) c.fail(w, "zero normal");
+    if (shape.normal.length() < 1e-9)
+      c.fail(w, "zero normal");
     shape.normal.normalize();
-  } else if (t == "mesh") {
+  }
+  else if (t == "mesh")
+  {
     shape.type = Shape::MESH;
     std::string uri = c.text(s, "uri", w, true);
     std::string sc = c.text(s, "scale", w, false, "1 1 1");
-    try {
+    try
+    {
       shape.mesh_scale = parseVec3(sc, "<scale>");
-    } catch (const LoadError& e) {
+    }
+    catch (const LoadError& e)
+    {
       c.fail(w, e.what());
     }
     shape.mesh_path = (*c.resolver)(uri, c.base_dir);
-    if (shape.mesh_path.empty()) c.fail(w, "mesh '" + uri + "' not found");
-    try {
+    if (shape.mesh_path.empty())
+      c.fail(w, "mesh '" + uri + "' not found");
+    try
+    {
       shape.triangles = loadMesh(shape.mesh_path, shape.mesh_scale);
-    } catch (const LoadError& e) {
+    }
+    catch (const LoadError& e)
+    {
       c.fail(w, e.what());
     }
-  } else {
+  }
+  else
+  {
     c.fail(w, "unsupported geometry");
   }
   return shape;
 }
 
-WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string& where_in) {
+WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string& where_in)
+{
   WorldModel model;
   model.name = m->Attribute("name") ? m->Attribute("name") : "";
   std::string where = where_in + " <model name='" + model.name + "'>";
-  if (model.name.empty()) c.fail(where_in, "<model> without name");
+  if (model.name.empty())
+    c.fail(where_in, "<model> without name");
   model.pose = c.pose(m, where);
   std::string st = c.text(m, "static", where, false, "false");
   model.is_static = (st == "true" || st == "1");
-  for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
+  for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
+  {
     WorldLink link;
     link.name = l->Attribute("name") ? l->Attribute("name") : "link";
     std::string lw = where + " <link name='" + link.name + "'>";
     link.pose = c.pose(l, lw);
-    if (const XMLElement* in = l->FirstChildElement("inertial")) {
+    if (const XMLElement* in = l->FirstChildElement("inertial"))
+    {
       link.mass = c.number(in, "mass", lw + " <inertial>", false, 1.0);
-      if (link.mass <= 0) c.fail(lw + " <inertial> <mass>", "mass must be positive");
+      if (link.mass <= 0)
+        c.fail(lw + " <inertial> <mass>", "mass must be positive");
     }
-    for (const XMLElement* col = l->FirstChildElement("collision"); col; col = col->NextSiblingElement("collision")) {
+    for (const XMLElement* col = l->FirstChildElement("collision"); col; col = col->NextSiblingElement("collision"))
+    {
       std::string cw = lw + " <collision name='" + (col->Attribute("name") ? col->Attribute("name") : "") + "'>";
       Shape s = parseSdfGeometry(c, col->FirstChildElement("geometry"), cw);
       s.pose = c.pose(col, cw);
       if (const XMLElement* surf = col->FirstChildElement("surface"))
         if (const XMLElement* fr = surf->FirstChildElement("friction"))
-          if (const XMLElement* ode = fr->FirstChildElement("ode")) {
+          if (const XMLElement* ode = fr->FirstChildElement("ode"))
+          {
             s.mu1 = c.number(ode, "mu", cw + " <friction><ode>", false, 1.0);
             s.mu2 = c.number(ode, "mu2", cw + " <friction><ode>", false, s.mu1);
           }
       link.shapes.push_back(s);
     }
     for (const XMLElement* vis = l->FirstChildElement("visual"); vis && !link.has_color;
-         vis = vis->NextSiblingElement("visual")) {
+         vis = vis->NextSiblingElement("visual"))
+    {
       const XMLElement* mat = vis->FirstChildElement("material");
-      if (!mat) continue;
+      if (!mat)
+        continue;
       const XMLElement* col = mat->FirstChildElement("diffuse");
-      if (!col) col = mat->FirstChildElement("ambient");
-      if (!col || !col->GetText()) continue;
+      if (!col)
+        col = mat->FirstChildElement("ambient");
+      if (!col || !col->GetText())
+        continue;
       std::string vw = lw + " <visual><material><" + col->Name() + ">";
       std::istringstream ss(col->GetText());
       double rgb[3];
-      if (!(ss >> rgb[0] >> rgb[1] >> rgb[2])) c.fail(vw, std::string("expected 'r g b [a]', got '") + col->GetText() + "'");
-      for (int i = 0; i < 3; ++i) link.color[i] = static_cast<float>(std::clamp(rgb[i], 0.0, 1.0));
+      if (!(ss >> rgb[0] >> rgb[1] >> rgb[2]))
+        c.fail(vw, std::string("expected 'r g b [a]', got '") + col->GetText() + "'");
+      for (int i = 0; i < 3; ++i)
+        link.color[i] = static_cast<float>(std::clamp(rgb[i], 0.0, 1.0));
       link.has_color = true;
     }
     model.links.push_back(std::move(link));
   }
   // Nested models are flattened into this one.
-  for (const XMLElement* n = m->FirstChildElement("model"); n; n = n->NextSiblingElement("model")) {
+  for (const XMLElement* n = m->FirstChildElement("model"); n; n = n->NextSiblingElement("model"))
+  {
     WorldModel sub = parseSdfModel(c, n, where);
-    for (auto& l : sub.links) {
+    for (auto& l : sub.links)
+    {
       l.pose = sub.pose * l.pose;
       l.name = sub.name + "::" + l.name;
       model.links.push_back(l);
@@ -180,20 +243,25 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
 
 // Resolves <include><uri>model://X</uri></include>. Returns false for the
 // built-in sun (a light, nothing to simulate).
-bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, WorldModel& out) {
+bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, WorldModel& out)
+{
   std::string where = "<include>";
   std::string uri = c.text(inc, "uri", where, true);
   where = "<include> <uri>" + uri + "</uri>";
-  if (uri == "model://sun") return false;
-  if (uri == "model://ground_plane") {
+  if (uri == "model://sun")
+    return false;
+  if (uri == "model://ground_plane")
+  {
     world.ground_plane = true;
     return false;
   }
   std::string dir = (*c.resolver)(uri, c.base_dir);
-  if (dir.empty()) c.fail(where, "model not found in GAZEBO_MODEL_PATH or package model paths");
+  if (dir.empty())
+    c.fail(where, "model not found in GAZEBO_MODEL_PATH or package model paths");
   std::string sdf_file = dir + "/model.sdf";
   std::ifstream cfg(dir + "/model.config");
-  if (cfg) {
+  if (cfg)
+  {
     tinyxml2::XMLDocument doc;
     std::stringstream ss;
     ss << cfg.rdbuf();
@@ -201,11 +269,15 @@ bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, Worl
     std::pair<int, int> best{-1, -1};
     if (doc.Parse(ss.str().c_str()) == tinyxml2::XML_SUCCESS)
       if (const XMLElement* mdl = doc.FirstChildElement("model"))
-        for (const XMLElement* s = mdl->FirstChildElement("sdf"); s; s = s->NextSiblingElement("sdf")) {
-          if (!s->GetText()) continue;
+        for (const XMLElement* s = mdl->FirstChildElement("sdf"); s; s = s->NextSiblingElement("sdf"))
+        {
+          if (!s->GetText())
+            continue;
           std::pair<int, int> v{0, 0};
-          if (const char* ver = s->Attribute("version")) std::sscanf(ver, "%d.%d", &v.first, &v.second);
-          if (v > best) {
+          if (const char* ver = s->Attribute("version"))
+            std::sscanf(ver, "%d.%d", &v.first, &v.second);
+          if (v > best)
+          {
             best = v;
             sdf_file = dir + "/" + s->GetText();
           }
@@ -217,46 +289,59 @@ bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, Worl
     throw LoadError(sdf_file + ": XML: " + (doc.ErrorStr() ? doc.ErrorStr() : "parse error"));
   const XMLElement* sdf = doc.FirstChildElement("sdf");
   const XMLElement* m = sdf ? sdf->FirstChildElement("model") : nullptr;
-  if (!m) throw LoadError(sdf_file + ": no <sdf><model>");
+  if (!m)
+    throw LoadError(sdf_file + ": no <sdf><model>");
   SdfCtx sub{sdf_file, dir, c.resolver};
   out = parseSdfModel(sub, m, "");
   if (const char* n = inc->FirstChildElement("name") ? inc->FirstChildElement("name")->GetText() : nullptr)
     out.name = n;
-  if (inc->FirstChildElement("pose")) out.pose = c.pose(inc, where);
+  if (inc->FirstChildElement("pose"))
+    out.pose = c.pose(inc, where);
   if (const XMLElement* st = inc->FirstChildElement("static"))
-    if (st->GetText()) out.is_static = std::string(st->GetText()) == "true" || std::string(st->GetText()) == "1";
+    if (st->GetText())
+      out.is_static = std::string(st->GetText()) == "true" || std::string(st->GetText()) == "1";
   return true;
 }
 }  // namespace
 
-namespace {
+namespace
+{
 // Gazebo's <physics>: max_step_size, real_time_factor and the solver's iterations. Values are
 // checked here with the node's own bounds, naming the element.
-PhysicsSpec parsePhysics(const SdfCtx& c, const XMLElement* ph) {
+PhysicsSpec parsePhysics(const SdfCtx& c, const XMLElement* ph)
+{
   PhysicsSpec p;
-  auto number = [&](const XMLElement* e, const std::string& what) {
+  auto number = [&](const XMLElement* e, const std::string& what)
+  {
     const char* t = e->GetText();
     char* end = nullptr;
     const double v = t ? std::strtod(t, &end) : 0.0;
-    if (!t || end == t || *end != '\0' || !std::isfinite(v)) c.fail("<physics> <" + what + ">", std::string("expected a number, got '") + (t ? t : "") + "'");
+    if (!t || end == t || *end != '\0' || !std::isfinite(v))
+      c.fail("<physics> <" + what + ">", std::string("expected a number, got '") + (t ? t : "") + "'");
     return v;
   };
-  if (const XMLElement* e = ph->FirstChildElement("max_step_size")) {
+  if (const XMLElement* e = ph->FirstChildElement("max_step_size"))
+  {
     p.has_step = true;
     p.max_step_size = number(e, "max_step_size");
-    if (!(p.max_step_size > 0 && p.max_step_size <= 0.01)) c.fail("<physics> <max_step_size>", "must be in (0, 0.01] s");
+    if (!(p.max_step_size > 0 && p.max_step_size <= 0.01))
+      c.fail("<physics> <max_step_size>", "must be in (0, 0.01] s");
   }
-  if (const XMLElement* e = ph->FirstChildElement("real_time_factor")) {
+  if (const XMLElement* e = ph->FirstChildElement("real_time_factor"))
+  {
     p.has_real_time_factor = true;
     p.real_time_factor = number(e, "real_time_factor");
-    if (p.real_time_factor < 0) c.fail("<physics> <real_time_factor>", "must be >= 0");
+    if (p.real_time_factor < 0)
+      c.fail("<physics> <real_time_factor>", "must be >= 0");
   }
   for (const char* engine : {"ode", "bullet"})
     if (const XMLElement* e = ph->FirstChildElement(engine))
       if (const XMLElement* s = e->FirstChildElement("solver"))
-        if (const XMLElement* it = s->FirstChildElement("iters")) {
+        if (const XMLElement* it = s->FirstChildElement("iters"))
+        {
           const double v = number(it, std::string(engine) + "><solver><iters");
-          if (v < 1 || v != std::floor(v)) c.fail(std::string("<physics> <") + engine + "><solver><iters>", "must be a whole number >= 1");
+          if (v < 1 || v != std::floor(v))
+            c.fail(std::string("<physics> <") + engine + "><solver><iters>", "must be a whole number >= 1");
           p.has_iterations = true;
           p.iterations = static_cast<int>(v);
         }
@@ -265,49 +350,70 @@ PhysicsSpec parsePhysics(const SdfCtx& c, const XMLElement* ph) {
 }  // namespace
 
 WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const std::string& base_dir,
-                        const UriResolver& resolver) {
+                        const UriResolver& resolver)
+{
   SdfCtx c{source, base_dir, &resolver};
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
     c.fail("XML", doc.ErrorStr() ? doc.ErrorStr() : "parse error");
   const XMLElement* sdf = doc.FirstChildElement("sdf");
-  if (!sdf) c.fail("document", "no <sdf> element");
+  if (!sdf)
+    c.fail("document", "no <sdf> element");
   const XMLElement* w = sdf->FirstChildElement("world");
-  if (!w) c.fail("<sdf>", "no <world> element");
+  if (!w)
+    c.fail("<sdf>", "no <world> element");
   WorldSpec world;
   world.source = source;
-  if (w->Attribute("name")) world.name = w->Attribute("name");
-  if (const XMLElement* g = w->FirstChildElement("gravity")) {
-    try {
+  if (w->Attribute("name"))
+    world.name = w->Attribute("name");
+  if (const XMLElement* g = w->FirstChildElement("gravity"))
+  {
+    try
+    {
       world.gravity = parseVec3(g->GetText() ? g->GetText() : "", "<gravity>");
-    } catch (const LoadError& e) {
+    }
+    catch (const LoadError& e)
+    {
       c.fail("<world>", e.what());
     }
   }
-  if (const XMLElement* ph = w->FirstChildElement("physics")) world.physics = parsePhysics(c, ph);
-  for (const XMLElement* e = w->FirstChildElement(); e; e = e->NextSiblingElement()) {
+  if (const XMLElement* ph = w->FirstChildElement("physics"))
+    world.physics = parsePhysics(c, ph);
+  for (const XMLElement* e = w->FirstChildElement(); e; e = e->NextSiblingElement())
+  {
     std::string n = e->Name();
-    if (n == "include") {
+    if (n == "include")
+    {
       WorldModel m;
-      if (parseInclude(c, e, world, m)) world.models.push_back(std::move(m));
-    } else if (n == "model") {
+      if (parseInclude(c, e, world, m))
+        world.models.push_back(std::move(m));
+    }
+    else if (n == "model")
+    {
       world.models.push_back(parseSdfModel(c, e, "<world>"));
     }
   }
   // Gazebo applies the poses saved in a <state> block on load.
-  for (const XMLElement* st = w->FirstChildElement("state"); st; st = st->NextSiblingElement("state")) {
-    for (const XMLElement* m = st->FirstChildElement("model"); m; m = m->NextSiblingElement("model")) {
+  for (const XMLElement* st = w->FirstChildElement("state"); st; st = st->NextSiblingElement("state"))
+  {
+    for (const XMLElement* m = st->FirstChildElement("model"); m; m = m->NextSiblingElement("model"))
+    {
       std::string name = m->Attribute("name") ? m->Attribute("name") : "";
       std::string where = "<state> <model name='" + name + "'>";
-      for (auto& wm : world.models) {
-        if (wm.name != name) continue;
-        if (m->FirstChildElement("pose")) wm.pose = c.pose(m, where);
-        for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
+      for (auto& wm : world.models)
+      {
+        if (wm.name != name)
+          continue;
+        if (m->FirstChildElement("pose"))
+          wm.pose = c.pose(m, where);
+        for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
+        {
           std::string ln = l->Attribute("name") ? l->Attribute("name") : "";
           // State link poses are in the world frame.
           if (l->FirstChildElement("pose"))
             for (auto& wl : wm.links)
-              if (wl.name == ln) wl.pose = wm.pose.inverse() * c.pose(l, where + " <link>");
+              if (wl.name == ln)
+                wl.pose = wm.pose.inverse() * c.pose(l, where + " <link>");
         }
       }
     }
@@ -315,64 +421,92 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
   return world;
 }
 
-WorldSpec loadImageWorld(const std::string& yaml_path, long max_image_side) {
+WorldSpec loadImageWorld(const std::string& yaml_path, long max_image_side)
+{
   YAML::Node y;
-  try {
+  try
+  {
     y = YAML::LoadFile(yaml_path);
-  } catch (const std::exception& e) {
+  }
+  catch (const std::exception& e)
+  {
     throw LoadError(yaml_path + ": YAML: " + e.what());
   }
-  auto fail = [&](const std::string& key, const std::string& msg) -> void {
-    throw LoadError(yaml_path + ": '" + key + "': " + msg);
-  };
-  auto num = [&](const char* key, bool required, double def) {
-    if (!y[key]) {
-      if (required) fail(key, "missing");
+  auto fail = [&](const std::string& key, const std::string& msg) -> void
+  { throw LoadError(yaml_path + ": '" + key + "': " + msg); };
+  auto num = [&](const char* key, bool required, double def)
+  {
+    if (!y[key])
+    {
+      if (required)
+        fail(key, "missing");
       return def;
     }
     double v = def;
-    try {
+    try
+    {
       v = y[key].as<double>();
-    } catch (const std::exception&) {
+    }
+    catch (const std::exception&)
+    {
       fail(key, "not a number");
     }
-    if (!std::isfinite(v)) fail(key, "must be finite");
+    if (!std::isfinite(v))
+      fail(key, "must be finite");
     return v;
   };
-  if (!y.IsMap()) throw LoadError(yaml_path + ": expected a map_server-style YAML mapping");
-  if (!y["image"]) fail("image", "missing");
-  if (!y["image"].IsScalar()) fail("image", "expected a file name");
+  if (!y.IsMap())
+    throw LoadError(yaml_path + ": expected a map_server-style YAML mapping");
+  if (!y["image"])
+    fail("image", "missing");
+  if (!y["image"].IsScalar())
+    fail("image", "expected a file name");
   std::string image = y["image"].as<std::string>();
-  if (image.empty() || image[0] != '/') image = dirOf(yaml_path) + "/" + image;
+  if (image.empty() || image[0] != '/')
+    image = dirOf(yaml_path) + "/" + image;
   double res = num("resolution", true, 0);
-  if (!(res > 0)) fail("resolution", "must be positive");
+  if (!(res > 0))
+    fail("resolution", "must be positive");
   double ox = 0, oy = 0, oyaw = 0;
-  if (!y["origin"] || !y["origin"].IsSequence() || y["origin"].size() != 3) fail("origin", "expected [x, y, yaw]");
-  try {
+  if (!y["origin"] || !y["origin"].IsSequence() || y["origin"].size() != 3)
+    fail("origin", "expected [x, y, yaw]");
+  try
+  {
     ox = y["origin"][0].as<double>();
     oy = y["origin"][1].as<double>();
     oyaw = y["origin"][2].as<double>();
-  } catch (const std::exception&) {
+  }
+  catch (const std::exception&)
+  {
     fail("origin", "expected [x, y, yaw] numbers");
   }
-  if (!std::isfinite(ox) || !std::isfinite(oy) || !std::isfinite(oyaw)) fail("origin", "must be finite");
+  if (!std::isfinite(ox) || !std::isfinite(oy) || !std::isfinite(oyaw))
+    fail("origin", "must be finite");
   double occ = num("occupied_thresh", false, 0.65);
-  if (!(occ > 0 && occ <= 1)) fail("occupied_thresh", "must be in (0, 1]");
+  if (!(occ > 0 && occ <= 1))
+    fail("occupied_thresh", "must be in (0, 1]");
   int negate = static_cast<int>(num("negate", false, 0));
   double height = num("height", false, 1.0);
-  if (!(height > 0)) fail("height", "must be positive");
+  if (!(height > 0))
+    fail("height", "must be positive");
   // The header first: a file claiming 200000 x 200000 pixels is refused before decoding.
   std::string too_large = mybot_common::declaredImageSizeError(image, max_image_side, "~max_image_side");
-  if (!too_large.empty()) fail("image", too_large);
+  if (!too_large.empty())
+    fail("image", too_large);
   cv::Mat img;
-  try {
+  try
+  {
     img = cv::imread(image, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception& e) {
+  }
+  catch (const cv::Exception& e)
+  {
     fail("image", "cannot read image '" + image + "': " + e.what());
   }
-  if (img.empty()) fail("image", "cannot read image '" + image + "'");
+  if (img.empty())
+    fail("image", "cannot read image '" + image + "'");
   too_large = mybot_common::imageSizeError(image, img.cols, img.rows, max_image_side, "~max_image_side");
-  if (!too_large.empty()) fail("image", too_large);
+  if (!too_large.empty())
+    fail("image", too_large);
 
   WorldSpec world;
   world.source = yaml_path;
@@ -386,16 +520,19 @@ WorldSpec loadImageWorld(const std::string& yaml_path, long max_image_side) {
   link.name = "walls";
   // Occupied cells are merged into rectangles: row runs, extended downwards while identical.
   const int W = img.cols, H = img.rows;
-  auto occupied = [&](int r, int col) {
+  auto occupied = [&](int r, int col)
+  {
     double v = img.at<uint8_t>(r, col) / 255.0;
     double p = negate ? v : 1.0 - v;
     return p > occ;
   };
-  struct Run {
+  struct Run
+  {
     int x0, x1, r0;
   };
   std::vector<Run> open;
-  auto emit = [&](const Run& run, int r_end) {
+  auto emit = [&](const Run& run, int r_end)
+  {
     // Image row 0 is the top (largest y).
     double x0 = run.x0 * res, x1 = (run.x1 + 1) * res;
     double ytop = (H - run.r0) * res, ybot = (H - r_end) * res;
@@ -406,39 +543,51 @@ WorldSpec loadImageWorld(const std::string& yaml_path, long max_image_side) {
     s.pose.setOrigin(btVector3((x0 + x1) / 2, (ytop + ybot) / 2, height / 2));
     link.shapes.push_back(s);
   };
-  for (int r = 0; r <= H; ++r) {
+  for (int r = 0; r <= H; ++r)
+  {
     std::vector<Run> runs;
-    if (r < H) {
-      for (int col = 0; col < W;) {
-        if (!occupied(r, col)) {
+    if (r < H)
+    {
+      for (int col = 0; col < W;)
+      {
+        if (!occupied(r, col))
+        {
           ++col;
           continue;
         }
         int s = col;
-        while (col < W && occupied(r, col)) ++col;
+        while (col < W && occupied(r, col))
+          ++col;
         runs.push_back({s, col - 1, r});
       }
     }
     std::vector<Run> next;
-    for (auto& o : open) {
+    for (auto& o : open)
+    {
       bool cont = false;
       for (auto& n : runs)
-        if (n.x0 == o.x0 && n.x1 == o.x1 && n.r0 == r) {
+        if (n.x0 == o.x0 && n.x1 == o.x1 && n.r0 == r)
+        {
           n.r0 = o.r0;
           cont = true;
         }
-      if (!cont) emit(o, r);
+      if (!cont)
+        emit(o, r);
     }
     open = runs;
   }
-  if (!link.shapes.empty()) walls.links.push_back(std::move(link));
+  if (!link.shapes.empty())
+    walls.links.push_back(std::move(link));
   world.models.push_back(std::move(walls));
   return world;
 }
 
-WorldSpec loadWorldFile(const std::string& path, const UriResolver& resolver, long max_image_side) {
-  auto ends = [&](const std::string& s) { return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0; };
-  if (ends(".yaml") || ends(".yml")) return loadImageWorld(path, max_image_side);
+WorldSpec loadWorldFile(const std::string& path, const UriResolver& resolver, long max_image_side)
+{
+  auto ends = [&](const std::string& s)
+  { return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0; };
+  if (ends(".yaml") || ends(".yml"))
+    return loadImageWorld(path, max_image_side);
   std::string xml = readFile(path, "world");
   return parseSdfWorld(xml, path, dirOf(path), resolver);
 }

@@ -24,28 +24,38 @@
 #include <memory>
 #include <thread>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-class SimNode {
- public:
+class SimNode
+{
+public:
   SimNode() : pnh_("~") {}
 
-  bool init() {
+  bool init()
+  {
     // A value of the wrong type stops the node naming the parameter (never a silent default).
     using mybot_common::readParam;
     const std::string node = "gazebo_lite";
     const std::string world_file = readParam<std::string>(node, pnh_, "world", "");
     const int max_image_side = readParam<int>(node, pnh_, "max_image_side", mybot_common::kDefaultMaxImageSide);
-    if (max_image_side <= 0) return bad("max_image_side", "must be a positive number of pixels");
+    if (max_image_side <= 0)
+      return bad("max_image_side", "must be a positive number of pixels");
     WorldSpec spec;
-    try {
-      if (world_file.empty()) {
+    try
+    {
+      if (world_file.empty())
+      {
         spec.ground_plane = true;
         spec.name = "empty";
-      } else {
+      }
+      else
+      {
         spec = loadWorldFile(world_file, defaultResolveUri, max_image_side);
       }
-    } catch (const std::exception& e) {
+    }
+    catch (const std::exception& e)
+    {
       ROS_FATAL("gazebo_lite: cannot load world: %s", e.what());
       return false;
     }
@@ -62,25 +72,36 @@ class SimNode {
     const double timeout = readParam<double>(node, pnh_, "lockstep_timeout", 10.0);
     // A list of node names, or one string of names separated by spaces or commas.
     std::string names;
-    if (pnh_.getParam("lockstep_wait_for", names)) {
+    if (pnh_.getParam("lockstep_wait_for", names))
+    {
       std::replace(names.begin(), names.end(), ',', ' ');
       std::istringstream in(names);
-      for (std::string n; in >> n;) wait_for_.push_back(n);
-    } else if (pnh_.hasParam("lockstep_wait_for") && !pnh_.getParam("lockstep_wait_for", wait_for_)) {
+      for (std::string n; in >> n;)
+        wait_for_.push_back(n);
+    }
+    else if (pnh_.hasParam("lockstep_wait_for") && !pnh_.getParam("lockstep_wait_for", wait_for_))
+    {
       return bad("lockstep_wait_for", "expected a list of node names or a string of them");
     }
-    if (!(step > 0 && step <= 0.01)) return bad("max_step_size", "must be in (0, 0.01] s");
-    if (iters < 1) return bad("solver_iterations", "must be >= 1");
-    if (!(rtf_ >= 0) || !std::isfinite(rtf_)) return bad("real_time_factor", "must be >= 0 (0 = as fast as possible)");
-    if (clock_hz_ < 0) return bad("pub_clock_frequency", "must be >= 0 (0 = every step)");
-    if (lockstep) {
+    if (!(step > 0 && step <= 0.01))
+      return bad("max_step_size", "must be in (0, 0.01] s");
+    if (iters < 1)
+      return bad("solver_iterations", "must be >= 1");
+    if (!(rtf_ >= 0) || !std::isfinite(rtf_))
+      return bad("real_time_factor", "must be >= 0 (0 = as fast as possible)");
+    if (clock_hz_ < 0)
+      return bad("pub_clock_frequency", "must be >= 0 (0 = every step)");
+    if (lockstep)
+    {
       steps_per_period_ = static_cast<int>(std::lround(period / step));
       if (!(period > 0) || steps_per_period_ < 1 || std::fabs(steps_per_period_ * step - period) > 1e-9)
         return bad("lockstep_period", "must be a positive whole multiple of max_step_size (" + std::to_string(step) +
                                           " s), got " + std::to_string(period));
-      if (!(timeout > 0) || !std::isfinite(timeout)) return bad("lockstep_timeout", "must be > 0 s of wall time");
+      if (!(timeout > 0) || !std::isfinite(timeout))
+        return bad("lockstep_timeout", "must be > 0 s of wall time");
       for (auto& n : wait_for_)
-        if (!n.empty() && n[0] != '/') n = "/" + n;
+        if (!n.empty() && n[0] != '/')
+          n = "/" + n;
     }
     PhysicsWorld::Options opt;
     opt.step = step;
@@ -99,7 +120,8 @@ class SimNode {
     srvs_.push_back(g.advertiseService("delete_model", &SimNode::remove, this));
     srvs_.push_back(g.advertiseService("get_model_state", &SimNode::getState, this));
     srvs_.push_back(g.advertiseService("set_model_state", &SimNode::setState, this));
-    if (lockstep) lockstep_ = std::make_unique<mybot_lockstep::Coordinator>(timeout, ros::getGlobalCallbackQueue());
+    if (lockstep)
+      lockstep_ = std::make_unique<mybot_lockstep::Coordinator>(timeout, ros::getGlobalCallbackQueue());
     publishClock(true);
     ROS_INFO("gazebo_lite: world '%s' (%zu models), step %.4f s, real_time_factor %g%s%s", spec.name.c_str(),
              spec.models.size(), step, rtf_, paused_ ? ", paused" : "",
@@ -109,17 +131,21 @@ class SimNode {
 
   // Lockstep: one period per turn. Time advances only when every participant has finished
   // the previous period (mybot_lockstep's README has the protocol).
-  void runLockstep() {
+  void runLockstep()
+  {
     auto* queue = ros::getGlobalCallbackQueue();
     waitForNamedParticipants();  // begins the first period
     anchor();
     ros::WallTime next_tick = ros::WallTime::now();
-    while (ros::ok()) {
-      if (paused_) {
+    while (ros::ok())
+    {
+      if (paused_)
+      {
         // Time stands; the current period is published again now and then so nodes that start
         // meanwhile join before time moves (waitForParticipants then waits for them too).
         const ros::WallTime now = ros::WallTime::now();
-        if (now >= next_tick) {
+        if (now >= next_tick)
+        {
           publishClock(true);
           lockstep_->republish();
           next_tick = now + ros::WallDuration(0.1);
@@ -128,14 +154,18 @@ class SimNode {
         anchor();
         continue;
       }
-      if (!lockstep_->waitForParticipants()) return;
-      if (paused_) continue;  // paused while it waited
+      if (!lockstep_->waitForParticipants())
+        return;
+      if (paused_)
+        continue;  // paused while it waited
       double t = world_->time();
-      for (int i = 0; i < steps_per_period_; ++i) {
+      for (int i = 0; i < steps_per_period_; ++i)
+      {
         t = stepOnce();
         // Within the period too, at pub_clock_frequency: nodes that do not take part keep the
         // clock they had without lockstep; participants act only on the period's boundary.
-        if (i + 1 < steps_per_period_) publishClock(false);
+        if (i + 1 < steps_per_period_)
+          publishClock(false);
       }
       publishClock(true);
       lockstep_->beginPeriod(ros::Time(t));
@@ -143,13 +173,17 @@ class SimNode {
     }
   }
 
-  void run() {
-    if (lockstep_) return runLockstep();
+  void run()
+  {
+    if (lockstep_)
+      return runLockstep();
     auto* queue = ros::getGlobalCallbackQueue();
     anchor();
-    while (ros::ok()) {
+    while (ros::ok())
+    {
       queue->callAvailable();
-      if (paused_) {
+      if (paused_)
+      {
         publishClock(true);  // ~200 Hz wall, so late subscribers still learn the time
         queue->callAvailable(ros::WallDuration(0.005));
         anchor();
@@ -161,42 +195,53 @@ class SimNode {
     }
   }
 
- private:
+private:
   static constexpr double kMaxLagWall = 0.02;
   static constexpr double kContactsPeriod = 0.1;  // s of sim time
   // Poses farther out than this are a mistake (the 1e30 of a bad script), not a world.
   static constexpr double kMaxCoordinate = 1e6;
-  struct ModelEntry {
+  struct ModelEntry
+  {
     std::string name;
     std::vector<std::unique_ptr<SimPlugin>> plugins;
   };
 
-  bool bad(const std::string& param, const std::string& msg) {
+  bool bad(const std::string& param, const std::string& msg)
+  {
     ROS_FATAL("gazebo_lite: parameter ~%s: %s", param.c_str(), msg.c_str());
     return false;
   }
   // One physics step with the plugins around it (commands in, sensors out) and the contact
   // counts. Returns the new sim time.
-  double stepOnce() {
+  double stepOnce()
+  {
     double t = world_->time();
     for (auto& m : models_)
-      for (auto& p : m.plugins) p->preStep(t);
+      for (auto& p : m.plugins)
+        p->preStep(t);
     world_->step();
     t = world_->time();
     for (auto& m : models_)
-      for (auto& p : m.plugins) p->update(t);
-    if (t + 1e-9 >= last_contacts_ + kContactsPeriod) publishContacts();
+      for (auto& p : m.plugins)
+        p->update(t);
+    if (t + 1e-9 >= last_contacts_ + kContactsPeriod)
+      publishContacts();
     return t;
   }
   // real_time_factor is an upper bound: never run ahead of the wall clock times it.
-  void pace(double t) {
-    if (!(rtf_ > 0)) return;
+  void pace(double t)
+  {
+    if (!(rtf_ > 0))
+      return;
     // Pace against the wall clock from an anchor so errors do not accumulate.
     ros::WallTime target = wall0_ + ros::WallDuration((t - sim0_) / rtf_);
     ros::WallTime now = ros::WallTime::now();
-    if (target > now) {
+    if (target > now)
+    {
       std::this_thread::sleep_for(std::chrono::nanoseconds((target - now).toNSec()));
-    } else if ((now - target).toSec() > kMaxLagWall) {
+    }
+    else if ((now - target).toSec() > kMaxLagWall)
+    {
       // Behind (a starved CPU): run slower than asked, as Gazebo does, rather than catch up in
       // a burst that the controllers, themselves starved, would see as open-loop time.
       anchor();
@@ -204,38 +249,49 @@ class SimNode {
   }
   // ~lockstep_wait_for: time does not start until these nodes take part, so a test's start
   // does not depend on how fast its nodes came up.
-  void waitForNamedParticipants() {
+  void waitForNamedParticipants()
+  {
     auto* queue = ros::getGlobalCallbackQueue();
     lockstep_->beginPeriod(ros::Time(world_->time()));
     ros::WallTime next_tick = ros::WallTime::now(), next_note = next_tick + ros::WallDuration(10.0);
-    for (;;) {
+    for (;;)
+    {
       std::vector<std::string> missing;
       for (const auto& n : wait_for_)
-        if (!lockstep_->has(n)) missing.push_back(n);
-      if (missing.empty() || !ros::ok()) return;
+        if (!lockstep_->has(n))
+          missing.push_back(n);
+      if (missing.empty() || !ros::ok())
+        return;
       queue->callAvailable(ros::WallDuration(0.01));
       const ros::WallTime now = ros::WallTime::now();
-      if (now >= next_tick) {  // the same period again, for nodes that connect late
+      if (now >= next_tick)
+      {  // the same period again, for nodes that connect late
         publishClock(true);
         lockstep_->republish();
         next_tick = now + ros::WallDuration(0.1);
       }
-      if (now >= next_note) {
+      if (now >= next_note)
+      {
         std::string names;
-        for (const auto& n : missing) names += " " + n;
+        for (const auto& n : missing)
+          names += " " + n;
         ROS_WARN("gazebo_lite: lockstep_wait_for: still waiting for%s", names.c_str());
         next_note = now + ros::WallDuration(10.0);
       }
     }
   }
-  void anchor() {
+  void anchor()
+  {
     wall0_ = ros::WallTime::now();
     sim0_ = world_->time();
   }
-  void publishContacts() {
+  void publishContacts()
+  {
     last_contacts_ = world_->time();
-    if (contacts_pub_.getNumSubscribers() == 0) return;
-    for (Robot* r : world_->robots()) {
+    if (contacts_pub_.getNumSubscribers() == 0)
+      return;
+    for (Robot* r : world_->robots())
+    {
       const auto& c = r->contacts();
       ModelContacts m;
       m.header.stamp = ros::Time(world_->time());
@@ -250,22 +306,27 @@ class SimNode {
       contacts_pub_.publish(m);
     }
   }
-  void publishClock(bool force) {
+  void publishClock(bool force)
+  {
     double t = world_->time();
-    if (!force && clock_hz_ > 0 && t + 1e-9 < last_clock_ + 1.0 / clock_hz_) return;
+    if (!force && clock_hz_ > 0 && t + 1e-9 < last_clock_ + 1.0 / clock_hz_)
+      return;
     rosgraph_msgs::Clock c;
     c.clock = ros::Time(t);
     clock_pub_.publish(c);
     last_clock_ = t;
   }
 
-  bool resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  bool resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
+  {
     world_->resetWorld();
     for (auto& m : models_)
-      for (auto& p : m.plugins) p->reset();
+      for (auto& p : m.plugins)
+        p->reset();
     return true;
   }
-  bool resetSimulation(std_srvs::Empty::Request& a, std_srvs::Empty::Response& b) {
+  bool resetSimulation(std_srvs::Empty::Request& a, std_srvs::Empty::Response& b)
+  {
     resetWorld(a, b);
     world_->resetTime();
     last_clock_ = -1;
@@ -274,89 +335,114 @@ class SimNode {
     anchor();
     return true;
   }
-  bool pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  bool pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
+  {
     paused_ = true;
     return true;
   }
-  bool unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  bool unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
+  {
     paused_ = false;
-    if (lockstep_) lockstep_->requireConnections();
+    if (lockstep_)
+      lockstep_->requireConnections();
     anchor();
     return true;
   }
 
-  bool spawn(SpawnModel::Request& req, SpawnModel::Response& res) {
+  bool spawn(SpawnModel::Request& req, SpawnModel::Response& res)
+  {
     res.success = false;
-    if (req.model_name.empty()) {
+    if (req.model_name.empty())
+    {
       res.status_message = "model_name is empty";
       return true;
     }
-    if (!req.reference_frame.empty() && req.reference_frame != "world" && req.reference_frame != "map") {
+    if (!req.reference_frame.empty() && req.reference_frame != "world" && req.reference_frame != "map")
+    {
       res.status_message = "reference_frame '" + req.reference_frame + "' not supported (use world)";
       return true;
     }
     const auto& ip = req.initial_pose;
-    const std::string bad = mybot_common::firstInvalid(
-        {{"initial_pose.position.x", ip.position.x}, {"initial_pose.position.y", ip.position.y},
-         {"initial_pose.position.z", ip.position.z}, {"initial_pose.orientation.x", ip.orientation.x},
-         {"initial_pose.orientation.y", ip.orientation.y}, {"initial_pose.orientation.z", ip.orientation.z},
-         {"initial_pose.orientation.w", ip.orientation.w}},
-        kMaxCoordinate);
-    if (!bad.empty()) {
+    const std::string bad = mybot_common::firstInvalid({{"initial_pose.position.x", ip.position.x},
+                                                        {"initial_pose.position.y", ip.position.y},
+                                                        {"initial_pose.position.z", ip.position.z},
+                                                        {"initial_pose.orientation.x", ip.orientation.x},
+                                                        {"initial_pose.orientation.y", ip.orientation.y},
+                                                        {"initial_pose.orientation.z", ip.orientation.z},
+                                                        {"initial_pose.orientation.w", ip.orientation.w}},
+                                                       kMaxCoordinate);
+    if (!bad.empty())
+    {
       res.status_message = "refused: " + bad;
       ROS_ERROR("gazebo_lite: spawn '%s' refused: %s", req.model_name.c_str(), bad.c_str());
       return true;
     }
-    try {
+    try
+    {
       auto spec = std::make_shared<RobotSpec>(parseUrdf(req.model_xml, "URDF of model '" + req.model_name + "'"));
-      for (const std::string& w : spec->warnings) ROS_WARN("gazebo_lite: %s", w.c_str());
+      for (const std::string& w : spec->warnings)
+        ROS_WARN("gazebo_lite: %s", w.c_str());
       const auto& p = req.initial_pose;
       btQuaternion q(p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w);
-      if (q.length2() < 1e-12) q = btQuaternion::getIdentity();
+      if (q.length2() < 1e-12)
+        q = btQuaternion::getIdentity();
       q.normalize();
       btTransform pose(q, btVector3(p.position.x, p.position.y, p.position.z));
       std::string ns = req.robot_namespace;
       Robot& robot = world_->addRobot(spec, req.model_name, ns, pose);
       ModelEntry entry;
       entry.name = req.model_name;
-      try {
-        for (const auto& ps : spec->plugins) {
+      try
+      {
+        for (const auto& ps : spec->plugins)
+        {
           PluginContext ctx;
           ctx.world = world_.get();
           ctx.robot = &robot;
           ctx.spec = &ps;
           ctx.ns = ns;
-          if (const XmlNode* rn = ps.xml.child("robotNamespace")) ctx.ns = rn->text;
+          if (const XmlNode* rn = ps.xml.child("robotNamespace"))
+            ctx.ns = rn->text;
           ros::NodeHandle nsh(ctx.ns);
           std::string key;
-          if (nsh.searchParam("tf_prefix", key)) nsh.getParam(key, ctx.tf_prefix);
-          while (!ctx.tf_prefix.empty() && ctx.tf_prefix[0] == '/') ctx.tf_prefix.erase(0, 1);
+          if (nsh.searchParam("tf_prefix", key))
+            nsh.getParam(key, ctx.tf_prefix);
+          while (!ctx.tf_prefix.empty() && ctx.tf_prefix[0] == '/')
+            ctx.tf_prefix.erase(0, 1);
           ctx.tf = &tfb_;
           ctx.slices = slices_.get();
           ctx.rng = &rng_;
           ctx.lockstep = lockstep_.get();
-          if (auto plugin = createPlugin(ctx)) entry.plugins.push_back(std::move(plugin));
+          if (auto plugin = createPlugin(ctx))
+            entry.plugins.push_back(std::move(plugin));
         }
-      } catch (...) {
+      }
+      catch (...)
+      {
         world_->removeRobot(req.model_name);
         throw;
       }
       models_.push_back(std::move(entry));
-      if (lockstep_) lockstep_->requireConnections();  // its command inputs must connect first
+      if (lockstep_)
+        lockstep_->requireConnections();  // its command inputs must connect first
       res.success = true;
       res.status_message = "spawned '" + req.model_name + "'";
       ROS_INFO("gazebo_lite: spawned '%s' (namespace '%s') with %zu plugins", req.model_name.c_str(), ns.c_str(),
                models_.back().plugins.size());
-    } catch (const std::exception& e) {
+    }
+    catch (const std::exception& e)
+    {
       res.status_message = e.what();
       ROS_ERROR("gazebo_lite: spawn '%s' failed: %s", req.model_name.c_str(), e.what());
     }
     return true;
   }
 
-  bool remove(DeleteModel::Request& req, DeleteModel::Response& res) {
+  bool remove(DeleteModel::Request& req, DeleteModel::Response& res)
+  {
     for (auto it = models_.begin(); it != models_.end(); ++it)
-      if (it->name == req.model_name) {
+      if (it->name == req.model_name)
+      {
         models_.erase(it);  // plugins first: they reference the robot
         world_->removeRobot(req.model_name);
         res.success = true;
@@ -368,16 +454,19 @@ class SimNode {
     return true;
   }
 
-  bool getState(GetModelState::Request& req, GetModelState::Response& res) {
+  bool getState(GetModelState::Request& req, GetModelState::Response& res)
+  {
     Pose s;
     res.header.stamp = ros::Time(world_->time());
     res.header.frame_id = "world";
-    if (!world_->getModelState(req.model_name, s)) {
+    if (!world_->getModelState(req.model_name, s))
+    {
       res.success = false;
       res.status_message = "no model named '" + req.model_name + "'";
       return true;
     }
-    if (!req.relative_entity_name.empty() && req.relative_entity_name != "world" && req.relative_entity_name != "map") {
+    if (!req.relative_entity_name.empty() && req.relative_entity_name != "world" && req.relative_entity_name != "map")
+    {
       res.success = false;
       res.status_message = "relative_entity_name '" + req.relative_entity_name + "' not supported (use world)";
       return true;
@@ -402,27 +491,35 @@ class SimNode {
     return true;
   }
 
-  bool setState(SetModelState::Request& req, SetModelState::Response& res) {
+  bool setState(SetModelState::Request& req, SetModelState::Response& res)
+  {
     const auto& m = req.model_state;
     const auto& mp = m.pose;
     const auto& mt = m.twist;
-    const std::string bad = mybot_common::firstInvalid(
-        {{"model_state.pose.position.x", mp.position.x}, {"model_state.pose.position.y", mp.position.y},
-         {"model_state.pose.position.z", mp.position.z}, {"model_state.pose.orientation.x", mp.orientation.x},
-         {"model_state.pose.orientation.y", mp.orientation.y}, {"model_state.pose.orientation.z", mp.orientation.z},
-         {"model_state.pose.orientation.w", mp.orientation.w}, {"model_state.twist.linear.x", mt.linear.x},
-         {"model_state.twist.linear.y", mt.linear.y}, {"model_state.twist.linear.z", mt.linear.z},
-         {"model_state.twist.angular.x", mt.angular.x}, {"model_state.twist.angular.y", mt.angular.y},
-         {"model_state.twist.angular.z", mt.angular.z}},
-        kMaxCoordinate);
-    if (!bad.empty()) {
+    const std::string bad = mybot_common::firstInvalid({{"model_state.pose.position.x", mp.position.x},
+                                                        {"model_state.pose.position.y", mp.position.y},
+                                                        {"model_state.pose.position.z", mp.position.z},
+                                                        {"model_state.pose.orientation.x", mp.orientation.x},
+                                                        {"model_state.pose.orientation.y", mp.orientation.y},
+                                                        {"model_state.pose.orientation.z", mp.orientation.z},
+                                                        {"model_state.pose.orientation.w", mp.orientation.w},
+                                                        {"model_state.twist.linear.x", mt.linear.x},
+                                                        {"model_state.twist.linear.y", mt.linear.y},
+                                                        {"model_state.twist.linear.z", mt.linear.z},
+                                                        {"model_state.twist.angular.x", mt.angular.x},
+                                                        {"model_state.twist.angular.y", mt.angular.y},
+                                                        {"model_state.twist.angular.z", mt.angular.z}},
+                                                       kMaxCoordinate);
+    if (!bad.empty())
+    {
       res.success = false;
       res.status_message = "refused: " + bad;
       ROS_ERROR("gazebo_lite: set_model_state '%s' refused: %s", m.model_name.c_str(), bad.c_str());
       return true;
     }
     btQuaternion q(m.pose.orientation.x, m.pose.orientation.y, m.pose.orientation.z, m.pose.orientation.w);
-    if (q.length2() < 1e-12 || !std::isfinite(q.length2())) {
+    if (q.length2() < 1e-12 || !std::isfinite(q.length2()))
+    {
       res.success = false;
       res.status_message = "invalid orientation quaternion";
       return true;
@@ -454,10 +551,12 @@ class SimNode {
 
 }  // namespace mybot_gazebo_lite
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv)
+{
   ros::init(argc, argv, "gazebo_lite");
   mybot_gazebo_lite::SimNode node;
-  if (!node.init()) return 1;
+  if (!node.init())
+    return 1;
   node.run();
   return 0;
 }

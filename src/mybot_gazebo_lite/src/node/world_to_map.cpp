@@ -12,8 +12,10 @@
 
 using namespace mybot_gazebo_lite;
 
-namespace {
-int usage() {
+namespace
+{
+int usage()
+{
   std::cerr << "usage: world_to_map <world file (.world/.sdf/.yaml)> <out_name> [--resolution 0.05]\n"
                "                    [--height H | --z-min 0.05 --z-max 2.0] [--margin 1.0]\n"
                "writes <out_name>.pgm and <out_name>.yaml (map_server format).\n"
@@ -23,16 +25,21 @@ int usage() {
 }
 }  // namespace
 
-int main(int argc, char** argv) {
-  if (argc < 3) return usage();
+int main(int argc, char** argv)
+{
+  if (argc < 3)
+    return usage();
   std::string world_file = argv[1], out = argv[2];
   double res = 0.05, zmin = 0.05, zmax = 2.0, margin = 1.0;
-  for (int i = 3; i < argc; ++i) {
+  for (int i = 3; i < argc; ++i)
+  {
     std::string a = argv[i];
-    if (i + 1 >= argc) return usage();
+    if (i + 1 >= argc)
+      return usage();
     char* end = nullptr;
     double v = std::strtod(argv[i + 1], &end);
-    if (*end != '\0' || !std::isfinite(v)) {
+    if (*end != '\0' || !std::isfinite(v))
+    {
       std::cerr << "world_to_map: " << a << ": not a number: " << argv[i + 1] << "\n";
       return 2;
     }
@@ -50,38 +57,47 @@ int main(int argc, char** argv) {
       return usage();
     ++i;
   }
-  if (!(res > 0) || zmax < zmin || margin < 0) {
+  if (!(res > 0) || zmax < zmin || margin < 0)
+  {
     std::cerr << "world_to_map: need resolution > 0, z-max >= z-min, margin >= 0\n";
     return 2;
   }
   WorldSpec world;
-  try {
+  try
+  {
     world = loadWorldFile(world_file);
-  } catch (const std::exception& e) {
+  }
+  catch (const std::exception& e)
+  {
     std::cerr << "world_to_map: " << e.what() << "\n";
     return 1;
   }
   Slice2D all;
-  for (double z = zmin;; z += 0.05) {
+  for (double z = zmin;; z += 0.05)
+  {
     z = std::min(z, zmax);
     Slice2D s = sliceWorld(world, z);
     all.polygons.insert(all.polygons.end(), s.polygons.begin(), s.polygons.end());
     all.circles.insert(all.circles.end(), s.circles.begin(), s.circles.end());
     all.segments.insert(all.segments.end(), s.segments.begin(), s.segments.end());
-    if (z >= zmax) break;
+    if (z >= zmax)
+      break;
   }
-  if (all.empty()) {
+  if (all.empty())
+  {
     std::cerr << "world_to_map: " << world_file << ": no static geometry between z=" << zmin << " and " << zmax << "\n";
     return 1;
   }
   double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-  for (const auto& s : all.allSegments()) {
+  for (const auto& s : all.allSegments())
+  {
     x0 = std::min({x0, s.x0, s.x1});
     x1 = std::max({x1, s.x0, s.x1});
     y0 = std::min({y0, s.y0, s.y1});
     y1 = std::max({y1, s.y0, s.y1});
   }
-  for (const auto& c : all.circles) {
+  for (const auto& c : all.circles)
+  {
     x0 = std::min(x0, c.cx - c.r);
     x1 = std::max(x1, c.cx + c.r);
     y0 = std::min(y0, c.cy - c.r);
@@ -102,11 +118,15 @@ int main(int argc, char** argv) {
   map.origin_x = x0;
   map.origin_y = y0;
   map.data.resize(grid.size());
-  for (size_t i = 0; i < grid.size(); ++i) map.data[i] = grid[i] ? 100 : 0;
+  for (size_t i = 0; i < grid.size(); ++i)
+    map.data[i] = grid[i] ? 100 : 0;
   // Both files or neither: a failed save leaves an existing pair as it was.
-  try {
+  try
+  {
     mybot_common::saveMapFiles(out, map, 65, 25, "world_to_map from " + world_file);
-  } catch (const std::exception& e) {
+  }
+  catch (const std::exception& e)
+  {
     std::cerr << "world_to_map: " << e.what() << "\n";
     return 1;
   }

@@ -36,7 +36,9 @@ public:
     ledger_.count(resolved);
     ros::SubscribeOptions ops;
     ops.template initByFullCallbackType<const ros::MessageEvent<M const>&>(
-        topic, queue_size, [this, resolved, cb](const ros::MessageEvent<M const>& e) {
+        topic, queue_size,
+        [this, resolved, cb](const ros::MessageEvent<M const>& e)
+        {
           if constexpr (std::is_invocable_v<F, const boost::shared_ptr<M const>&>)
             cb(e.getConstMessage());
           else

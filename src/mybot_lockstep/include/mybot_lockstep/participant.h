@@ -79,7 +79,8 @@ public:
   ros::Subscriber subscribe(ros::NodeHandle& nh, const std::string& topic, uint32_t queue_size, F cb,
                             const ros::TransportHints& hints = ros::TransportHints())
   {
-    auto call = [cb](const boost::shared_ptr<M const>& m) {
+    auto call = [cb](const boost::shared_ptr<M const>& m)
+    {
       if constexpr (std::is_invocable_v<F, const boost::shared_ptr<M const>&>)
         cb(m);
       else
@@ -95,7 +96,9 @@ public:
     }
     ros::SubscribeOptions ops;
     ops.template initByFullCallbackType<const ros::MessageEvent<M const>&>(
-        topic, queue_size, [this, resolved, call](const ros::MessageEvent<M const>& e) {
+        topic, queue_size,
+        [this, resolved, call](const ros::MessageEvent<M const>& e)
+        {
           const boost::shared_ptr<M const> m = e.getConstMessage();
           arrived(resolved, e.getPublisherName(), [call, m] { call(m); });
         });

@@ -60,7 +60,10 @@ std::vector<std::string> Roster::waiting() const
   return out;
 }
 
-bool Roster::remove(const std::string& node) { return members_.erase(node) > 0; }
+bool Roster::remove(const std::string& node)
+{
+  return members_.erase(node) > 0;
+}
 
 std::vector<std::string> Roster::names() const
 {
@@ -73,7 +76,8 @@ std::vector<std::string> Roster::names() const
 std::vector<Link> Roster::expectations(const std::vector<Link>& own) const
 {
   std::vector<Link> out;
-  auto keep = [&](const Link& l) {
+  auto keep = [&](const Link& l)
+  {
     if (members_.count(l.destination))
       out.push_back(l);
   };
@@ -103,7 +107,10 @@ std::vector<Link> Roster::owedTo(const std::string& self) const
   return out;
 }
 
-void Ledger::received(const std::string& topic, const std::string& source) { ++handled_[{topic, source}]; }
+void Ledger::received(const std::string& topic, const std::string& source)
+{
+  ++handled_[{topic, source}];
+}
 
 std::uint64_t Ledger::handled(const std::string& topic, const std::string& source) const
 {
@@ -174,7 +181,10 @@ int TickTimers::add(std::int64_t period_ns, std::int64_t now_ns, Callback cb)
   return id;
 }
 
-void TickTimers::remove(int id) { timers_.erase(id); }
+void TickTimers::remove(int id)
+{
+  timers_.erase(id);
+}
 
 int TickTimers::run(std::int64_t now_ns)
 {

@@ -16,7 +16,7 @@ namespace mybot_lockstep
 {
 
 Coordinator::Coordinator(double timeout, ros::CallbackQueue* queue)
-  : roster_(timeout), timeout_(timeout), queue_(queue), self_(ros::this_node::getName())
+    : roster_(timeout), timeout_(timeout), queue_(queue), self_(ros::this_node::getName())
 {
   ledger_.setSelf(self_);
   ros::NodeHandle nh;

@@ -26,13 +26,17 @@ void flushPublishQueues()
   static std::condition_variable cv;
   static std::uint64_t rounds = 0;
   static std::once_flag once;
-  std::call_once(once, [] {
-    ros::PollManager::instance()->addPollThreadListener([] {
-      std::lock_guard<std::mutex> lock(mutex);
-      ++rounds;
-      cv.notify_all();
-    });
-  });
+  std::call_once(once,
+                 []
+                 {
+                   ros::PollManager::instance()->addPollThreadListener(
+                       []
+                       {
+                         std::lock_guard<std::mutex> lock(mutex);
+                         ++rounds;
+                         cv.notify_all();
+                       });
+                 });
   // Twice: the first round may be one that was already past roscpp's queue processing (our
   // listener waiting on this mutex) when we published.
   std::unique_lock<std::mutex> lock(mutex);
@@ -117,7 +121,10 @@ Timer& Timer::operator=(Timer&& o) noexcept
   return *this;
 }
 
-Timer::~Timer() { stop(); }
+Timer::~Timer()
+{
+  stop();
+}
 
 void Timer::stop()
 {
@@ -132,7 +139,10 @@ namespace
 std::string g_opt_out;
 }
 
-void Participant::optOut(const std::string& why) { g_opt_out = why.empty() ? "opted out" : why; }
+void Participant::optOut(const std::string& why)
+{
+  g_opt_out = why.empty() ? "opted out" : why;
+}
 
 Participant& Participant::instance()
 {
@@ -171,7 +181,8 @@ Timer Participant::createTimer(double period, const std::function<void(const ros
   std::lock_guard<std::recursive_mutex> lock(mutex_);
   auto last = std::make_shared<ros::TimerEvent>();
   t.id_ = timers_.add(ros::Duration(period).toNSec(), ros::Time::now().toNSec(),
-                      [cb, last](std::int64_t due, std::int64_t now) {
+                      [cb, last](std::int64_t due, std::int64_t now)
+                      {
                         ros::TimerEvent e;
                         e.last_expected = last->current_expected;
                         e.last_real = last->current_real;
@@ -235,10 +246,7 @@ private:
 };
 }  // namespace
 
-Participant::InboundQueue::InboundQueue(Participant& p)
-  : pump_(boost::make_shared<Pump>([&p] { p.pump(); }))
-{
-}
+Participant::InboundQueue::InboundQueue(Participant& p) : pump_(boost::make_shared<Pump>([&p] { p.pump(); })) {}
 
 Participant::InboundQueue::~InboundQueue()
 {
@@ -251,7 +259,10 @@ void Participant::InboundQueue::addCallback(const ros::CallbackInterfacePtr& cb,
   ros::getGlobalCallbackQueue()->addCallback(pump_, reinterpret_cast<uint64_t>(this));
 }
 
-void Participant::InboundQueue::removeByID(uint64_t owner_id) { queue_.removeByID(owner_id); }
+void Participant::InboundQueue::removeByID(uint64_t owner_id)
+{
+  queue_.removeByID(owner_id);
+}
 
 // Runs from the global queue (the node's spinner), never from inside inbound_: the arrivals
 // are recorded first, then the period is finished if they were all it waited for.
@@ -279,7 +290,8 @@ bool Participant::runPeriod()
   // A message from another process is handled in the period its publisher's Ack announced
   // it, never earlier (it may arrive early, as the scheduler pleases); one this process sent
   // itself comes from this very period's deterministic work and is handled at once.
-  auto drainInbox = [this] {
+  auto drainInbox = [this]
+  {
     bool any = false;
     for (auto& [key, queue] : inbox_)
     {
@@ -348,11 +360,12 @@ void Participant::onWatchdog(const ros::WallTimerEvent&)
   if (!pending_ || (ros::WallTime::now() - pending_since_).toSec() < forgive_after_)
     return;
   if (const Link* l = ledger_.firstUnmet(expected_))
-    ROS_WARN("lockstep: %s gives up waiting for %s from %s (%llu of %llu handled after %.1f s); check the "
-             "subscriber's queue size",
-             self_.c_str(), l->topic.c_str(), l->source.c_str(),
-             static_cast<unsigned long long>(ledger_.handled(l->topic, l->source)),
-             static_cast<unsigned long long>(l->count), forgive_after_);
+    ROS_WARN(
+        "lockstep: %s gives up waiting for %s from %s (%llu of %llu handled after %.1f s); check the "
+        "subscriber's queue size",
+        self_.c_str(), l->topic.c_str(), l->source.c_str(),
+        static_cast<unsigned long long>(ledger_.handled(l->topic, l->source)),
+        static_cast<unsigned long long>(l->count), forgive_after_);
   ledger_.forgive(expected_);
   tryFinish();
 }

@@ -21,7 +21,7 @@ struct AmclParams
   double update_min_d = 0.2;                       // m
   double update_min_a = M_PI / 6.0;                // rad
   int resample_interval = 2;
-  Pose2D initial_pose;                             // initial_pose_x, _y, _a
+  Pose2D initial_pose;  // initial_pose_x, _y, _a
   double initial_cov_xx = 0.5 * 0.5;
   double initial_cov_yy = 0.5 * 0.5;
   double initial_cov_aa = (M_PI / 12.0) * (M_PI / 12.0);
@@ -78,7 +78,7 @@ private:
   std::vector<int> free_cells_;  // indices of free map cells for random poses
   bool odom_initialized_ = false;
   bool force_update_ = false;
-  Pose2D last_odom_;             // odometry pose at the last filter update
+  Pose2D last_odom_;  // odometry pose at the last filter update
   int resample_count_ = 0;
   PoseEstimate estimate_;
   Pose2D estimate_odom_pose_;

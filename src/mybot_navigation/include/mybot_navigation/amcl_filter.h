@@ -19,12 +19,12 @@ struct Particle
 
 struct FilterParams
 {
-  int min_particles = 100;     // min_particles
-  int max_particles = 5000;    // max_particles
-  double kld_err = 0.01;       // kld_err
-  double kld_z = 0.99;         // kld_z (upper standard normal quantile 1 - delta)
-  double alpha_slow = 0.0;     // recovery_alpha_slow (0 disables recovery)
-  double alpha_fast = 0.0;     // recovery_alpha_fast
+  int min_particles = 100;              // min_particles
+  int max_particles = 5000;             // max_particles
+  double kld_err = 0.01;                // kld_err
+  double kld_z = 0.99;                  // kld_z (upper standard normal quantile 1 - delta)
+  double alpha_slow = 0.0;              // recovery_alpha_slow (0 disables recovery)
+  double alpha_fast = 0.0;              // recovery_alpha_fast
   double recovery_trigger_ratio = 0.5;  // ours: lost (random particles) once w_fast < this * w_slow
   double recovery_release_ratio = 0.8;  // ours: ... until w_fast >= this * w_slow again
   // amcl's kd-tree histogram bin size used to count occupied bins for the KLD bound.
@@ -37,8 +37,8 @@ using Cov3 = std::array<double, 9>;
 struct PoseEstimate
 {
   Pose2D mean;
-  Cov3 cov{};          // of the whole set; cov[8] is the circular variance of theta
-  double weight = 0.0; // weight of the best cluster
+  Cov3 cov{};           // of the whole set; cov[8] is the circular variance of theta
+  double weight = 0.0;  // weight of the best cluster
   int clusters = 0;
 };
 

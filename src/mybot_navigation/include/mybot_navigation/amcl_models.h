@@ -39,7 +39,7 @@ class MotionModel
 {
 public:
   MotionModel(OdomModelType type = OdomModelType::DiffCorrected, const MotionNoise& noise = MotionNoise())
-    : type_(type), noise_(noise)
+      : type_(type), noise_(noise)
   {
   }
 
@@ -59,12 +59,12 @@ private:
 // amcl's laser_* parameters for the likelihood field model.
 struct LaserModelParams
 {
-  int max_beams = 30;                   // laser_max_beams
-  double z_hit = 0.95;                  // laser_z_hit
-  double z_rand = 0.05;                 // laser_z_rand
-  double sigma_hit = 0.2;               // laser_sigma_hit, m
-  double likelihood_max_dist = 2.0;     // laser_likelihood_max_dist, m
-  int occupied_threshold = 65;          // map value counted as an obstacle (map_server's 0.65)
+  int max_beams = 30;                // laser_max_beams
+  double z_hit = 0.95;               // laser_z_hit
+  double z_rand = 0.05;              // laser_z_rand
+  double sigma_hit = 0.2;            // laser_sigma_hit, m
+  double likelihood_max_dist = 2.0;  // laser_likelihood_max_dist, m
+  int occupied_threshold = 65;       // map value counted as an obstacle (map_server's 0.65)
 };
 
 // One laser reading in the base frame: range and bearing relative to the sensor.
@@ -113,8 +113,8 @@ private:
   LaserModelParams params_;
   MapInfo info_;
   Pose2D inverse_origin_;
-  std::vector<float> dist_;   // capped distance per cell
-  std::vector<float> gauss_;  // exp(-d^2 / 2 sigma^2) per cell
+  std::vector<float> dist_;     // capped distance per cell
+  std::vector<float> gauss_;    // exp(-d^2 / 2 sigma^2) per cell
   std::vector<uint8_t> known_;  // 1 where the map is not unknown
   float gauss_off_map_ = 0.0f;
 };

@@ -15,17 +15,17 @@ namespace mybot_navigation
 
 namespace costs
 {
-constexpr uint8_t kFree = 0;            // costmap_2d::FREE_SPACE
-constexpr uint8_t kInscribed = 253;     // costmap_2d::INSCRIBED_INFLATED_OBSTACLE
-constexpr uint8_t kLethal = 254;        // costmap_2d::LETHAL_OBSTACLE
-constexpr uint8_t kNoInformation = 255; // costmap_2d::NO_INFORMATION
+constexpr uint8_t kFree = 0;             // costmap_2d::FREE_SPACE
+constexpr uint8_t kInscribed = 253;      // costmap_2d::INSCRIBED_INFLATED_OBSTACLE
+constexpr uint8_t kLethal = 254;         // costmap_2d::LETHAL_OBSTACLE
+constexpr uint8_t kNoInformation = 255;  // costmap_2d::NO_INFORMATION
 }  // namespace costs
 
 struct CostmapParams
 {
-  double resolution = 0.05;         // m/cell (rolling window; a static map brings its own)
+  double resolution = 0.05;  // m/cell (rolling window; a static map brings its own)
   bool rolling_window = false;
-  double width = 10.0;              // m, rolling window size
+  double width = 10.0;  // m, rolling window size
   double height = 10.0;
   // Footprint polygon in the base frame (>= 3 points) or, when empty, a circle of robot_radius.
   std::vector<Point2D> footprint;
@@ -37,8 +37,8 @@ struct CostmapParams
   int lethal_cost_threshold = 100;
   // obstacle layer
   bool use_obstacles = true;
-  double obstacle_range = 2.5;      // m, marking range
-  double raytrace_range = 3.0;      // m, clearing range
+  double obstacle_range = 2.5;  // m, marking range
+  double raytrace_range = 3.0;  // m, clearing range
   // inflation layer
   double inflation_radius = 0.55;
   double cost_scaling_factor = 10.0;

@@ -60,10 +60,10 @@ struct ErrorStats
 
 struct RelationScore
 {
-  ErrorStats translation, rotation_deg;  // all relations
+  ErrorStats translation, rotation_deg;              // all relations
   ErrorStats local_translation, local_rotation_deg;  // t2 - t1 <= local_max_dt
   ErrorStats loop_translation, loop_rotation_deg;    // longer relations: loops and revisits
-  int missing = 0;  // relations whose stamps the trajectory lacks
+  int missing = 0;                                   // relations whose stamps the trajectory lacks
 };
 
 struct StampedPose

@@ -47,9 +47,9 @@ struct NavOutput
 {
   NavState state = NavState::Idle;
   Velocity2D cmd;
-  bool new_plan = false;        // the global plan changed this step
-  std::string message;          // reason when aborted, recovery name while clearing
-  LocalResult local;            // the controller's result when it ran
+  bool new_plan = false;  // the global plan changed this step
+  std::string message;    // reason when aborted, recovery name while clearing
+  LocalResult local;      // the controller's result when it ran
 };
 
 class Navigator

@@ -41,7 +41,8 @@ inline bool scanGeometryOk(const std::string& node, const std::string& topic, co
 inline bool parseFootprint(const XmlRpc::XmlRpcValue& value, std::vector<Point2D>& out, std::string& error)
 {
   out.clear();
-  auto number = [](const XmlRpc::XmlRpcValue& v, double& d) {
+  auto number = [](const XmlRpc::XmlRpcValue& v, double& d)
+  {
     if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble)
       d = static_cast<double>(const_cast<XmlRpc::XmlRpcValue&>(v));
     else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt)

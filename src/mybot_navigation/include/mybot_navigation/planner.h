@@ -12,13 +12,13 @@ namespace mybot_navigation
 
 struct PlannerParams
 {
-  bool use_dijkstra = true;      // global_planner: false = A*
-  bool allow_unknown = true;     // plan through NO_INFORMATION cells
+  bool use_dijkstra = true;        // global_planner: false = A*
+  bool allow_unknown = true;       // plan through NO_INFORMATION cells
   double default_tolerance = 0.0;  // m; a blocked goal is moved to the nearest free cell within it
-  double neutral_cost = 50.0;    // cost of a free cell
-  double cost_factor = 3.0;      // cell cost = neutral_cost + cost_factor * costmap cost
-  int lethal_cost = 253;         // costmap values >= this are not traversable
-  bool smooth_path = true;       // shortcut the grid path where clearance is not worse
+  double neutral_cost = 50.0;      // cost of a free cell
+  double cost_factor = 3.0;        // cell cost = neutral_cost + cost_factor * costmap cost
+  int lethal_cost = 253;           // costmap values >= this are not traversable
+  bool smooth_path = true;         // shortcut the grid path where clearance is not worse
 };
 
 std::string validate(const PlannerParams& p);

@@ -6,7 +6,10 @@
 namespace mybot_navigation
 {
 
-inline double normalizeAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
+inline double normalizeAngle(double a)
+{
+  return std::remainder(a, 2.0 * M_PI);
+}
 
 struct Point2D
 {
@@ -35,7 +38,10 @@ inline Pose2D inverse(const Pose2D& p)
 }
 
 // Pose of b in a's frame.
-inline Pose2D between(const Pose2D& a, const Pose2D& b) { return compose(inverse(a), b); }
+inline Pose2D between(const Pose2D& a, const Pose2D& b)
+{
+  return compose(inverse(a), b);
+}
 
 inline Point2D transformPoint(const Pose2D& p, const Point2D& q)
 {
@@ -43,6 +49,9 @@ inline Point2D transformPoint(const Pose2D& p, const Point2D& q)
   return {p.x + c * q.x - s * q.y, p.y + s * q.x + c * q.y};
 }
 
-inline double translationNorm(const Pose2D& p) { return std::hypot(p.x, p.y); }
+inline double translationNorm(const Pose2D& p)
+{
+  return std::hypot(p.x, p.y);
+}
 
 }  // namespace mybot_navigation

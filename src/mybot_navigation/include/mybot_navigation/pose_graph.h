@@ -14,10 +14,10 @@ struct PoseGraphEdge
 {
   int from = 0;
   int to = 0;
-  Pose2D measurement;        // pose of `to` in the frame of `from`
-  double sigma_xy = 0.05;    // m
-  double sigma_theta = 0.02; // rad
-  bool robust = false;       // Huber loss (loop closures)
+  Pose2D measurement;         // pose of `to` in the frame of `from`
+  double sigma_xy = 0.05;     // m
+  double sigma_theta = 0.02;  // rad
+  bool robust = false;        // Huber loss (loop closures)
 };
 
 struct OptimizationSummary

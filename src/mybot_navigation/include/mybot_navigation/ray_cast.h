@@ -69,11 +69,11 @@ void traceSegment(double x0, double y0, double x1, double y1, Visit&& visit)
 
 // Range along a ray from a map-frame point until the first cell with value >= occupied_threshold
 // (or unknown if unknown_is_obstacle). Returns max_range if nothing is hit or the map ends.
-double castRay(const GridMap& map, double x, double y, double angle, double max_range,
-               int occupied_threshold = 50, bool unknown_is_obstacle = false);
+double castRay(const GridMap& map, double x, double y, double angle, double max_range, int occupied_threshold = 50,
+               bool unknown_is_obstacle = false);
 
 // A simulated laser scan (ranges in the sensor frame) from a pose in the map.
-std::vector<float> simulateScan(const GridMap& map, const Pose2D& sensor_pose, double angle_min,
-                                double angle_increment, int beams, double max_range);
+std::vector<float> simulateScan(const GridMap& map, const Pose2D& sensor_pose, double angle_min, double angle_increment,
+                                int beams, double max_range);
 
 }  // namespace mybot_navigation

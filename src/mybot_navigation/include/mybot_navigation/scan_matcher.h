@@ -48,11 +48,11 @@ private:
 
 struct MatchRequest
 {
-  Pose2D initial;                 // prior pose of the base in the world
-  double linear_window = 0.3;     // m, half width of the square translation window
-  double angular_window = 0.35;   // rad, half width of the rotation window
-  double min_score = 0.0;         // candidates scoring below are never accepted
-  bool refine = true;             // Gauss-Newton refinement after the discrete search
+  Pose2D initial;                // prior pose of the base in the world
+  double linear_window = 0.3;    // m, half width of the square translation window
+  double angular_window = 0.35;  // rad, half width of the rotation window
+  double min_score = 0.0;        // candidates scoring below are never accepted
+  bool refine = true;            // Gauss-Newton refinement after the discrete search
   // Motion prior: the score is reduced by weight * squared distance from `initial` (per m^2 and
   // per rad^2). In a corridor the match is flat along it; the prior keeps the prediction there
   // instead of an arbitrary end of the plateau.
@@ -82,8 +82,8 @@ double translationConstraintRatio(const MatchField& field, const std::vector<Poi
 
 // Gauss-Newton on sum (1 - f(T p))^2 with bilinear interpolation; stays within max_step of start.
 // prior / translation_weight / rotation_weight pull the pose towards `prior` (0: no prior).
-Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& start,
-                  int iterations = 10, double max_step = 0.1, const Pose2D* prior = nullptr,
-                  double translation_weight = 0.0, double rotation_weight = 0.0);
+Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& start, int iterations = 10,
+                  double max_step = 0.1, const Pose2D* prior = nullptr, double translation_weight = 0.0,
+                  double rotation_weight = 0.0);
 
 }  // namespace mybot_navigation

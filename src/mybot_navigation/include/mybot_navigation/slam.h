@@ -17,23 +17,23 @@ namespace mybot_navigation
 
 struct SlamParams
 {
-  OccupancyGridParams grid;        // grid.resolution is gmapping's `delta`
-  double linear_update = 1.0;      // m travelled before the next scan is processed (gmapping linearUpdate)
-  double angular_update = 0.5;     // rad turned before the next scan is processed (angularUpdate)
-  double temporal_update = -1.0;   // s; process a scan at least this often (< 0: never forced)
-  double occ_thresh = 0.5;         // P(occ) above which a published cell is 100
+  OccupancyGridParams grid;       // grid.resolution is gmapping's `delta`
+  double linear_update = 1.0;     // m travelled before the next scan is processed (gmapping linearUpdate)
+  double angular_update = 0.5;    // rad turned before the next scan is processed (angularUpdate)
+  double temporal_update = -1.0;  // s; process a scan at least this often (< 0: never forced)
+  double occ_thresh = 0.5;        // P(occ) above which a published cell is 100
 
   // Scan-to-local-map matching.
-  int local_map_scans = 20;            // keyframes in the local map
-  double match_sigma = 0.05;           // m, Gaussian fall-off of the lookup field
-  double search_window_linear = 0.3;   // m
-  double search_window_angular = 0.35; // rad
-  double min_match_score = 0.35;       // below: keep the odometry prediction
+  int local_map_scans = 20;             // keyframes in the local map
+  double match_sigma = 0.05;            // m, Gaussian fall-off of the lookup field
+  double search_window_linear = 0.3;    // m
+  double search_window_angular = 0.35;  // rad
+  double min_match_score = 0.35;        // below: keep the odometry prediction
   // Motion prior: score lost per m^2 away from the odometry prediction. Along an aisle the match
   // score is flat but for bumps of about 1 %; at 20 such a bump moves the pose about 2 cm, while
   // a real 10 cm correction still wins (slam_bench, factory at 8 m range: ATE 6 -> 2 cm).
   double match_translation_weight = 20.0;
-  double match_rotation_weight = 0.1;     // (score per rad^2)
+  double match_rotation_weight = 0.1;  // (score per rad^2)
   double match_point_spacing = 0.1;    // m, voxel filter of the points used for matching
   double sigma_xy = 0.02;              // m, sequential edge uncertainty
   double sigma_theta = 0.01;           // rad
@@ -46,14 +46,14 @@ struct SlamParams
 
   // Loop closure.
   bool loop_closure = true;
-  double loop_search_radius = 4.0;     // m: older keyframes this close to the estimate are candidates
-  double loop_min_travel = 8.0;        // m of path separating a candidate from the current keyframe
-  double loop_window_linear = 1.5;     // m, search window of the closure matcher
-  double loop_window_angular = 0.5;    // rad
-  double loop_min_score = 0.6;         // acceptance threshold (mean field value)
-  double loop_min_constraint_ratio = 0.3;   // reject closures that leave a direction unconstrained
-  int loop_submap_scans = 10;          // candidate's neighbours (each side) rendered for matching
-  int loop_check_interval = 3;         // keyframes between closure attempts
+  double loop_search_radius = 4.0;         // m: older keyframes this close to the estimate are candidates
+  double loop_min_travel = 8.0;            // m of path separating a candidate from the current keyframe
+  double loop_window_linear = 1.5;         // m, search window of the closure matcher
+  double loop_window_angular = 0.5;        // rad
+  double loop_min_score = 0.6;             // acceptance threshold (mean field value)
+  double loop_min_constraint_ratio = 0.3;  // reject closures that leave a direction unconstrained
+  int loop_submap_scans = 10;              // candidate's neighbours (each side) rendered for matching
+  int loop_check_interval = 3;             // keyframes between closure attempts
   double loop_sigma_xy = 0.05;
   double loop_sigma_theta = 0.02;
   // Consistency: a closure may move the current pose at most loop_max_correction plus
@@ -61,8 +61,8 @@ struct SlamParams
   // grow faster), and after optimisation the graph must satisfy it to within
   // loop_max_residual_sigma of its uncertainty; otherwise it is undone (repeating
   // structure matched at the wrong place).
-  double loop_max_correction = 0.3;          // m
-  double loop_max_correction_per_m = 0.05;   // m per m travelled
+  double loop_max_correction = 0.3;         // m
+  double loop_max_correction_per_m = 0.05;  // m per m travelled
   double loop_max_residual_sigma = 3.0;
   // A closure that moves the pose must score at least this many times its score at the current
   // estimate: along an aisle of identical shelves both fit, and the match says nothing of drift.
@@ -77,18 +77,18 @@ struct SlamParams
   // scored 0.63-0.70, while true corrections of 0.15-0.25 m also score 0.63-0.75 and must pass.
   double loop_large_correction = 0.4;  // m
   double loop_min_score_large = 0.75;
-  double loop_confirm_tolerance = 0.1;    // m (and 0.05 rad)
+  double loop_confirm_tolerance = 0.1;  // m (and 0.05 rad)
   int loop_confirm_attempts = 2;
 };
 
 struct Keyframe
 {
   double stamp = 0.0;
-  Pose2D odom;            // odometry pose of the base when the scan was taken
-  Pose2D pose;            // current estimate in the map frame
-  RangeScan scan;         // base frame
+  Pose2D odom;                        // odometry pose of the base when the scan was taken
+  Pose2D pose;                        // current estimate in the map frame
+  RangeScan scan;                     // base frame
   std::vector<Point2D> match_points;  // voxel-filtered hits used for matching
-  double travelled = 0.0; // odometry path length up to this keyframe
+  double travelled = 0.0;             // odometry path length up to this keyframe
 };
 
 enum class ScanOutcome
@@ -102,12 +102,12 @@ enum class ScanOutcome
 // The last accepted loop closure, for logging.
 struct LoopClosureRecord
 {
-  int from = -1;           // older keyframe
-  int to = -1;             // current keyframe
-  double score = 0.0;      // matcher score of the closure
+  int from = -1;                   // older keyframe
+  int to = -1;                     // current keyframe
+  double score = 0.0;              // matcher score of the closure
   double score_at_estimate = 0.0;  // the same scan scored at the current estimate
-  double ratio = 0.0;      // translation constraint ratio (1 = fully constrained)
-  Pose2D correction;       // closure pose relative to the estimate before optimisation
+  double ratio = 0.0;              // translation constraint ratio (1 = fully constrained)
+  Pose2D correction;               // closure pose relative to the estimate before optimisation
   bool accepted = false;
   const char* reason = "";  // why a matched closure was rejected
 };
@@ -116,14 +116,14 @@ struct SlamStats
 {
   int scans = 0;
   int keyframes = 0;
-  int weak_matches = 0;          // matcher below min_match_score: odometry used
+  int weak_matches = 0;  // matcher below min_match_score: odometry used
   int loop_attempts = 0;
   int loop_closures = 0;
-  int loop_rejected = 0;         // matched, but implausible or inconsistent with the graph
-  int loop_held = 0;             // large closures held for confirmation
-  int loop_unconfirmed = 0;      // held closures dropped: no later attempt confirmed them
+  int loop_rejected = 0;     // matched, but implausible or inconsistent with the graph
+  int loop_held = 0;         // large closures held for confirmation
+  int loop_unconfirmed = 0;  // held closures dropped: no later attempt confirmed them
   double last_match_score = 0.0;
-  LoopClosureRecord last_closure;  // the last matched closure, accepted, held or rejected
+  LoopClosureRecord last_closure;      // the last matched closure, accepted, held or rejected
   LoopClosureRecord last_unconfirmed;  // the last held closure that was dropped
 };
 

@@ -62,7 +62,7 @@ public:
   bool next(DriveSample& out, bool with_scan = true);
   // The laser ranges at the current true pose.
   std::vector<float> scan();
-  double duration() const;      // total simulated time in s
+  double duration() const;  // total simulated time in s
 
 private:
   const GridMap& world_;
@@ -85,11 +85,11 @@ namespace mybot_navigation
 
 struct OfflineRun
 {
-  std::vector<Pose2D> estimate;  // final keyframe poses (after every optimisation)
-  std::vector<Pose2D> truth;     // ground truth at the keyframe stamps
-  std::vector<Pose2D> odometry;  // raw odometry at the keyframe stamps
-  double slam_cpu_seconds = 0.0; // CPU time spent in scan conversion + SLAM
-  double sim_seconds = 0.0;      // simulated time covered
+  std::vector<Pose2D> estimate;   // final keyframe poses (after every optimisation)
+  std::vector<Pose2D> truth;      // ground truth at the keyframe stamps
+  std::vector<Pose2D> odometry;   // raw odometry at the keyframe stamps
+  double slam_cpu_seconds = 0.0;  // CPU time spent in scan conversion + SLAM
+  double sim_seconds = 0.0;       // simulated time covered
   int scans = 0;
 };
 

@@ -173,7 +173,8 @@ RelationScore scoreRelations(const std::vector<StampedPose>& trajectory, const s
 {
   std::vector<StampedPose> sorted = trajectory;
   std::sort(sorted.begin(), sorted.end(), [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
-  auto find = [&](double t, Pose2D& out) {
+  auto find = [&](double t, Pose2D& out)
+  {
     auto it = std::lower_bound(sorted.begin(), sorted.end(), t - stamp_tolerance,
                                [](const StampedPose& p, double v) { return p.stamp < v; });
     if (it == sorted.end() || it->stamp > t + stamp_tolerance)

@@ -27,7 +27,9 @@ T required(const YAML::Node& doc, const std::string& key, const std::string& fil
   const YAML::Node n = doc[key];
   if (!n)
     throw MapIoError(file + ": the map does not contain a '" + key + "' field");
-  const char* expected = std::is_same_v<T, std::string> ? "a string" : std::is_integral_v<T> ? "an integer" : "a number";
+  const char* expected = std::is_same_v<T, std::string> ? "a string"
+                         : std::is_integral_v<T>        ? "an integer"
+                                                        : "a number";
   if (!n.IsScalar())
     throw MapIoError(file + ": field '" + key + "' must be " + expected);
   try
@@ -70,7 +72,8 @@ MapYaml readMapYaml(const std::string& yaml_path)
   m.free_thresh = required<double>(doc, "free_thresh", yaml_path);
   // Probabilities, free below occupied; otherwise a wall can vanish from the served map.
   if (m.occupied_thresh < 0.0 || m.occupied_thresh > 1.0)
-    throw MapIoError(yaml_path + ": field 'occupied_thresh' must be in [0, 1], got " + std::to_string(m.occupied_thresh));
+    throw MapIoError(yaml_path + ": field 'occupied_thresh' must be in [0, 1], got " +
+                     std::to_string(m.occupied_thresh));
   if (m.free_thresh < 0.0 || m.free_thresh > 1.0)
     throw MapIoError(yaml_path + ": field 'free_thresh' must be in [0, 1], got " + std::to_string(m.free_thresh));
   if (m.free_thresh >= m.occupied_thresh)
@@ -172,7 +175,8 @@ GridMap loadMapImage(const MapYaml& meta, long max_side)
         else if (meta.mode == MapMode::Trinary || alpha < 1.0)
           value = static_cast<unsigned char>(-1);
         else
-          value = static_cast<unsigned char>(1 + 98 * (occ - meta.free_thresh) / (meta.occupied_thresh - meta.free_thresh));
+          value =
+              static_cast<unsigned char>(1 + 98 * (occ - meta.free_thresh) / (meta.occupied_thresh - meta.free_thresh));
       }
       // Image rows run top-down, the grid bottom-up.
       map.at(i, img.rows - j - 1) = static_cast<int8_t>(value);
@@ -181,7 +185,10 @@ GridMap loadMapImage(const MapYaml& meta, long max_side)
   return map;
 }
 
-GridMap loadMap(const std::string& yaml_path, long max_side) { return loadMapImage(readMapYaml(yaml_path), max_side); }
+GridMap loadMap(const std::string& yaml_path, long max_side)
+{
+  return loadMapImage(readMapYaml(yaml_path), max_side);
+}
 
 void saveMap(const GridMap& map, const std::string& basename, int occ, int free)
 {

@@ -9,15 +9,18 @@ namespace mybot_navigation
 {
 namespace
 {
-float logit(double p) { return static_cast<float>(std::log(p / (1.0 - p))); }
+float logit(double p)
+{
+  return static_cast<float>(std::log(p / (1.0 - p)));
+}
 }  // namespace
 
 OccupancyGrid::OccupancyGrid(const OccupancyGridParams& params)
-  : params_(params)
-  , l_hit_(logit(params.prob_hit))
-  , l_miss_(logit(params.prob_miss))
-  , l_min_(logit(params.prob_min))
-  , l_max_(logit(params.prob_max))
+    : params_(params),
+      l_hit_(logit(params.prob_hit)),
+      l_miss_(logit(params.prob_miss)),
+      l_min_(logit(params.prob_min)),
+      l_max_(logit(params.prob_max))
 {
 }
 
@@ -91,7 +94,8 @@ void OccupancyGrid::insertScan(const Pose2D& pose, const RangeScan& scan)
   hits.reserve(scan.hits.size());
   misses.reserve(scan.misses.size());
   int x0 = ox, y0 = oy, x1 = ox, y1 = oy;
-  auto add = [&](const std::vector<Point2D>& pts, std::vector<std::pair<int, int>>& out) {
+  auto add = [&](const std::vector<Point2D>& pts, std::vector<std::pair<int, int>>& out)
+  {
     for (const Point2D& p : pts)
     {
       const Point2D w = transformPoint(pose, p);
@@ -109,13 +113,16 @@ void OccupancyGrid::insertScan(const Pose2D& pose, const RangeScan& scan)
   ++scan_count_;
   for (const auto& h : hits)
     update(h.first, h.second, l_hit_);
-  auto free_ray = [&](const std::pair<int, int>& end, bool include_end) {
-    traceLine(ox, oy, end.first, end.second, [&](int x, int y) {
-      if (!include_end && x == end.first && y == end.second)
-        return false;
-      update(x, y, l_miss_);
-      return true;
-    });
+  auto free_ray = [&](const std::pair<int, int>& end, bool include_end)
+  {
+    traceLine(ox, oy, end.first, end.second,
+              [&](int x, int y)
+              {
+                if (!include_end && x == end.first && y == end.second)
+                  return false;
+                update(x, y, l_miss_);
+                return true;
+              });
   };
   for (const auto& h : hits)
     free_ray(h, false);

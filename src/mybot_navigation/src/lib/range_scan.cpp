@@ -5,9 +5,9 @@
 namespace mybot_navigation
 {
 
-RangeScan convertRanges(const std::vector<float>& ranges, double angle_min, double angle_increment,
-                        double range_min, double range_max, double max_usable_range,
-                        const ScanGeometry& geometry, ScanConversionStats* stats)
+RangeScan convertRanges(const std::vector<float>& ranges, double angle_min, double angle_increment, double range_min,
+                        double range_max, double max_usable_range, const ScanGeometry& geometry,
+                        ScanConversionStats* stats)
 {
   ScanConversionStats local;
   ScanConversionStats& st = stats ? *stats : local;

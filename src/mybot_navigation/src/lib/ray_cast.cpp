@@ -6,8 +6,8 @@
 namespace mybot_navigation
 {
 
-double castRay(const GridMap& map, double x, double y, double angle, double max_range,
-               int occupied_threshold, bool unknown_is_obstacle)
+double castRay(const GridMap& map, double x, double y, double angle, double max_range, int occupied_threshold,
+               bool unknown_is_obstacle)
 {
   // Amanatides-Woo traversal in the map's own frame: exact distance to the first blocked cell's
   // boundary, so simulated ranges are not quantised to cell centres.
@@ -54,14 +54,14 @@ double castRay(const GridMap& map, double x, double y, double angle, double max_
   return max_range;
 }
 
-std::vector<float> simulateScan(const GridMap& map, const Pose2D& sensor_pose, double angle_min,
-                                double angle_increment, int beams, double max_range)
+std::vector<float> simulateScan(const GridMap& map, const Pose2D& sensor_pose, double angle_min, double angle_increment,
+                                int beams, double max_range)
 {
   std::vector<float> ranges(static_cast<size_t>(beams));
   for (int i = 0; i < beams; ++i)
   {
-    const double r = castRay(map, sensor_pose.x, sensor_pose.y, sensor_pose.theta + angle_min + angle_increment * i,
-                             max_range);
+    const double r =
+        castRay(map, sensor_pose.x, sensor_pose.y, sensor_pose.theta + angle_min + angle_increment * i, max_range);
     ranges[static_cast<size_t>(i)] = r >= max_range ? std::numeric_limits<float>::infinity() : static_cast<float>(r);
   }
   return ranges;

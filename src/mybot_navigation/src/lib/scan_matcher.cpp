@@ -12,8 +12,8 @@ namespace mybot_navigation
 {
 
 MatchField::MatchField(const OccupancyGrid& grid, double sigma, int levels)
-  : MatchField(grid, sigma, levels, grid.minCellX(), grid.minCellY(), grid.minCellX() + grid.width() - 1,
-               grid.minCellY() + grid.height() - 1)
+    : MatchField(grid, sigma, levels, grid.minCellX(), grid.minCellY(), grid.minCellX() + grid.width() - 1,
+                 grid.minCellY() + grid.height() - 1)
 {
 }
 
@@ -191,12 +191,14 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
   const double inv_n = 1.0 / static_cast<double>(points.size());
   // Smallest |offset| over [d, d + size - 1] cells, in metres: keeps the penalised score of a
   // block an upper bound of its children's.
-  auto nearest = [res](int d, int size) {
+  auto nearest = [res](int d, int size)
+  {
     if (d <= 0 && d + size - 1 >= 0)
       return 0.0;
     return res * std::min(std::abs(d), std::abs(d + size - 1));
   };
-  auto score = [&](int level, int k, int dx, int dy) {
+  auto score = [&](int level, int k, int dx, int dy)
+  {
     double s = 0.0;
     for (const auto& c : scans[static_cast<size_t>(k)])
       s += field.value(level, c.first + dx, c.second + dy);
@@ -214,7 +216,8 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
 
   Candidate best{n_angles, 0, 0, request.min_score};
   bool found = false;
-  std::function<void(const Candidate&, int)> descend = [&](const Candidate& c, int level) {
+  std::function<void(const Candidate&, int)> descend = [&](const Candidate& c, int level)
+  {
     if (c.score <= best.score)
       return;
     if (level == 0)
@@ -252,8 +255,8 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
               normalizeAngle(request.initial.theta + (best.angle - n_angles) * angle_step)};
   if (request.refine)
   {
-    const Pose2D refined = refinePose(field, points, pose, 10, res, &request.initial, request.translation_weight,
-                                      request.rotation_weight);
+    const Pose2D refined =
+        refinePose(field, points, pose, 10, res, &request.initial, request.translation_weight, request.rotation_weight);
     if (scorePose(field, points, refined) >= scorePose(field, points, pose) * 0.98)
       pose = refined;
   }

@@ -158,8 +158,8 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
     // Start the new node where the two edges to it agree best (the optimum of this chain link):
     // the graph is optimised only at loop closures, and the matcher alone lets the heading creep
     // by a fraction of a degree per keyframe towards a local map that is itself a little turned.
-    kf.pose = compose(last.pose, fuseIncrements(edge, delta, params_.odom_edge_sigma_xy,
-                                                params_.odom_edge_sigma_theta));
+    kf.pose =
+        compose(last.pose, fuseIncrements(edge, delta, params_.odom_edge_sigma_xy, params_.odom_edge_sigma_theta));
   }
   keyframes_.push_back(std::move(kf));
   const int index = static_cast<int>(keyframes_.size()) - 1;
@@ -288,7 +288,8 @@ bool Slam::tryLoopClosure(int current)
   const Pose2D correction = between(kf.pose, res.pose);
   const double score_at_estimate = scorePose(field, kf.match_points, kf.pose);
   stats_.last_closure = {best, current, res.score, score_at_estimate, ratio, correction, false, ""};
-  auto reject = [this](const char* reason) {
+  auto reject = [this](const char* reason)
+  {
     ++stats_.loop_rejected;
     stats_.last_closure.reason = reason;
     return false;

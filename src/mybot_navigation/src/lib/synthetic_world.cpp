@@ -37,7 +37,7 @@ GridMap officeWorld(double resolution)
 {
   return makeWorld(12.0, 10.0, resolution,
                    {
-                       {6.0, 0.0, 6.1, 3.5},    // partition with a door gap 3.5..5
+                       {6.0, 0.0, 6.1, 3.5},  // partition with a door gap 3.5..5
                        {6.0, 5.0, 6.1, 10.0},
                        {1.5, 7.0, 2.5, 8.0},    // table
                        {3.5, 1.2, 4.3, 1.6},    // desk
@@ -65,7 +65,7 @@ GridMap factoryWorld(double resolution)
       const double x = 28.0 + i * 5.0 + (j % 2) * 1.2, y = 5.0 + j * 8.0 + (i % 3) * 0.7;
       obs.push_back({x, y, x + 0.5, y + 0.5});
     }
-  obs.push_back({25.0, 0.0, 25.2, 20.0});   // partition wall with a 10 m opening
+  obs.push_back({25.0, 0.0, 25.2, 20.0});  // partition wall with a 10 m opening
   obs.push_back({25.0, 30.0, 25.2, 50.0});
   obs.push_back({40.0, 42.0, 48.0, 46.0});  // machine
   obs.push_back({2.0, 44.0, 6.0, 48.0});    // office box
@@ -75,7 +75,13 @@ GridMap factoryWorld(double resolution)
 
 DriveSimulator::DriveSimulator(const GridMap& world, const std::vector<Point2D>& waypoints, const LaserSpec& laser,
                                const OdometryNoise& noise, double speed, double turn_rate, unsigned seed)
-  : world_(world), waypoints_(waypoints), laser_(laser), noise_(noise), speed_(speed), turn_rate_(turn_rate), rng_(seed)
+    : world_(world),
+      waypoints_(waypoints),
+      laser_(laser),
+      noise_(noise),
+      speed_(speed),
+      turn_rate_(turn_rate),
+      rng_(seed)
 {
   if (waypoints_.size() >= 2)
   {

@@ -48,7 +48,9 @@ int main(int argc, char** argv)
            resp.map.info.resolution);
 
   auto service = nh.advertiseService<nav_msgs::GetMap::Request, nav_msgs::GetMap::Response>(
-      "static_map", [&resp](nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& res) {
+      "static_map",
+      [&resp](nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& res)
+      {
         res = resp;
         return true;
       });

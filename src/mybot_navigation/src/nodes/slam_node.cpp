@@ -54,7 +54,8 @@ public:
     map_frame_ = param<std::string>(pnh_, "map_frame", "map", non_empty, "a frame name");
     map_update_interval_ = param(pnh_, "map_update_interval", 5.0, non_negative, "a number >= 0 (s)");
     transform_publish_period_ = param(pnh_, "transform_publish_period", 0.05, non_negative, "a number >= 0 (s)");
-    throttle_scans_ = param(pnh_, "throttle_scans", 1, [](int v) { return v >= 1; }, "an integer >= 1");
+    throttle_scans_ = param(
+        pnh_, "throttle_scans", 1, [](int v) { return v >= 1; }, "an integer >= 1");
 
     // The Slam's own parameters: one table, shared with slam_replay.
     SlamRunParams run;
@@ -70,7 +71,8 @@ public:
               pnh_, spec.name, spec.field_int(run), [&spec](int v) { return spec.ok(v); }, spec.requirement);
           break;
         case SlamParamSpec::Type::Boolean:
-          spec.field_bool(run) = param(pnh_, spec.name, spec.field_bool(run), [](bool) { return true; }, "a bool");
+          spec.field_bool(run) = param(
+              pnh_, spec.name, spec.field_bool(run), [](bool) { return true; }, "a bool");
           break;
       }
     }
@@ -97,16 +99,17 @@ public:
     path_pub_ = pnh_.advertise<nav_msgs::Path>("trajectory", 1, true);
 
     scan_sub_.subscribe(nh_, "scan", 5);
-    scan_filter_ = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(scan_sub_, tf_buffer_, odom_frame_,
-                                                                                     10, nh_);
+    scan_filter_ =
+        std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(scan_sub_, tf_buffer_, odom_frame_, 10, nh_);
     scan_filter_->registerCallback(&SlamNode::scanCallback, this);
     scan_filter_->registerFailureCallback(
-        [this](const sensor_msgs::LaserScan::ConstPtr& scan, tf2_ros::filter_failure_reasons::FilterFailureReason r) {
-          const char* why = r == tf2_ros::filter_failure_reasons::OutTheBack ?
-                                "older than the tf cache" :
-                                (r == tf2_ros::filter_failure_reasons::EmptyFrameID ?
-                                     "empty frame_id" :
-                                     "transform not available in time or scan queue full (SLAM behind the sensor)");
+        [this](const sensor_msgs::LaserScan::ConstPtr& scan, tf2_ros::filter_failure_reasons::FilterFailureReason r)
+        {
+          const char* why = r == tf2_ros::filter_failure_reasons::OutTheBack
+                                ? "older than the tf cache"
+                                : (r == tf2_ros::filter_failure_reasons::EmptyFrameID
+                                       ? "empty frame_id"
+                                       : "transform not available in time or scan queue full (SLAM behind the sensor)");
           ROS_WARN_THROTTLE(5.0, "slam: dropping scan at %.3f (%s -> %s): %s", scan->header.stamp.toSec(),
                             scan->header.frame_id.c_str(), odom_frame_.c_str(), why);
         });
@@ -159,10 +162,10 @@ private:
 
   static void logClosure(const LoopClosureRecord& c, const char* what)
   {
-    ROS_INFO("slam: loop closure keyframe %d -> %d %s (score %.2f, %.2f at the estimate, constraint ratio %.2f, "
-             "correction %.3f m %.3f m %.3f rad)",
-             c.to, c.from, what, c.score, c.score_at_estimate, c.ratio, c.correction.x, c.correction.y,
-             c.correction.theta);
+    ROS_INFO(
+        "slam: loop closure keyframe %d -> %d %s (score %.2f, %.2f at the estimate, constraint ratio %.2f, "
+        "correction %.3f m %.3f m %.3f rad)",
+        c.to, c.from, what, c.score, c.score_at_estimate, c.ratio, c.correction.x, c.correction.y, c.correction.theta);
   }
 
   void scanCallback(const sensor_msgs::LaserScan::ConstPtr& scan)
@@ -204,12 +207,12 @@ private:
       return;
     const double range_max = max_range_ > 0.0 ? std::min<double>(max_range_, scan->range_max) : scan->range_max;
     ScanConversionStats stats;
-    const RangeScan rs = convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min,
-                                       range_max, max_urange_, g, &stats);
+    const RangeScan rs = convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min, range_max,
+                                       max_urange_, g, &stats);
     // Throttled hard: some lasers mark every dropout NaN (REP 117), and the scan is still used.
     if (stats.invalid > 0)
-      ROS_WARN_THROTTLE(30.0, "slam: scan at %.3f has %d invalid readings (NaN/-inf/below range_min): ignored",
-                        stamp, stats.invalid);
+      ROS_WARN_THROTTLE(30.0, "slam: scan at %.3f has %d invalid readings (NaN/-inf/below range_min): ignored", stamp,
+                        stats.invalid);
     const SlamStats before = slam_->stats();
     const ScanOutcome outcome = slam_->addScan(stamp, odom, rs);
     const SlamStats& after = slam_->stats();
@@ -222,8 +225,8 @@ private:
     switch (outcome)
     {
       case ScanOutcome::NoValidPoints:
-        ROS_WARN_THROTTLE(5.0, "slam: scan at %.3f has no valid returns (%d invalid, %d out of range): not used",
-                          stamp, stats.invalid, stats.no_return + stats.clipped);
+        ROS_WARN_THROTTLE(5.0, "slam: scan at %.3f has no valid returns (%d invalid, %d out of range): not used", stamp,
+                          stats.invalid, stats.no_return + stats.clipped);
         return;
       case ScanOutcome::OutOfOrder:
         ROS_WARN_THROTTLE(5.0, "slam: scan at %.3f is out of order: dropped", stamp);

@@ -64,8 +64,8 @@ SlamRunParams loadSlamParams(const std::string& path)
   std::map<std::string, const SlamParamSpec*> by_name;
   for (const SlamParamSpec& s : slamParamSpecs())
     by_name[s.name] = &s;
-  static const char* node_only[] = {"base_frame", "odom_frame", "map_frame", "map_update_interval",
-                                    "transform_publish_period", "throttle_scans"};
+  static const char* node_only[] = {
+      "base_frame", "odom_frame", "map_frame", "map_update_interval", "transform_publish_period", "throttle_scans"};
   for (const auto& kv : doc)
   {
     const std::string name = kv.first.as<std::string>();

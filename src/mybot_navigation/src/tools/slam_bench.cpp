@@ -132,9 +132,11 @@ int main(int argc, char** argv)
       quick = true;
     else
     {
-      std::fprintf(stderr, "usage: slam_bench [--map TRUTH.yaml --route \"x,y x,y ...\"] [--label L] [--closure 0|1] "
-                           "[--range M] [--local-scans N] [--noise ALPHA] [--drift RAD_PER_M] "
-                           "[--translation-weight W] [--rotation-weight W] [--runs N] [--quick]\nprints one Markdown table row (medians over runs)\n");
+      std::fprintf(stderr,
+                   "usage: slam_bench [--map TRUTH.yaml --route \"x,y x,y ...\"] [--label L] [--closure 0|1] "
+                   "[--range M] [--local-scans N] [--noise ALPHA] [--drift RAD_PER_M] "
+                   "[--translation-weight W] [--rotation-weight W] [--runs N] [--quick]\nprints one Markdown table row "
+                   "(medians over runs)\n");
       return 2;
     }
   }
@@ -159,7 +161,8 @@ int main(int argc, char** argv)
     length += std::hypot(route[i].x - route[i - 1].x, route[i].y - route[i - 1].y);
   for (int i = 0; i < runs; ++i)
     rows.push_back(runOnce(world, route, setup, 100 + static_cast<unsigned>(i)));
-  auto med = [&](double Row::*f) {
+  auto med = [&](double Row::*f)
+  {
     std::vector<double> v;
     for (const Row& r : rows)
       v.push_back(r.*f);
@@ -173,9 +176,9 @@ int main(int argc, char** argv)
   }
   rusage ru;
   getrusage(RUSAGE_SELF, &ru);
-  std::printf("| %s, %.0f m | %s | %.3f | %.3f | %.3f | %.3f / %.4f | %.2f | %.0f | %.0f | %.0f | %.0f |\n", label.c_str(),
-              length, setup.loop_closure ? "on" : "off", med(&Row::precision), med(&Row::recall), med(&Row::ate),
-              med(&Row::rpe_t), med(&Row::rpe_r), med(&Row::odom_ate), med(&Row::rtf), median(kf), median(cl),
-              ru.ru_maxrss / 1024.0);
+  std::printf("| %s, %.0f m | %s | %.3f | %.3f | %.3f | %.3f / %.4f | %.2f | %.0f | %.0f | %.0f | %.0f |\n",
+              label.c_str(), length, setup.loop_closure ? "on" : "off", med(&Row::precision), med(&Row::recall),
+              med(&Row::ate), med(&Row::rpe_t), med(&Row::rpe_r), med(&Row::odom_ate), med(&Row::rtf), median(kf),
+              median(cl), ru.ru_maxrss / 1024.0);
   return 0;
 }

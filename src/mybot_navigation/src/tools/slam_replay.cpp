@@ -54,7 +54,8 @@ Options parseArgs(int argc, char** argv)
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
-    auto value = [&]() -> std::string {
+    auto value = [&]() -> std::string
+    {
       if (i + 1 >= argc)
         usage(a + " needs a value");
       return argv[++i];
@@ -117,14 +118,16 @@ int main(int argc, char** argv)
   BagReplayResult r;
   try
   {
-    r = replayBag(ro, slam, run, [&](std::size_t done, std::size_t total) {
-      const int p = static_cast<int>(100 * done / std::max<std::size_t>(total, 1));
-      if (opt.quiet || p == percent)
-        return;
-      percent = p;
-      std::fprintf(stderr, "\rslam_replay: [%-50s] %3d %% %zu keyframes", std::string(p / 2, '#').c_str(), p,
-                   slam.keyframes().size());
-    });
+    r = replayBag(ro, slam, run,
+                  [&](std::size_t done, std::size_t total)
+                  {
+                    const int p = static_cast<int>(100 * done / std::max<std::size_t>(total, 1));
+                    if (opt.quiet || p == percent)
+                      return;
+                    percent = p;
+                    std::fprintf(stderr, "\rslam_replay: [%-50s] %3d %% %zu keyframes", std::string(p / 2, '#').c_str(),
+                                 p, slam.keyframes().size());
+                  });
   }
   catch (const std::exception& e)
   {
@@ -142,8 +145,8 @@ int main(int argc, char** argv)
   std::ostringstream tum;
   tum.precision(9);
   for (const StampedPose& s : r.trajectory)
-    tum << std::fixed << s.stamp << " " << s.pose.x << " " << s.pose.y << " 0 0 0 " << std::sin(s.pose.theta / 2)
-        << " " << std::cos(s.pose.theta / 2) << "\n";
+    tum << std::fixed << s.stamp << " " << s.pose.x << " " << s.pose.y << " 0 0 0 " << std::sin(s.pose.theta / 2) << " "
+        << std::cos(s.pose.theta / 2) << "\n";
   const double cpu = cpuSeconds() - cpu0;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const double span = r.last_stamp - r.first_stamp;
@@ -179,7 +182,8 @@ int main(int argc, char** argv)
     return 1;
   }
   if (!opt.quiet)
-    std::fprintf(stderr, "slam_replay: %zu scans, %zu keyframes, %d loop closures; %.1f s of log in %.1f s of CPU (%.0fx)\n",
+    std::fprintf(stderr,
+                 "slam_replay: %zu scans, %zu keyframes, %d loop closures; %.1f s of log in %.1f s of CPU (%.0fx)\n",
                  r.scans, slam.keyframes().size(), slam.stats().loop_closures, span, cpu, cpu > 0 ? span / cpu : 0.0);
   return 0;
 }

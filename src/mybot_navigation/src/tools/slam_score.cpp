@@ -100,7 +100,8 @@ int main(int argc, char** argv)
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
-    auto value = [&]() -> std::string {
+    auto value = [&]() -> std::string
+    {
       if (i + 1 >= argc)
       {
         std::fprintf(stderr, "slam_score: %s needs a value\n", a.c_str());

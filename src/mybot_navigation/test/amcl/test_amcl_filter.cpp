@@ -18,12 +18,15 @@ LaserScanData toScan(const std::vector<float>& ranges, const LaserSpec& laser)
   LaserScanData s;
   s.range_max = laser.range_max;
   for (size_t i = 0; i < ranges.size(); ++i)
-    s.readings.push_back({std::isfinite(ranges[i]) ? ranges[i] : laser.range_max,
-                          laser.angle_min + laser.angleIncrement() * i});
+    s.readings.push_back(
+        {std::isfinite(ranges[i]) ? ranges[i] : laser.range_max, laser.angle_min + laser.angleIncrement() * i});
   return s;
 }
 
-double poseError(const Pose2D& a, const Pose2D& b) { return std::hypot(a.x - b.x, a.y - b.y); }
+double poseError(const Pose2D& a, const Pose2D& b)
+{
+  return std::hypot(a.x - b.x, a.y - b.y);
+}
 
 AmclParams trackingParams(const Pose2D& start)
 {
@@ -43,8 +46,8 @@ AmclParams trackingParams(const Pose2D& start)
   return p;
 }
 
-const std::vector<Point2D> kOfficeLoop{{1.5, 1.5}, {5.0, 1.0}, {5.0, 4.2}, {8.0, 4.2}, {8.0, 6.5},
-                                       {4.0, 6.0}, {3.0, 4.0}, {1.5, 1.5}};
+const std::vector<Point2D> kOfficeLoop{{1.5, 1.5}, {5.0, 1.0}, {5.0, 4.2}, {8.0, 4.2},
+                                       {8.0, 6.5}, {4.0, 6.0}, {3.0, 4.0}, {1.5, 1.5}};
 
 }  // namespace
 
@@ -86,7 +89,7 @@ TEST(ParticleFilter, EstimatePicksHeaviestClusterAndWrapsHeading)
   {
     const double a = (i % 2 ? 1 : -1) * (M_PI - 0.01 * (i % 5));
     ps.push_back({{2.0 + 0.001 * (i % 7), 3.0, a}, 0.007});  // heavy cluster around heading pi
-    ps.push_back({{-4.0, 8.0, 0.0}, 0.003});                   // light cluster elsewhere
+    ps.push_back({{-4.0, 8.0, 0.0}, 0.003});                 // light cluster elsewhere
   }
   const PoseEstimate e = pf.estimate();
   EXPECT_EQ(e.clusters, 2);
@@ -107,7 +110,8 @@ TEST(ParticleFilter, RecoveryAveragesTrackTheFitAndTriggerOnlyWhenLost)
   pf.initGaussian({0, 0, 0}, 1, 1, 1);
   const auto constant = [](double l) { return [l](const Pose2D&) { return l; }; };
   int random = 0;
-  const ParticleFilter::PoseGenerator far = [&random](Rng&) {
+  const ParticleFilter::PoseGenerator far = [&random](Rng&)
+  {
     ++random;
     return Pose2D{100, 100, 0};
   };
@@ -184,9 +188,8 @@ TEST(Amcl, UpdatesOnlyAfterEnoughMotionOrWhenRequested)
   AmclParams p = trackingParams({3.0, 3.0, 0.0});
   Amcl amcl(p);
   amcl.setMap(world);
-  const LaserScanData scan = toScan(simulateScan(world, {3, 3, 0}, laser.angle_min, laser.angleIncrement(),
-                                                 laser.beams, laser.range_max),
-                                    laser);
+  const LaserScanData scan = toScan(
+      simulateScan(world, {3, 3, 0}, laser.angle_min, laser.angleIncrement(), laser.beams, laser.range_max), laser);
   EXPECT_TRUE(amcl.processScan({0, 0, 0}, scan));      // first scan always updates
   EXPECT_FALSE(amcl.processScan({0.05, 0, 0}, scan));  // below update_min_d
   EXPECT_FALSE(amcl.processScan({0.05, 0.05, 0.1}, scan));
@@ -261,10 +264,17 @@ TEST(Amcl, RecoversFromKidnapping)
   // scans arrive with odometry that continues smoothly from the first.
   DriveSimulator before(world, {{1.5, 1.5}, {5.0, 1.0}, {5.0, 3.0}}, laser, OdometryNoise(), 0.5, 1.0, 4);
   DriveSimulator after(world,
-                       {{9.0, 5.5}, {10.0, 3.0}, {8.0, 1.0}, {7.0, 3.0}, {8.0, 6.0}, {9.5, 6.5}, {10.0, 3.0},
-                        {8.0, 1.0}, {7.0, 3.0}, {8.0, 6.0}},
-                       laser,
-                       OdometryNoise(), 0.5, 1.0, 5);
+                       {{9.0, 5.5},
+                        {10.0, 3.0},
+                        {8.0, 1.0},
+                        {7.0, 3.0},
+                        {8.0, 6.0},
+                        {9.5, 6.5},
+                        {10.0, 3.0},
+                        {8.0, 1.0},
+                        {7.0, 3.0},
+                        {8.0, 6.0}},
+                       laser, OdometryNoise(), 0.5, 1.0, 5);
   DriveSample s;
   ASSERT_TRUE(before.next(s));
   AmclParams p = trackingParams(s.truth);
@@ -313,9 +323,9 @@ struct UnseenRun
 
 UnseenRun trackPastUnmappedFurniture(int8_t unseen)
 {
-  const std::vector<Rect> extra{{3.2, 2.4, 4.2, 3.0}, {6.6, 0.5, 7.6, 1.5}, {9.5, 5.6, 10.2, 6.3},
+  const std::vector<Rect> extra{{3.2, 2.4, 4.2, 3.0}, {6.6, 0.5, 7.6, 1.5},   {9.5, 5.6, 10.2, 6.3},
                                 {0.2, 2.0, 0.8, 3.6}, {10.5, 0.5, 11.5, 1.6}, {1.0, 5.5, 2.0, 6.2},
-                                {4.5, 8.5, 5.5, 9.3},   {7.0, 8.6, 7.8, 9.4}};
+                                {4.5, 8.5, 5.5, 9.3}, {7.0, 8.6, 7.8, 9.4}};
   const GridMap office = officeWorld(0.02);
   GridMap world = office;
   for (const Rect& r : extra)

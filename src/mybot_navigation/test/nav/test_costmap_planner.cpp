@@ -22,7 +22,10 @@ CostmapParams circleParams(double radius = 0.2)
   return p;
 }
 
-GridMap emptyRoom() { return makeWorld(6.0, 4.0, 0.05, {}); }
+GridMap emptyRoom()
+{
+  return makeWorld(6.0, 4.0, 0.05, {});
+}
 
 }  // namespace
 
@@ -63,9 +66,9 @@ TEST(Costmap, StaticLayerIsInflatedAroundWalls)
   Costmap cm(circleParams(0.2));
   cm.setStaticMap(emptyRoom());
   cm.updateCosts();
-  EXPECT_EQ(cm.costAt(0.05, 2.0), costs::kLethal);       // wall
-  EXPECT_EQ(cm.costAt(0.225, 2.0), costs::kInscribed);   // 0.15 m from the wall face
-  const uint8_t mid = cm.costAt(0.425, 2.0);             // ~0.35 m away
+  EXPECT_EQ(cm.costAt(0.05, 2.0), costs::kLethal);      // wall
+  EXPECT_EQ(cm.costAt(0.225, 2.0), costs::kInscribed);  // 0.15 m from the wall face
+  const uint8_t mid = cm.costAt(0.425, 2.0);            // ~0.35 m away
   EXPECT_GT(mid, 0);
   EXPECT_LT(mid, costs::kInscribed);
   EXPECT_EQ(cm.costAt(3.0, 2.0), costs::kFree);
@@ -73,11 +76,13 @@ TEST(Costmap, StaticLayerIsInflatedAroundWalls)
   // Unknown map cells: free unless track_unknown_space.
   GridMap m = emptyRoom();
   m.at(60, 40) = GridMap::kUnknown;
-  Costmap a(circleParams()), b([] {
-    CostmapParams p = circleParams();
-    p.track_unknown_space = true;
-    return p;
-  }());
+  Costmap a(circleParams()), b(
+                                 []
+                                 {
+                                   CostmapParams p = circleParams();
+                                   p.track_unknown_space = true;
+                                   return p;
+                                 }());
   a.setStaticMap(m);
   b.setStaticMap(m);
   a.updateCosts();
@@ -157,7 +162,7 @@ TEST(Costmap, FootprintCostDetectsCollisions)
   cm.setStaticMap(emptyRoom());
   cm.updateCosts();
   EXPECT_GE(cm.footprintCost({3.0, 2.0, 0.0}), 0.0);
-  EXPECT_LT(cm.footprintCost({0.35, 2.0, 0.0}), 0.0);     // rear edge in the wall
+  EXPECT_LT(cm.footprintCost({0.35, 2.0, 0.0}), 0.0);       // rear edge in the wall
   EXPECT_GE(cm.footprintCost({0.37, 2.0, M_PI / 2}), 0.0);  // turned: 0.25 m half width fits
   EXPECT_EQ(cm.footprintCost({-3.0, 2.0, 0.0}), -3.0);
 }
@@ -171,10 +176,11 @@ TEST(Costmap, FootprintEdgeClippingAnObstacleCornerIsAHit)
   cm.setStaticMap(makeWorld(6.0, 4.0, 0.05, {{3.0, 2.0, 3.05, 2.05}}));
   cm.updateCosts();
   const Pose2D pose{3.1, 2.1, 0.0};
-  auto triangle = [&](double sum) {
+  auto triangle = [&](double sum)
+  {
     // World corners (2.9, sum - 2.9), (3.2, sum - 3.2), (3.2, 2.199), in the robot frame.
-    return std::vector<Point2D>{{2.9 - pose.x, sum - 2.9 - pose.y}, {3.2 - pose.x, sum - 3.2 - pose.y},
-                                {3.2 - pose.x, 2.199 - pose.y}};
+    return std::vector<Point2D>{
+        {2.9 - pose.x, sum - 2.9 - pose.y}, {3.2 - pose.x, sum - 3.2 - pose.y}, {3.2 - pose.x, 2.199 - pose.y}};
   };
   EXPECT_EQ(cm.polygonCost(pose, triangle(5.099)), -1.0);
   EXPECT_GE(cm.polygonCost(pose, triangle(5.101)), 0.0);  // 1 mm clear of the corner

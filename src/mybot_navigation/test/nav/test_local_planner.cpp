@@ -75,37 +75,43 @@ std::vector<Pose2D> straightPlan(const Pose2D& start, double step, int n)
 {
   std::vector<Pose2D> plan;
   for (int i = 0; i <= n; ++i)
-    plan.push_back({start.x + step * i * std::cos(start.theta), start.y + step * i * std::sin(start.theta), start.theta});
+    plan.push_back(
+        {start.x + step * i * std::cos(start.theta), start.y + step * i * std::sin(start.theta), start.theta});
   return plan;
 }
 
 // Global and local costmaps on one world, a planner, a controller and the navigator.
 struct NavStack
 {
-  NavStack(const GridMap& w, const LocalPlannerParams& lp, bool rectangle, const NavigatorParams& np = NavigatorParams())
-    : world(w)
-    , global(costmapParams(false, rectangle))
-    , local(costmapParams(true, rectangle))
-    , controller(lp)
-    , nav(np, global, local, planner, controller)
+  NavStack(const GridMap& w, const LocalPlannerParams& lp, bool rectangle,
+           const NavigatorParams& np = NavigatorParams())
+      : world(w),
+        global(costmapParams(false, rectangle)),
+        local(costmapParams(true, rectangle)),
+        controller(lp),
+        nav(np, global, local, planner, controller)
   {
     global.setStaticMap(world);
     local.setStaticMap(world);
   }
   NavStack(const GridMap& w, const LocalPlannerParams& lp, const CostmapParams& cp, const NavigatorParams& np)
-    : world(w)
-    , global([&] {
-      CostmapParams g = cp;
-      g.rolling_window = false;
-      return g;
-    }())
-    , local([&] {
-      CostmapParams l = cp;
-      l.rolling_window = true;
-      return l;
-    }())
-    , controller(lp)
-    , nav(np, global, local, planner, controller)
+      : world(w),
+        global(
+            [&]
+            {
+              CostmapParams g = cp;
+              g.rolling_window = false;
+              return g;
+            }()),
+        local(
+            [&]
+            {
+              CostmapParams l = cp;
+              l.rolling_window = true;
+              return l;
+            }()),
+        controller(lp),
+        nav(np, global, local, planner, controller)
   {
     global.setStaticMap(world);
     local.setStaticMap(world);
@@ -146,11 +152,13 @@ ClosedLoopResult runToGoal(NavStack& st, Pose2D pose, const Pose2D& goal, double
     res.state = nav.state();
     return res;
   }
-  LikelihoodField clearance([] {
-    LaserModelParams lp;
-    lp.likelihood_max_dist = 5.0;
-    return lp;
-  }());
+  LikelihoodField clearance(
+      []
+      {
+        LaserModelParams lp;
+        lp.likelihood_max_dist = 5.0;
+        return lp;
+      }());
   clearance.setMap(world);
   for (; t < timeout; t += dt)
   {
@@ -183,8 +191,8 @@ ClosedLoopResult runToGoal(NavStack& st, Pose2D pose, const Pose2D& goal, double
             std::printf("lethal %.3f,%.3f obstacle=%d\n", w.x, w.y, local.isObstacle(x, y));
         }
     if (std::getenv("NAV_DEBUG"))
-      std::printf("t=%.1f pose=%.2f,%.2f,%.2f state=%s cmd=%.2f,%.2f,%.2f local=%d valid=%d/%d %s\n", t, pose.x,
-                  pose.y, pose.theta, toString(out.state), out.cmd.vx, out.cmd.vy, out.cmd.wz,
+      std::printf("t=%.1f pose=%.2f,%.2f,%.2f state=%s cmd=%.2f,%.2f,%.2f local=%d valid=%d/%d %s\n", t, pose.x, pose.y,
+                  pose.theta, toString(out.state), out.cmd.vx, out.cmd.vy, out.cmd.wz,
                   static_cast<int>(out.local.status), out.local.valid_samples, out.local.samples, out.message.c_str());
     res.state = out.state;
     res.message = out.message;
@@ -375,11 +383,13 @@ TEST(LocalPlanner, HolonomicAlignScaleTurnsTheRobotAlongALongPath)
 
 TEST(Navigator, DiffDriveReachesGoalsInTheOffice)
 {
-  NavStack st(officeWorld(0.05), diffParams(), false, [] {
-    NavigatorParams np;
-    np.planner_frequency = 1.0;
-    return np;
-  }());
+  NavStack st(officeWorld(0.05), diffParams(), false,
+              []
+              {
+                NavigatorParams np;
+                np.planner_frequency = 1.0;
+                return np;
+              }());
   Pose2D pose{1.5, 1.5, 0.0};
   const std::vector<Pose2D> goals{{5.0, 3.0, M_PI / 2}, {9.0, 6.0, 0.0}, {3.0, 8.8, -M_PI / 2}, {1.5, 1.5, M_PI}};
   for (const Pose2D& goal : goals)
@@ -400,8 +410,8 @@ TEST(Navigator, HolonomicRobotUsesSidewaysMotion)
   NavStack st(officeWorld(0.05), holonomicParams(), true);
   // Goal 1.5 m to the robot's left with the same heading.
   const ClosedLoopResult r = runToGoal(st, {3.0, 2.5, 0.0}, {3.0, 4.0, 0.0}, 60.0);
-  ASSERT_EQ(r.state, NavState::Succeeded) << r.message << " at " << r.final_pose.x << "," << r.final_pose.y
-                                          << "," << r.final_pose.theta << " t=" << r.time;
+  ASSERT_EQ(r.state, NavState::Succeeded)
+      << r.message << " at " << r.final_pose.x << "," << r.final_pose.y << "," << r.final_pose.theta << " t=" << r.time;
   EXPECT_GT(r.max_abs_vy, 0.2);
   EXPECT_LT(r.distance, 1.5 * 1.25);
 }
@@ -421,12 +431,15 @@ TEST(Navigator, GoalInObstacleOrOffMapAbortsWithAReason)
 TEST(Navigator, UnreachableGoalRunsRecoveriesThenAborts)
 {
   // A closed box around the goal: the plan fails, recoveries run, then abort with a reason.
-  NavStack st(makeWorld(8.0, 6.0, 0.05, {{5.0, 2.0, 7.0, 2.1}, {5.0, 4.0, 7.0, 4.1}, {5.0, 2.0, 5.1, 4.1},
-                                                   {6.9, 2.0, 7.0, 4.1}}), diffParams(), false, [] {
-    NavigatorParams np;
-    np.planner_patience = 2.0;
-    return np;
-  }());
+  NavStack st(makeWorld(8.0, 6.0, 0.05,
+                        {{5.0, 2.0, 7.0, 2.1}, {5.0, 4.0, 7.0, 4.1}, {5.0, 2.0, 5.1, 4.1}, {6.9, 2.0, 7.0, 4.1}}),
+              diffParams(), false,
+              []
+              {
+                NavigatorParams np;
+                np.planner_patience = 2.0;
+                return np;
+              }());
   const ClosedLoopResult r = runToGoal(st, {2.0, 3.0, 0.0}, {6.0, 3.0, 0.0}, 120.0);
   EXPECT_EQ(r.state, NavState::Aborted);
   EXPECT_NE(r.message.find("valid plan"), std::string::npos);
@@ -505,7 +518,7 @@ TEST(Navigator, MybotLeavesAShelfEndItRoundedTightly)
     const Pose2D start{4.26 + dx, 2.17, -1.75};
     const Pose2D goal{3.38, 1.68, -2.5};
     const ClosedLoopResult r = runToGoal(st, start, goal, 120.0);
-    EXPECT_EQ(r.state, NavState::Succeeded) << "dx " << dx << ": " << r.message << " at " << r.final_pose.x << ","
-                                            << r.final_pose.y << " t=" << r.time;
+    EXPECT_EQ(r.state, NavState::Succeeded)
+        << "dx " << dx << ": " << r.message << " at " << r.final_pose.x << "," << r.final_pose.y << " t=" << r.time;
   }
 }

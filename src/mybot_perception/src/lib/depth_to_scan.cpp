@@ -111,7 +111,7 @@ PlanarScan emptyScan(const PinholeColumns& c)
 {
   PlanarScan s;
   // The rays through the first and last columns, as depthimage_to_laserscan measures them.
-  s.angle_max = std::atan2(c.cx, c.fx);                  // column 0, to the left
+  s.angle_max = std::atan2(c.cx, c.fx);                   // column 0, to the left
   s.angle_min = -std::atan2((c.width - 1) - c.cx, c.fx);  // column width - 1, to the right
   s.angle_increment = (s.angle_max - s.angle_min) / (c.width - 1);
   s.ranges.assign(static_cast<std::size_t>(c.width), kNaN);

@@ -20,8 +20,8 @@ DepthToScanRos::DepthToScanRos(ros::NodeHandle nh, ros::NodeHandle pnh, bool loc
   if (!(scan_time_ >= 0.0))
     throw mybot_common::ParamError(pnh, "scan_time", "must be >= 0 s");
   if (!(params_.range_min >= 0.0 && params_.range_max > params_.range_min && std::isfinite(params_.range_max)))
-    throw mybot_common::ParamError(pnh, "range_max", "must be finite and above ~range_min (" +
-                                                         std::to_string(params_.range_min) + ")");
+    throw mybot_common::ParamError(pnh, "range_max",
+                                   "must be finite and above ~range_min (" + std::to_string(params_.range_min) + ")");
   if (frame_.empty())
     throw mybot_common::ParamError(pnh, "output_frame_id", "must not be empty");
 
@@ -57,8 +57,8 @@ void DepthToScanRos::onImage(const sensor_msgs::Image::ConstPtr& image)
   camera.cy = info_->K[5];
   if (info_->width != image->width || info_->height != image->height)
   {
-    ROS_WARN_THROTTLE(5.0, "depth_to_scan: image of %u x %u on %s but camera_info says %u x %u: dropped",
-                      image->width, image->height, nh_.resolveName("image").c_str(), info_->width, info_->height);
+    ROS_WARN_THROTTLE(5.0, "depth_to_scan: image of %u x %u on %s but camera_info says %u x %u: dropped", image->width,
+                      image->height, nh_.resolveName("image").c_str(), info_->width, info_->height);
     return;
   }
   const std::string error = checkDepthToScan(camera, params_);
@@ -73,7 +73,8 @@ void DepthToScanRos::onImage(const sensor_msgs::Image::ConstPtr& image)
   if ((!mm && !metres) || image->step < image->width * element ||
       image->data.size() < static_cast<std::size_t>(image->step) * image->height || image->is_bigendian)
   {
-    ROS_ERROR_THROTTLE(5.0, "depth_to_scan: image on %s is %s, %u x %u, step %u, %zu bytes%s: need 16UC1 (mm) or "
+    ROS_ERROR_THROTTLE(5.0,
+                       "depth_to_scan: image on %s is %s, %u x %u, step %u, %zu bytes%s: need 16UC1 (mm) or "
                        "32FC1 (m), little-endian, consistent with its size",
                        nh_.resolveName("image").c_str(), image->encoding.c_str(), image->width, image->height,
                        image->step, image->data.size(), image->is_bigendian ? ", big-endian" : "");

@@ -14,14 +14,17 @@
 #include <string>
 #include <vector>
 
-namespace mybot_ros_control {
+namespace mybot_ros_control
+{
 
 // A controller that cannot be loaded; what() names the controller and the field.
-struct ControllerError : std::runtime_error {
+struct ControllerError : std::runtime_error
+{
   using std::runtime_error::runtime_error;
 };
 
-struct ControllerContext {
+struct ControllerContext
+{
   std::string name, type;
   RobotHWSim* hw;
   const mybot_gazebo_lite::PluginContext* plugin;  // the robot, tf, lockstep
@@ -39,8 +42,9 @@ struct ControllerContext {
   bool boolean(const std::string& param, bool def) const;
 };
 
-class Controller {
- public:
+class Controller
+{
+public:
   virtual ~Controller() = default;
   virtual void starting(double /*t*/) {}
   virtual void update(double t, double dt) = 0;
@@ -48,7 +52,7 @@ class Controller {
   // hardware interface -> the joints this controller commands through it (resources).
   const std::map<std::string, std::vector<std::string>>& claimed() const { return claimed_; }
 
- protected:
+protected:
   std::map<std::string, std::vector<std::string>> claimed_;
 };
 

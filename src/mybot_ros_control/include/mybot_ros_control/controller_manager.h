@@ -13,10 +13,12 @@
 #include <mybot_gazebo_lite/SwitchController.h>
 #include <mybot_gazebo_lite/UnloadController.h>
 
-namespace mybot_ros_control {
+namespace mybot_ros_control
+{
 
-class ControllerManager {
- public:
+class ControllerManager
+{
+public:
   ControllerManager(RobotHWSim& hw, const mybot_gazebo_lite::PluginContext& plugin, const ros::NodeHandle& root);
   // One control period: every running controller, in load order.
   void update(double t, double dt);
@@ -29,9 +31,15 @@ class ControllerManager {
   std::string switchControllers(const std::vector<std::string>& start, const std::vector<std::string>& stop,
                                 int strictness);
 
- private:
-  enum class State { INITIALIZED, RUNNING, STOPPED };
-  struct Entry {
+private:
+  enum class State
+  {
+    INITIALIZED,
+    RUNNING,
+    STOPPED
+  };
+  struct Entry
+  {
     std::string name, type;
     std::unique_ptr<Controller> controller;
     State state = State::INITIALIZED;

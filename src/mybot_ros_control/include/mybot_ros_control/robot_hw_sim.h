@@ -14,16 +14,23 @@
 #include <string>
 #include <vector>
 
-namespace mybot_ros_control {
+namespace mybot_ros_control
+{
 
-enum class Interface { POSITION, VELOCITY, EFFORT };
+enum class Interface
+{
+  POSITION,
+  VELOCITY,
+  EFFORT
+};
 
 // "hardware_interface/PositionJointInterface" and friends.
 std::string interfaceName(Interface i);
 // Accepts the full name and the short one ("EffortJointInterface", pre-Indigo URDFs).
 bool parseInterface(const std::string& s, Interface& out);
 
-struct SimJoint {
+struct SimJoint
+{
   std::string name;
   std::vector<Interface> interfaces;  // declared in its <transmission>
   double reduction = 1.0;             // read for the record: commands are joint-side, as in DefaultRobotHWSim
@@ -48,8 +55,9 @@ struct SimJoint {
   bool has(Interface i) const;
 };
 
-class RobotHWSim {
- public:
+class RobotHWSim
+{
+public:
   // Throws mybot_gazebo_lite::LoadError naming the transmission for an unsupported type or
   // interface; pushes a warning for what it reads but does not use.
   RobotHWSim(const mybot_gazebo_lite::RobotSpec& spec, std::vector<std::string>& warnings);
@@ -66,7 +74,7 @@ class RobotHWSim {
   // Every joint back to its initial mode at rest (reset_world, reset_simulation).
   void reset(const mybot_gazebo_lite::Robot& robot);
 
- private:
+private:
   std::vector<SimJoint> joints_;
 };
 

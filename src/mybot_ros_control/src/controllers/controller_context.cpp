@@ -2,73 +2,101 @@
 
 #include <mybot_common/params.h>
 
-namespace mybot_ros_control {
+namespace mybot_ros_control
+{
 
-void ControllerContext::fail(const std::string& field, const std::string& why) const {
-  throw ControllerError("controller '" + name + "' (" + type + "): " +
-                        (field.empty() ? std::string() : "parameter " + nh.resolveName(field) + ": ") + why);
+void ControllerContext::fail(const std::string& field, const std::string& why) const
+{
+  throw ControllerError("controller '" + name + "' (" + type +
+                        "): " + (field.empty() ? std::string() : "parameter " + nh.resolveName(field) + ": ") + why);
 }
 
-SimJoint& ControllerContext::joint(const std::string& param, const std::string& j, Interface i) const {
+SimJoint& ControllerContext::joint(const std::string& param, const std::string& j, Interface i) const
+{
   SimJoint* sj = hw->joint(j);
-  if (!sj) {
+  if (!sj)
+  {
     std::string known;
-    for (const auto& x : hw->joints()) known += (known.empty() ? "" : ", ") + x.name;
-    fail(param, "joint '" + j + "' has no <transmission> in the URDF (joints with one: " +
-                    (known.empty() ? "none" : known) + ")");
+    for (const auto& x : hw->joints())
+      known += (known.empty() ? "" : ", ") + x.name;
+    fail(param, "joint '" + j +
+                    "' has no <transmission> in the URDF (joints with one: " + (known.empty() ? "none" : known) + ")");
   }
-  if (!sj->has(i)) {
+  if (!sj->has(i))
+  {
     std::string has;
-    for (Interface x : sj->interfaces) has += (has.empty() ? "" : ", ") + interfaceName(x);
+    for (Interface x : sj->interfaces)
+      has += (has.empty() ? "" : ", ") + interfaceName(x);
     fail(param, "joint '" + j + "' does not offer " + interfaceName(i) + " (its <transmission> declares " + has + ")");
   }
   return *sj;
 }
 
-std::string ControllerContext::requiredString(const std::string& param) const {
-  if (!nh.hasParam(param)) fail(param, "required parameter missing");
-  try {
+std::string ControllerContext::requiredString(const std::string& param) const
+{
+  if (!nh.hasParam(param))
+    fail(param, "required parameter missing");
+  try
+  {
     return mybot_common::readParamOrThrow<std::string>(nh, param, "");
-  } catch (const mybot_common::ParamError& e) {
+  }
+  catch (const mybot_common::ParamError& e)
+  {
     fail("", e.what());
   }
 }
 
-std::vector<std::string> ControllerContext::stringList(const std::string& param, bool required) const {
+std::vector<std::string> ControllerContext::stringList(const std::string& param, bool required) const
+{
   XmlRpc::XmlRpcValue v;
-  if (!nh.getParam(param, v)) {
-    if (required) fail(param, "required parameter missing");
+  if (!nh.getParam(param, v))
+  {
+    if (required)
+      fail(param, "required parameter missing");
     return {};
   }
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeString) return {static_cast<std::string>(v)};
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray) fail(param, "expected a list of joint names");
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeString)
+    return {static_cast<std::string>(v)};
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray)
+    fail(param, "expected a list of joint names");
   std::vector<std::string> out;
-  for (int k = 0; k < v.size(); ++k) {
+  for (int k = 0; k < v.size(); ++k)
+  {
     if (v[k].getType() != XmlRpc::XmlRpcValue::TypeString)
       fail(param, "element " + std::to_string(k) + " is not a string");
     out.push_back(static_cast<std::string>(v[k]));
   }
-  if (out.empty() && required) fail(param, "the list is empty");
+  if (out.empty() && required)
+    fail(param, "the list is empty");
   return out;
 }
 
-double ControllerContext::number(const std::string& param, double def) const {
-  try {
+double ControllerContext::number(const std::string& param, double def) const
+{
+  try
+  {
     return mybot_common::readParamOrThrow<double>(nh, param, def);
-  } catch (const mybot_common::ParamError& e) {
+  }
+  catch (const mybot_common::ParamError& e)
+  {
     fail("", e.what());
   }
 }
 
-bool ControllerContext::boolean(const std::string& param, bool def) const {
-  try {
+bool ControllerContext::boolean(const std::string& param, bool def) const
+{
+  try
+  {
     return mybot_common::readParamOrThrow<bool>(nh, param, def);
-  } catch (const mybot_common::ParamError& e) {
+  }
+  catch (const mybot_common::ParamError& e)
+  {
     fail("", e.what());
   }
 }
 
-const std::map<std::string, ControllerFactory>& controllerTypes() {
+const std::map<std::string, ControllerFactory>& controllerTypes()
+{
   using I = Interface;
   static const std::map<std::string, ControllerFactory> types = {
       {"joint_state_controller/JointStateController", makeJointStateController},
@@ -80,7 +108,8 @@ const std::map<std::string, ControllerFactory>& controllerTypes() {
        [](auto& c) { return makeForwardGroupController(c, I::POSITION); }},
       {"velocity_controllers/JointGroupVelocityController",
        [](auto& c) { return makeForwardGroupController(c, I::VELOCITY); }},
-      {"effort_controllers/JointGroupEffortController", [](auto& c) { return makeForwardGroupController(c, I::EFFORT); }},
+      {"effort_controllers/JointGroupEffortController",
+       [](auto& c) { return makeForwardGroupController(c, I::EFFORT); }},
       {"effort_controllers/JointPositionController", [](auto& c) { return makePidController(c, I::EFFORT, true); }},
       {"effort_controllers/JointVelocityController", [](auto& c) { return makePidController(c, I::EFFORT, false); }},
       {"velocity_controllers/JointPositionController", [](auto& c) { return makePidController(c, I::VELOCITY, true); }},

@@ -3,7 +3,8 @@
 
 #include "mybot_ros_control/controller.h"
 
-namespace mybot_ros_control {
+namespace mybot_ros_control
+{
 
 std::unique_ptr<Controller> makeJointStateController(const ControllerContext& c);
 std::unique_ptr<Controller> makeDiffDriveController(const ControllerContext& c);

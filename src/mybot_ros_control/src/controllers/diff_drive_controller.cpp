@@ -14,25 +14,32 @@
 
 #include <cmath>
 
-namespace mybot_ros_control {
+namespace mybot_ros_control
+{
 
-namespace {
+namespace
+{
 using mybot_gazebo_lite::JointSpec;
 using mybot_gazebo_lite::RobotSpec;
 using mybot_gazebo_lite::Shape;
 
-class DiffDriveController : public Controller {
- public:
-  explicit DiffDriveController(const ControllerContext& c) : c_(c), hw_(c.hw) {
+class DiffDriveController : public Controller
+{
+public:
+  explicit DiffDriveController(const ControllerContext& c) : c_(c), hw_(c.hw)
+  {
     const std::vector<std::string> left = c.stringList("left_wheel", true), right = c.stringList("right_wheel", true);
-    for (const auto& n : left) left_.push_back(&c.joint("left_wheel", n, Interface::VELOCITY));
-    for (const auto& n : right) right_.push_back(&c.joint("right_wheel", n, Interface::VELOCITY));
+    for (const auto& n : left)
+      left_.push_back(&c.joint("left_wheel", n, Interface::VELOCITY));
+    for (const auto& n : right)
+      right_.push_back(&c.joint("right_wheel", n, Interface::VELOCITY));
     auto& claim = claimed_[interfaceName(Interface::VELOCITY)];
     claim.insert(claim.end(), left.begin(), left.end());
     claim.insert(claim.end(), right.begin(), right.end());
 
     const double rate = c.number("publish_rate", 50.0);
-    if (!(rate > 0)) c.fail("publish_rate", "must be positive");
+    if (!(rate > 0))
+      c.fail("publish_rate", "must be positive");
     publish_period_ = 1.0 / rate;
     open_loop_ = c.boolean("open_loop", false);
     const double sep_mult = c.number("wheel_separation_multiplier", 1.0);
@@ -40,12 +47,16 @@ class DiffDriveController : public Controller {
     const double left_mult = c.number("left_wheel_radius_multiplier", radius_mult);
     const double right_mult = c.number("right_wheel_radius_multiplier", radius_mult);
     for (auto [name, v] : {std::pair<const char*, double>{"wheel_separation_multiplier", sep_mult},
-                           {"left_wheel_radius_multiplier", left_mult}, {"right_wheel_radius_multiplier", right_mult}})
-      if (!(v > 0)) c.fail(name, "must be positive");
+                           {"left_wheel_radius_multiplier", left_mult},
+                           {"right_wheel_radius_multiplier", right_mult}})
+      if (!(v > 0))
+        c.fail(name, "must be positive");
     const int window = static_cast<int>(c.number("velocity_rolling_window_size", 10));
-    if (window < 1) c.fail("velocity_rolling_window_size", "must be >= 1");
+    if (window < 1)
+      c.fail("velocity_rolling_window_size", "must be >= 1");
     timeout_ = c.number("cmd_vel_timeout", 0.5);
-    if (!(timeout_ > 0)) c.fail("cmd_vel_timeout", "must be positive");
+    if (!(timeout_ > 0))
+      c.fail("cmd_vel_timeout", "must be positive");
     base_frame_ = c.nh.param<std::string>("base_frame_id", "base_link");
     odom_frame_ = c.nh.param<std::string>("odom_frame_id", "odom");
     enable_tf_ = c.boolean("enable_odom_tf", true);
@@ -54,11 +65,15 @@ class DiffDriveController : public Controller {
 
     const RobotSpec& spec = c.plugin->robot->spec();
     double separation = c.number("wheel_separation", 0.0);
-    if (!c.nh.hasParam("wheel_separation")) separation = separationFromUrdf(spec, left.front(), right.front());
+    if (!c.nh.hasParam("wheel_separation"))
+      separation = separationFromUrdf(spec, left.front(), right.front());
     double radius = c.number("wheel_radius", 0.0);
-    if (!c.nh.hasParam("wheel_radius")) radius = radiusFromUrdf(spec, left.front());
-    if (!(separation > 0)) c.fail("wheel_separation", "must be positive");
-    if (!(radius > 0)) c.fail("wheel_radius", "must be positive");
+    if (!c.nh.hasParam("wheel_radius"))
+      radius = radiusFromUrdf(spec, left.front());
+    if (!(separation > 0))
+      c.fail("wheel_separation", "must be positive");
+    if (!(radius > 0))
+      c.fail("wheel_radius", "must be positive");
     mybot_control::DiffDriveOdometry::Params op;
     op.wheel_separation = sep_mult * separation;
     op.left_radius = left_mult * radius;
@@ -76,14 +91,18 @@ class DiffDriveController : public Controller {
     sub_ = mybot_gazebo_lite::subscribeCommand<geometry_msgs::Twist>(
         *c.plugin, nh, "cmd_vel", [this](const geometry_msgs::Twist::ConstPtr& m) { onCmd(*m); });
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 100);
-    if (publish_cmd_) cmd_out_pub_ = nh.advertise<geometry_msgs::TwistStamped>("cmd_vel_out", 100);
+    if (publish_cmd_)
+      cmd_out_pub_ = nh.advertise<geometry_msgs::TwistStamped>("cmd_vel_out", 100);
     ROS_INFO("%s: wheel separation %.4f m, radius left %.4f m right %.4f m", c.name.c_str(), op.wheel_separation,
              op.left_radius, op.right_radius);
   }
 
-  void starting(double t) override {
-    for (SimJoint* j : left_) hw_->claim(*j, Interface::VELOCITY);
-    for (SimJoint* j : right_) hw_->claim(*j, Interface::VELOCITY);
+  void starting(double t) override
+  {
+    for (SimJoint* j : left_)
+      hw_->claim(*j, Interface::VELOCITY);
+    for (SimJoint* j : right_)
+      hw_->claim(*j, Interface::VELOCITY);
     odometry_.reset();
     cmd_ = Cmd{};
     cmd_.stamp = t;
@@ -92,28 +111,35 @@ class DiffDriveController : public Controller {
   }
   void stopping(double) override { brake(); }
 
-  void update(double t, double dt) override {
+  void update(double t, double dt) override
+  {
     // Odometry from the mean wheel angle of each side (the encoders), or the commands (open_loop).
-    if (open_loop_) {
+    if (open_loop_)
+    {
       const mybot_control::Pose2D p = mybot_control::poseExp(odometry_.pose(), last0_ * dt);
       odometry_.setPose(p);
       odom_twist_ = last0_;
-    } else {
+    }
+    else
+    {
       odometry_.update(mean(left_), mean(right_), t);
       odom_twist_ = odometry_.twist();
     }
-    if (t + 1e-9 >= next_publish_) {
+    if (t + 1e-9 >= next_publish_)
+    {
       next_publish_ = (next_publish_ + publish_period_ < t) ? t + publish_period_ : next_publish_ + publish_period_;
       publishOdometry(t);
     }
     // The command, braked after cmd_vel_timeout, then limited.
     mybot_control::Twist2D cmd{cmd_.lin, 0.0, cmd_.ang};
-    if (t - cmd_.stamp > timeout_) cmd = mybot_control::Twist2D{};
+    if (t - cmd_.stamp > timeout_)
+      cmd = mybot_control::Twist2D{};
     linear_.limit(cmd.vx, last0_.vx, last1_.vx, dt);
     angular_.limit(cmd.wz, last0_.wz, last1_.wz, dt);
     last1_ = last0_;
     last0_ = cmd;
-    if (publish_cmd_) {
+    if (publish_cmd_)
+    {
       geometry_msgs::TwistStamped m;
       m.header.stamp = ros::Time(t);
       m.twist.linear.x = cmd.vx;
@@ -121,32 +147,43 @@ class DiffDriveController : public Controller {
       cmd_out_pub_.publish(m);
     }
     const mybot_control::WheelVelocities w = kin_.toWheelAngular(cmd);
-    for (SimJoint* j : left_) j->command = w.left;
-    for (SimJoint* j : right_) j->command = w.right;
+    for (SimJoint* j : left_)
+      j->command = w.left;
+    for (SimJoint* j : right_)
+      j->command = w.right;
   }
 
- private:
-  struct Cmd {
+private:
+  struct Cmd
+  {
     double lin = 0, ang = 0, stamp = 0;
   };
-  static double mean(const std::vector<SimJoint*>& js) {
+  static double mean(const std::vector<SimJoint*>& js)
+  {
     double s = 0;
-    for (const SimJoint* j : js) s += j->position;
+    for (const SimJoint* j : js)
+      s += j->position;
     return s / js.size();
   }
-  void brake() {
-    for (SimJoint* j : left_) j->command = 0;
-    for (SimJoint* j : right_) j->command = 0;
+  void brake()
+  {
+    for (SimJoint* j : left_)
+      j->command = 0;
+    for (SimJoint* j : right_)
+      j->command = 0;
   }
-  void onCmd(const geometry_msgs::Twist& m) {
+  void onCmd(const geometry_msgs::Twist& m)
+  {
     // As upstream: with several publishers on cmd_vel and allow_multiple_cmd_vel_publishers
     // false, every command is refused rather than obeying whoever spoke last.
-    if (!allow_multiple_ && sub_.getNumPublishers() > 1) {
+    if (!allow_multiple_ && sub_.getNumPublishers() > 1)
+    {
       ROS_ERROR_THROTTLE(1.0, "%s: cmd_vel has %u publishers and allow_multiple_cmd_vel_publishers is false; ignored",
                          c_.name.c_str(), sub_.getNumPublishers());
       return;
     }
-    if (!std::isfinite(m.linear.x) || !std::isfinite(m.angular.z)) {
+    if (!std::isfinite(m.linear.x) || !std::isfinite(m.angular.z))
+    {
       ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite cmd_vel", c_.name.c_str());
       return;
     }
@@ -156,33 +193,42 @@ class DiffDriveController : public Controller {
   }
   // diff_drive_controller's limit block and covariance lists, read by mybot_control's ParamReader
   // (the real robot's controller reads the same names the same way).
-  mybot_control::SpeedLimiter readLimits(const std::string& ns) const {
+  mybot_control::SpeedLimiter readLimits(const std::string& ns) const
+  {
     return mybot_control::SpeedLimiter(mybot_control::loadSpeedLimits(mybot_control::ParamReader(c_.nh), ns + "/"));
   }
-  boost::array<double, 36> covariance(const std::string& param) const {
+  boost::array<double, 36> covariance(const std::string& param) const
+  {
     boost::array<double, 36> cov{};
     const mybot_control::ParamReader p(c_.nh);
-    if (!p.has(param)) return cov;
+    if (!p.has(param))
+      return cov;
     const std::vector<double> diag = p.numbers(param, 6);
-    for (int k = 0; k < 6; ++k) cov[k * 7] = diag[k];
+    for (int k = 0; k < 6; ++k)
+      cov[k * 7] = diag[k];
     return cov;
   }
   // As upstream: the distance between the two wheel joints' origins in their parent frames.
-  double separationFromUrdf(const RobotSpec& spec, const std::string& l, const std::string& r) const {
+  double separationFromUrdf(const RobotSpec& spec, const std::string& l, const std::string& r) const
+  {
     const JointSpec *jl = spec.joint(l), *jr = spec.joint(r);
     return (jl->origin.getOrigin() - jr->origin.getOrigin()).length();
   }
   // As upstream: the radius of the wheel link's collision cylinder or sphere.
-  double radiusFromUrdf(const RobotSpec& spec, const std::string& joint) const {
+  double radiusFromUrdf(const RobotSpec& spec, const std::string& joint) const
+  {
     const std::string link = spec.joint(joint)->child;
     const auto* ls = spec.link(link);
-    if (ls && !ls->collisions.empty()) {
+    if (ls && !ls->collisions.empty())
+    {
       const Shape& s = ls->collisions.front();
-      if (s.type == Shape::CYLINDER || s.type == Shape::SPHERE) return s.radius;
+      if (s.type == Shape::CYLINDER || s.type == Shape::SPHERE)
+        return s.radius;
     }
     c_.fail("wheel_radius", "not set, and link '" + link + "' has no collision cylinder or sphere to take it from");
   }
-  void publishOdometry(double t) {
+  void publishOdometry(double t)
+  {
     const mybot_control::Pose2D& p = odometry_.pose();
     nav_msgs::Odometry o;
     o.header.stamp = ros::Time(t);
@@ -197,7 +243,8 @@ class DiffDriveController : public Controller {
     o.twist.twist.angular.z = odom_twist_.wz;
     o.twist.covariance = twist_cov_;
     odom_pub_.publish(o);
-    if (!enable_tf_) return;
+    if (!enable_tf_)
+      return;
     geometry_msgs::TransformStamped tf;
     tf.header = o.header;
     tf.child_frame_id = base_frame_;
@@ -224,7 +271,8 @@ class DiffDriveController : public Controller {
 };
 }  // namespace
 
-std::unique_ptr<Controller> makeDiffDriveController(const ControllerContext& c) {
+std::unique_ptr<Controller> makeDiffDriveController(const ControllerContext& c)
+{
   return std::make_unique<DiffDriveController>(c);
 }
 

@@ -8,19 +8,27 @@
 
 #include <cmath>
 
-namespace mybot_ros_control {
+namespace mybot_ros_control
+{
 
-namespace {
+namespace
+{
 
 // A position controller starts by holding where the joint is; the others at rest.
-double restingCommand(const SimJoint& j, Interface i) { return i == Interface::POSITION ? j.position : 0.0; }
+double restingCommand(const SimJoint& j, Interface i)
+{
+  return i == Interface::POSITION ? j.position : 0.0;
+}
 
-class ForwardGroupController : public Controller {
- public:
-  ForwardGroupController(const ControllerContext& c, Interface i, bool group) : name_(c.name), interface_(i) {
+class ForwardGroupController : public Controller
+{
+public:
+  ForwardGroupController(const ControllerContext& c, Interface i, bool group) : name_(c.name), interface_(i)
+  {
     const std::vector<std::string> names =
         group ? c.stringList("joints", true) : std::vector<std::string>{c.requiredString("joint")};
-    for (const auto& n : names) {
+    for (const auto& n : names)
+    {
       joints_.push_back(&c.joint(group ? "joints" : "joint", n, i));
       claimed_[interfaceName(i)].push_back(n);
     }
@@ -33,26 +41,33 @@ class ForwardGroupController : public Controller {
       sub_ = mybot_gazebo_lite::subscribeCommand<std_msgs::Float64>(
           *c.plugin, nh, "command", [this](const std_msgs::Float64::ConstPtr& m) { onCommand({m->data}); });
   }
-  void starting(double) override {
+  void starting(double) override
+  {
     commands_.clear();
-    for (SimJoint* j : joints_) {
+    for (SimJoint* j : joints_)
+    {
       hw_->claim(*j, interface_);
       commands_.push_back(restingCommand(*j, interface_));
     }
   }
-  void update(double, double) override {
-    for (size_t k = 0; k < joints_.size(); ++k) joints_[k]->command = commands_[k];
+  void update(double, double) override
+  {
+    for (size_t k = 0; k < joints_.size(); ++k)
+      joints_[k]->command = commands_[k];
   }
 
- private:
-  void onCommand(const std::vector<double>& v) {
-    if (v.size() != joints_.size()) {
+private:
+  void onCommand(const std::vector<double>& v)
+  {
+    if (v.size() != joints_.size())
+    {
       ROS_ERROR_THROTTLE(1.0, "%s: command has %zu values for %zu joints; ignored", name_.c_str(), v.size(),
                          joints_.size());
       return;
     }
     for (double x : v)
-      if (!std::isfinite(x)) {
+      if (!std::isfinite(x))
+      {
         ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite command", name_.c_str());
         return;
       }
@@ -67,11 +82,13 @@ class ForwardGroupController : public Controller {
 };
 }  // namespace
 
-std::unique_ptr<Controller> makeForwardController(const ControllerContext& c, Interface i) {
+std::unique_ptr<Controller> makeForwardController(const ControllerContext& c, Interface i)
+{
   return std::make_unique<ForwardGroupController>(c, i, false);
 }
 
-std::unique_ptr<Controller> makeForwardGroupController(const ControllerContext& c, Interface i) {
+std::unique_ptr<Controller> makeForwardGroupController(const ControllerContext& c, Interface i)
+{
   return std::make_unique<ForwardGroupController>(c, i, true);
 }
 

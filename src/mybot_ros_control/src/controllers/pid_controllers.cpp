@@ -10,13 +10,17 @@
 
 #include <cmath>
 
-namespace mybot_ros_control {
+namespace mybot_ros_control
+{
 
-namespace {
+namespace
+{
 
 // control_toolbox::Pid's parameters under `ns` ("pid" or "<joint>/pid").
-mybot_control::PidConfig readPid(const ControllerContext& c, const std::string& ns, bool angle_wrap) {
-  if (!c.nh.hasParam(ns + "/p")) c.fail(ns + "/p", "required parameter missing (the PID needs at least p)");
+mybot_control::PidConfig readPid(const ControllerContext& c, const std::string& ns, bool angle_wrap)
+{
+  if (!c.nh.hasParam(ns + "/p"))
+    c.fail(ns + "/p", "required parameter missing (the PID needs at least p)");
   mybot_control::PidConfig cfg;
   cfg.p = c.number(ns + "/p", 0.0);
   cfg.i = c.number(ns + "/i", 0.0);
@@ -27,18 +31,22 @@ mybot_control::PidConfig readPid(const ControllerContext& c, const std::string& 
   cfg.i_clamp_min = c.number(ns + "/i_clamp_min", -clamp);
   cfg.angle_wrap = angle_wrap;
   const std::string bad = cfg.validate(c.nh.resolveName(ns) + "/");
-  if (!bad.empty()) c.fail("", bad);
+  if (!bad.empty())
+    c.fail("", bad);
   return cfg;
 }
 
-class PidGroupController : public Controller {
- public:
+class PidGroupController : public Controller
+{
+public:
   // on_position: the target is a position (else a velocity); output: the interface commanded.
   PidGroupController(const ControllerContext& c, Interface output, bool on_position, bool group)
-      : name_(c.name), output_(output), on_position_(on_position), hw_(c.hw) {
+      : name_(c.name), output_(output), on_position_(on_position), hw_(c.hw)
+  {
     const std::vector<std::string> names =
         group ? c.stringList("joints", true) : std::vector<std::string>{c.requiredString("joint")};
-    for (const auto& n : names) {
+    for (const auto& n : names)
+    {
       Loop l;
       l.joint = &c.joint(group ? "joints" : "joint", n, output);
       l.pid.setConfig(readPid(c, group ? n + "/pid" : "pid", on_position && l.joint->continuous));
@@ -46,56 +54,72 @@ class PidGroupController : public Controller {
       claimed_[interfaceName(output)].push_back(n);
     }
     ros::NodeHandle nh = c.nh;
-    if (group) {
+    if (group)
+    {
       sub_ = mybot_gazebo_lite::subscribeCommand<std_msgs::Float64MultiArray>(
           *c.plugin, nh, "command", [this](const std_msgs::Float64MultiArray::ConstPtr& m) { onCommand(m->data); });
-    } else {
+    }
+    else
+    {
       sub_ = mybot_gazebo_lite::subscribeCommand<std_msgs::Float64>(
           *c.plugin, nh, "command", [this](const std_msgs::Float64::ConstPtr& m) { onCommand({m->data}); });
       state_pub_ = nh.advertise<mybot_gazebo_lite::JointControllerState>("state", 1);
     }
   }
-  void starting(double) override {
-    for (auto& l : loops_) {
+  void starting(double) override
+  {
+    for (auto& l : loops_)
+    {
       hw_->claim(*l.joint, output_);
       l.target = on_position_ ? l.joint->position : 0.0;
       l.pid.reset();
     }
     count_ = 0;
   }
-  void update(double t, double dt) override {
-    for (auto& l : loops_) {
+  void update(double t, double dt) override
+  {
+    for (auto& l : loops_)
+    {
       SimJoint& j = *l.joint;
       const double target = on_position_ ? clampPosition(j, l.target) : l.target;
       const double measured = on_position_ ? j.position : j.velocity;
       j.command = l.pid.compute(target, measured, dt);
     }
-    if (state_pub_ && count_++ % 10 == 0) publishState(t, dt);
+    if (state_pub_ && count_++ % 10 == 0)
+      publishState(t, dt);
   }
-  void stopping(double) override {
-    for (auto& l : loops_) l.joint->command = 0.0;
+  void stopping(double) override
+  {
+    for (auto& l : loops_)
+      l.joint->command = 0.0;
   }
 
- private:
-  struct Loop {
+private:
+  struct Loop
+  {
     SimJoint* joint;
     mybot_control::Pid pid;
     double target = 0;
   };
-  void onCommand(const std::vector<double>& v) {
-    if (v.size() != loops_.size()) {
+  void onCommand(const std::vector<double>& v)
+  {
+    if (v.size() != loops_.size())
+    {
       ROS_ERROR_THROTTLE(1.0, "%s: command has %zu values for %zu joints; ignored", name_.c_str(), v.size(),
                          loops_.size());
       return;
     }
     for (double x : v)
-      if (!std::isfinite(x)) {
+      if (!std::isfinite(x))
+      {
         ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite command", name_.c_str());
         return;
       }
-    for (size_t k = 0; k < v.size(); ++k) loops_[k].target = v[k];
+    for (size_t k = 0; k < v.size(); ++k)
+      loops_[k].target = v[k];
   }
-  void publishState(double t, double dt) {
+  void publishState(double t, double dt)
+  {
     const Loop& l = loops_.front();
     const auto& cfg = l.pid.config();
     mybot_gazebo_lite::JointControllerState s;
@@ -124,11 +148,13 @@ class PidGroupController : public Controller {
 };
 }  // namespace
 
-std::unique_ptr<Controller> makePidController(const ControllerContext& c, Interface output, bool on_position) {
+std::unique_ptr<Controller> makePidController(const ControllerContext& c, Interface output, bool on_position)
+{
   return std::make_unique<PidGroupController>(c, output, on_position, false);
 }
 
-std::unique_ptr<Controller> makePidGroupPositionController(const ControllerContext& c, Interface output) {
+std::unique_ptr<Controller> makePidGroupPositionController(const ControllerContext& c, Interface output)
+{
   return std::make_unique<PidGroupController>(c, output, true, true);
 }
 

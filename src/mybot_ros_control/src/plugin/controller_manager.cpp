@@ -3,23 +3,28 @@
 #include <algorithm>
 #include <set>
 
-namespace mybot_ros_control {
+namespace mybot_ros_control
+{
 
 namespace mgl = mybot_gazebo_lite;
 
-namespace {
+namespace
+{
 constexpr int kBestEffort = mgl::SwitchController::Request::BEST_EFFORT;
 constexpr int kStrict = mgl::SwitchController::Request::STRICT;
 
-std::set<std::string> resources(const Controller& c) {
+std::set<std::string> resources(const Controller& c)
+{
   std::set<std::string> out;
-  for (const auto& [iface, joints] : c.claimed()) out.insert(joints.begin(), joints.end());
+  for (const auto& [iface, joints] : c.claimed())
+    out.insert(joints.begin(), joints.end());
   return out;
 }
 }  // namespace
 
 ControllerManager::ControllerManager(RobotHWSim& hw, const mgl::PluginContext& plugin, const ros::NodeHandle& root)
-    : hw_(hw), plugin_(plugin), root_(root) {
+    : hw_(hw), plugin_(plugin), root_(root)
+{
   ros::NodeHandle cm(root_, "controller_manager");
   services_.push_back(cm.advertiseService("load_controller", &ControllerManager::onLoad, this));
   services_.push_back(cm.advertiseService("unload_controller", &ControllerManager::onUnload, this));
@@ -29,28 +34,37 @@ ControllerManager::ControllerManager(RobotHWSim& hw, const mgl::PluginContext& p
   services_.push_back(cm.advertiseService("reload_controller_libraries", &ControllerManager::onReload, this));
 }
 
-ControllerManager::Entry* ControllerManager::find(const std::string& name) {
+ControllerManager::Entry* ControllerManager::find(const std::string& name)
+{
   for (auto& e : entries_)
-    if (e.name == name) return &e;
+    if (e.name == name)
+      return &e;
   return nullptr;
 }
 
-void ControllerManager::update(double t, double dt) {
+void ControllerManager::update(double t, double dt)
+{
   for (auto& e : entries_)
-    if (e.state == State::RUNNING) e.controller->update(t, dt);
+    if (e.state == State::RUNNING)
+      e.controller->update(t, dt);
 }
 
-void ControllerManager::restart(double t) {
+void ControllerManager::restart(double t)
+{
   for (auto& e : entries_)
-    if (e.state == State::RUNNING) {
+    if (e.state == State::RUNNING)
+    {
       e.controller->stopping(t);
       e.controller->starting(t);
     }
 }
 
-std::string ControllerManager::load(const std::string& name) {
-  if (name.empty()) return "the controller name is empty";
-  if (find(name)) return "a controller named '" + name + "' is already loaded";
+std::string ControllerManager::load(const std::string& name)
+{
+  if (name.empty())
+    return "the controller name is empty";
+  if (find(name))
+    return "a controller named '" + name + "' is already loaded";
   ros::NodeHandle nh(root_, name);
   std::string type;
   if (!nh.getParam("type", type))
@@ -58,45 +72,58 @@ std::string ControllerManager::load(const std::string& name) {
            " (load the controller's YAML onto the parameter server first)";
   const auto& types = controllerTypes();
   auto it = types.find(type);
-  if (it == types.end()) {
+  if (it == types.end())
+  {
     std::string known;
-    for (const auto& [k, f] : types) known += (known.empty() ? "" : ", ") + k;
+    for (const auto& [k, f] : types)
+      known += (known.empty() ? "" : ", ") + k;
     return "controller '" + name + "': parameter " + nh.resolveName("type") + ": unknown type '" + type +
            "' (known: " + known + ")";
   }
   ControllerContext ctx{name, type, &hw_, &plugin_, root_, nh};
-  try {
+  try
+  {
     Entry e;
     e.name = name;
     e.type = type;
     e.controller = it->second(ctx);
     entries_.push_back(std::move(e));
-  } catch (const ControllerError& err) {
+  }
+  catch (const ControllerError& err)
+  {
     return err.what();
-  } catch (const std::runtime_error& err) {  // a ParamError of the readers shared with mybot_control
+  }
+  catch (const std::runtime_error& err)
+  {  // a ParamError of the readers shared with mybot_control
     return "controller '" + name + "' (" + type + "): " + err.what();
   }
   return "";
 }
 
-std::string ControllerManager::unload(const std::string& name) {
+std::string ControllerManager::unload(const std::string& name)
+{
   Entry* e = find(name);
-  if (!e) return "no controller named '" + name + "' is loaded";
-  if (e->state == State::RUNNING) return "controller '" + name + "' is running: stop it before unloading it";
+  if (!e)
+    return "no controller named '" + name + "' is loaded";
+  if (e->state == State::RUNNING)
+    return "controller '" + name + "' is running: stop it before unloading it";
   entries_.erase(entries_.begin() + (e - entries_.data()));
   return "";
 }
 
 std::string ControllerManager::switchControllers(const std::vector<std::string>& start,
-                                                 const std::vector<std::string>& stop, int strictness) {
-  if (strictness == 0) strictness = kBestEffort;  // as upstream, with its warning
+                                                 const std::vector<std::string>& stop, int strictness)
+{
+  if (strictness == 0)
+    strictness = kBestEffort;  // as upstream, with its warning
   if (strictness != kBestEffort && strictness != kStrict)
     return "strictness " + std::to_string(strictness) + " is neither BEST_EFFORT (1) nor STRICT (2)";
   const double t = plugin_.world->time();
   std::string problems;
   auto problem = [&](const std::string& p) { problems += (problems.empty() ? "" : "; ") + p; };
   std::vector<Entry*> to_stop, to_start;
-  for (const auto& n : stop) {
+  for (const auto& n : stop)
+  {
     Entry* e = find(n);
     if (!e)
       problem("cannot stop '" + n + "': not loaded");
@@ -109,41 +136,53 @@ std::string ControllerManager::switchControllers(const std::vector<std::string>&
   std::map<std::string, std::string> owner;
   for (auto& e : entries_)
     if (e.state == State::RUNNING && std::find(to_stop.begin(), to_stop.end(), &e) == to_stop.end())
-      for (const auto& r : resources(*e.controller)) owner[r] = e.name;
-  for (const auto& n : start) {
+      for (const auto& r : resources(*e.controller))
+        owner[r] = e.name;
+  for (const auto& n : start)
+  {
     Entry* e = find(n);
-    if (!e) {
+    if (!e)
+    {
       problem("cannot start '" + n + "': not loaded");
       continue;
     }
-    if (e->state == State::RUNNING && std::find(to_stop.begin(), to_stop.end(), e) == to_stop.end()) {
+    if (e->state == State::RUNNING && std::find(to_stop.begin(), to_stop.end(), e) == to_stop.end())
+    {
       problem("cannot start '" + n + "': already running");
       continue;
     }
     std::string conflict;
     for (const auto& r : resources(*e->controller))
-      if (owner.count(r)) conflict = "joint '" + r + "' is commanded by '" + owner[r] + "'";
-    if (!conflict.empty()) {
+      if (owner.count(r))
+        conflict = "joint '" + r + "' is commanded by '" + owner[r] + "'";
+    if (!conflict.empty())
+    {
       problem("cannot start '" + n + "': " + conflict);
       continue;
     }
-    for (const auto& r : resources(*e->controller)) owner[r] = n;
+    for (const auto& r : resources(*e->controller))
+      owner[r] = n;
     to_start.push_back(e);
   }
-  if (!problems.empty() && strictness == kStrict) return problems + " (STRICT: nothing switched)";
-  for (Entry* e : to_stop) {
+  if (!problems.empty() && strictness == kStrict)
+    return problems + " (STRICT: nothing switched)";
+  for (Entry* e : to_stop)
+  {
     e->controller->stopping(t);
     e->state = State::STOPPED;
   }
-  for (Entry* e : to_start) {
+  for (Entry* e : to_start)
+  {
     e->controller->starting(t);
     e->state = State::RUNNING;
   }
-  if (!problems.empty()) ROS_WARN("controller_manager: switch (BEST_EFFORT): %s", problems.c_str());
+  if (!problems.empty())
+    ROS_WARN("controller_manager: switch (BEST_EFFORT): %s", problems.c_str());
   return "";
 }
 
-bool ControllerManager::onLoad(mgl::LoadController::Request& req, mgl::LoadController::Response& res) {
+bool ControllerManager::onLoad(mgl::LoadController::Request& req, mgl::LoadController::Response& res)
+{
   res.message = load(req.name);
   res.ok = res.message.empty();
   if (res.ok)
@@ -153,27 +192,34 @@ bool ControllerManager::onLoad(mgl::LoadController::Request& req, mgl::LoadContr
   return true;
 }
 
-bool ControllerManager::onUnload(mgl::UnloadController::Request& req, mgl::UnloadController::Response& res) {
+bool ControllerManager::onUnload(mgl::UnloadController::Request& req, mgl::UnloadController::Response& res)
+{
   res.message = unload(req.name);
   res.ok = res.message.empty();
-  if (!res.ok) ROS_ERROR("controller_manager: unload_controller: %s", res.message.c_str());
+  if (!res.ok)
+    ROS_ERROR("controller_manager: unload_controller: %s", res.message.c_str());
   return true;
 }
 
-bool ControllerManager::onSwitch(mgl::SwitchController::Request& req, mgl::SwitchController::Response& res) {
+bool ControllerManager::onSwitch(mgl::SwitchController::Request& req, mgl::SwitchController::Response& res)
+{
   res.message = switchControllers(req.start_controllers, req.stop_controllers, req.strictness);
   res.ok = res.message.empty();
-  if (!res.ok) ROS_ERROR("controller_manager: switch_controller: %s", res.message.c_str());
+  if (!res.ok)
+    ROS_ERROR("controller_manager: switch_controller: %s", res.message.c_str());
   return true;
 }
 
-bool ControllerManager::onList(mgl::ListControllers::Request&, mgl::ListControllers::Response& res) {
-  for (const auto& e : entries_) {
+bool ControllerManager::onList(mgl::ListControllers::Request&, mgl::ListControllers::Response& res)
+{
+  for (const auto& e : entries_)
+  {
     mgl::ControllerState s;
     s.name = e.name;
     s.type = e.type;
     s.state = e.state == State::RUNNING ? "running" : e.state == State::STOPPED ? "stopped" : "initialized";
-    for (const auto& [iface, joints] : e.controller->claimed()) {
+    for (const auto& [iface, joints] : e.controller->claimed())
+    {
       mgl::HardwareInterfaceResources r;
       r.hardware_interface = iface;
       r.resources = joints;
@@ -184,8 +230,10 @@ bool ControllerManager::onList(mgl::ListControllers::Request&, mgl::ListControll
   return true;
 }
 
-bool ControllerManager::onListTypes(mgl::ListControllerTypes::Request&, mgl::ListControllerTypes::Response& res) {
-  for (const auto& [type, f] : controllerTypes()) {
+bool ControllerManager::onListTypes(mgl::ListControllerTypes::Request&, mgl::ListControllerTypes::Response& res)
+{
+  for (const auto& [type, f] : controllerTypes())
+  {
     res.types.push_back(type);
     res.base_classes.push_back("controller_interface::ControllerBase");
   }
@@ -193,17 +241,20 @@ bool ControllerManager::onListTypes(mgl::ListControllerTypes::Request&, mgl::Lis
 }
 
 bool ControllerManager::onReload(mgl::ReloadControllerLibraries::Request& req,
-                                 mgl::ReloadControllerLibraries::Response& res) {
+                                 mgl::ReloadControllerLibraries::Response& res)
+{
   // The controllers are built in: nothing to reload. As upstream, loaded controllers block it
   // unless force_kill, which stops and unloads them.
-  if (!entries_.empty() && !req.force_kill) {
+  if (!entries_.empty() && !req.force_kill)
+  {
     res.ok = false;
     res.message = std::to_string(entries_.size()) + " controllers are loaded; unload them or call with force_kill";
     return true;
   }
   const double t = plugin_.world->time();
   for (auto& e : entries_)
-    if (e.state == State::RUNNING) e.controller->stopping(t);
+    if (e.state == State::RUNNING)
+      e.controller->stopping(t);
   entries_.clear();
   res.ok = true;
   return true;

@@ -8,26 +8,34 @@
 
 #include <cmath>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
-class BlockLaser : public SimPlugin {
- public:
-  explicit BlockLaser(const PluginContext& c) : c_(c), noise_(0, 1) {
+namespace
+{
+class BlockLaser : public SimPlugin
+{
+public:
+  explicit BlockLaser(const PluginContext& c) : c_(c), noise_(0, 1)
+  {
     PluginParams p(c, c.spec->xml);
-    if (!c.spec->has_sensor) p.fail("sensor", "the block laser plugin must sit inside a <sensor type=\"ray\">");
+    if (!c.spec->has_sensor)
+      p.fail("sensor", "the block laser plugin must sit inside a <sensor type=\"ray\">");
     PluginParams s(c, c.spec->sensor);
     link_ = c.spec->reference;
     sensor_pose_ = s.pose("pose");
     rate_ = Rate(p.num("updateRate", s.num("update_rate", 0.0)));
     rays_ = SensorRays::fromSensor(s);
     gn_ = p.num("gaussianNoise", 0.0);
-    if (gn_ < 0) p.fail("gaussianNoise", "must be >= 0");
+    if (gn_ < 0)
+      p.fail("gaussianNoise", "must be >= 0");
     frame_ = resolveFrame(c, p.str("frameName", "/world"));
     pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::PointCloud>(p.str("topicName", "/world"), 1);
   }
-  void update(double t) override {
-    if (!rate_.due(t) || pub_.getNumSubscribers() == 0) return;
+  void update(double t) override
+  {
+    if (!rate_.due(t) || pub_.getNumSubscribers() == 0)
+      return;
     const btTransform tf = c_.robot->linkState(link_).tf * sensor_pose_;
     const std::vector<double> ranges = rays_.cast(*c_.world, tf, c_.robot);
     sensor_msgs::PointCloud m;
@@ -35,7 +43,8 @@ class BlockLaser : public SimPlugin {
     m.header.frame_id = frame_;
     m.channels.resize(1);
     m.channels[0].name = "intensity";
-    for (std::size_t k = 0; k < ranges.size(); ++k) {
+    for (std::size_t k = 0; k < ranges.size(); ++k)
+    {
       const double r = std::min(rays_.max, ranges[k] + (gn_ > 0 ? gn_ * noise_(*c_.rng) : 0.0));
       geometry_msgs::Point32 pt;
       pt.x = static_cast<float>(rays_.dirs[k].x() * r);
@@ -47,7 +56,7 @@ class BlockLaser : public SimPlugin {
     pub_.publish(m);
   }
 
- private:
+private:
   PluginContext c_;
   std::string link_, frame_;
   btTransform sensor_pose_;
@@ -59,6 +68,9 @@ class BlockLaser : public SimPlugin {
 };
 }  // namespace
 
-std::unique_ptr<SimPlugin> makeBlockLaser(const PluginContext& c) { return std::make_unique<BlockLaser>(c); }
+std::unique_ptr<SimPlugin> makeBlockLaser(const PluginContext& c)
+{
+  return std::make_unique<BlockLaser>(c);
+}
 
 }  // namespace mybot_gazebo_lite

@@ -5,7 +5,8 @@
 
 #include <nav_msgs/Odometry.h>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
 // Odometry that is the root link's world pose and body-frame twist (the drive plugins that report
 // ground truth as odometry, as upstream), with a diagonal covariance {x, y, yaw} on pose and twist.
@@ -14,7 +15,8 @@ nav_msgs::Odometry worldPoseOdometry(const PluginContext& c, double t, const std
 
 // The rays of a <sensor type="ray"> (horizontal x vertical samples, Gazebo's convention: positive
 // vertical angles look up) cast through Bullet, for the range and block-laser plugins.
-struct SensorRays {
+struct SensorRays
+{
   std::vector<btVector3> dirs;  // unit directions in the sensor frame, vertical-major
   double min = 0, max = 0;      // range limits (m)
   // Reads ray/scan/{horizontal,vertical}/{samples,min_angle,max_angle} and ray/range/{min,max}.

@@ -7,14 +7,19 @@
 
 #include <cmath>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
-class Bumper : public SimPlugin {
- public:
-  explicit Bumper(const PluginContext& c) : c_(c) {
+namespace
+{
+class Bumper : public SimPlugin
+{
+public:
+  explicit Bumper(const PluginContext& c) : c_(c)
+  {
     PluginParams p(c, c.spec->xml);
-    if (!c.spec->has_sensor) p.fail("sensor", "the bumper plugin must sit inside a <sensor type=\"contact\">");
+    if (!c.spec->has_sensor)
+      p.fail("sensor", "the bumper plugin must sit inside a <sensor type=\"contact\">");
     PluginParams s(c, c.spec->sensor);
     link_ = c.spec->reference;
     collision_ = s.str("contact/collision", link_ + "_collision");
@@ -24,19 +29,25 @@ class Bumper : public SimPlugin {
     pub_ = ros::NodeHandle(c.ns).advertise<ContactsState>(p.str("bumperTopicName", "bumper_states"), 1);
     c.robot->recordContactPoints(true);
   }
-  void update(double t) override {
-    if (!rate_.due(t)) return;
+  void update(double t) override
+  {
+    if (!rate_.due(t))
+      return;
     ContactsState m;
     m.header.stamp = ros::Time(t);
     m.header.frame_id = in_link_frame_ ? resolveFrame(c_, frame_) : "world";
     const btTransform to_frame = in_link_frame_ ? c_.robot->linkState(frame_).tf.inverse() : btTransform::getIdentity();
     const double dt = c_.world->stepSize();
-    for (const auto& pt : c_.robot->contacts().points) {
-      if (std::find(pt.links.begin(), pt.links.end(), link_) == pt.links.end()) continue;
+    for (const auto& pt : c_.robot->contacts().points)
+    {
+      if (std::find(pt.links.begin(), pt.links.end(), link_) == pt.links.end())
+        continue;
       ContactState* st = nullptr;
       for (auto& s : m.states)
-        if (s.collision2_name == pt.other) st = &s;
-      if (!st) {
+        if (s.collision2_name == pt.other)
+          st = &s;
+      if (!st)
+      {
         m.states.emplace_back();
         st = &m.states.back();
         st->collision1_name = c_.robot->name() + "::" + link_ + "::" + collision_;
@@ -61,7 +72,7 @@ class Bumper : public SimPlugin {
     pub_.publish(m);
   }
 
- private:
+private:
   PluginContext c_;
   std::string link_, collision_, frame_;
   bool in_link_frame_;
@@ -70,6 +81,9 @@ class Bumper : public SimPlugin {
 };
 }  // namespace
 
-std::unique_ptr<SimPlugin> makeBumper(const PluginContext& c) { return std::make_unique<Bumper>(c); }
+std::unique_ptr<SimPlugin> makeBumper(const PluginContext& c)
+{
+  return std::make_unique<Bumper>(c);
+}
 
 }  // namespace mybot_gazebo_lite

@@ -10,46 +10,63 @@
 
 #include <cmath>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
+namespace
+{
 // Renders only when someone subscribes, at the sensor's <update_rate> (and the
 // plugin's <updateRate> if lower), both in sim time.
-class Camera : public SimPlugin {
- public:
-  Camera(const PluginContext& c, bool depth_sensor) : c_(c), depth_sensor_(depth_sensor), noise_(c.rng ? (*c.rng)() : 0) {
+class Camera : public SimPlugin
+{
+public:
+  Camera(const PluginContext& c, bool depth_sensor) : c_(c), depth_sensor_(depth_sensor), noise_(c.rng ? (*c.rng)() : 0)
+  {
     PluginParams p(c, c.spec->xml);
     if (!c.spec->has_sensor)
-      p.fail("sensor", "the camera plugin must sit inside a <sensor type=\"" + std::string(depth_sensor ? "depth" : "camera") + "\">");
+      p.fail("sensor", "the camera plugin must sit inside a <sensor type=\"" +
+                           std::string(depth_sensor ? "depth" : "camera") + "\">");
     PluginParams s(c, c.spec->sensor);
     link_ = c.spec->reference;
     sensor_pose_ = s.pose("pose");
     double sensor_hz = s.num("update_rate", 0.0), plugin_hz = p.num("updateRate", 0.0);
-    if (sensor_hz < 0) s.fail("update_rate", "must be >= 0");
-    if (plugin_hz < 0) p.fail("updateRate", "must be >= 0");
+    if (sensor_hz < 0)
+      s.fail("update_rate", "must be >= 0");
+    if (plugin_hz < 0)
+      p.fail("updateRate", "must be >= 0");
     double hz = sensor_hz > 0 && plugin_hz > 0 ? std::min(sensor_hz, plugin_hz) : std::max(sensor_hz, plugin_hz);
     rate_ = Rate(hz);
     const double hfov = s.num("camera/horizontal_fov", 1.047);
-    if (!(hfov > 0 && hfov < M_PI)) s.fail("camera/horizontal_fov", "must be in (0, pi)");
+    if (!(hfov > 0 && hfov < M_PI))
+      s.fail("camera/horizontal_fov", "must be in (0, pi)");
     const double w = s.num("camera/image/width", 320), h = s.num("camera/image/height", 240);
     if (w < 1 || h < 1 || w != std::floor(w) || h != std::floor(h) || w * h > 16e6)
       s.fail("camera/image", "width and height must be positive integers");
     settings_.near = s.num("camera/clip/near", 0.1);
     settings_.far = s.num("camera/clip/far", 100.0);
-    if (!(settings_.near > 0 && settings_.far > settings_.near)) s.fail("camera/clip", "need 0 < near < far");
+    if (!(settings_.near > 0 && settings_.far > settings_.near))
+      s.fail("camera/clip", "need 0 < near < far");
     std::string format = s.str("camera/image/format", "R8G8B8");
-    if (format == "R8G8B8" || format == "RGB_INT8") {
+    if (format == "R8G8B8" || format == "RGB_INT8")
+    {
       encoding_ = "rgb8";
-    } else if (format == "B8G8R8" || format == "BGR_INT8") {
+    }
+    else if (format == "B8G8R8" || format == "BGR_INT8")
+    {
       encoding_ = "bgr8";
-    } else if (format == "L8" || format == "L_INT8") {
+    }
+    else if (format == "L8" || format == "L_INT8")
+    {
       encoding_ = "mono8";
-    } else {
+    }
+    else
+    {
       s.fail("camera/image/format", "supported: R8G8B8, B8G8R8, L8; got '" + format + "'");
     }
     noise_mean_ = s.num("camera/noise/mean", 0.0);
     noise_sd_ = s.num("camera/noise/stddev", 0.0);
-    if (noise_sd_ < 0) s.fail("camera/noise/stddev", "must be >= 0");
+    if (noise_sd_ < 0)
+      s.fail("camera/noise/stddev", "must be >= 0");
     k_ = gazeboIntrinsics(static_cast<int>(w), static_cast<int>(h), hfov, p.num("focalLength", 0.0), p.num("Cx", 0.0),
                           p.num("Cy", 0.0));
     frame_ = resolveFrame(c, p.str("frameName", "world"));
@@ -66,21 +83,28 @@ class Camera : public SimPlugin {
     ros::NodeHandle nh(ros::NodeHandle(c.ns), p.str("cameraName", ""));
     image_pub_ = nh.advertise<sensor_msgs::Image>(p.str("imageTopicName", "image_raw"), 2);
     info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(p.str("cameraInfoTopicName", "camera_info"), 2);
-    if (depth_sensor) {
+    if (depth_sensor)
+    {
       cutoff_ = p.num("pointCloudCutoff", 0.4);
       cutoff_max_ = p.num("pointCloudCutoffMax", 5.0);
-      if (cutoff_ < 0 || cutoff_max_ <= cutoff_) p.fail("pointCloudCutoffMax", "need 0 <= pointCloudCutoff < pointCloudCutoffMax");
+      if (cutoff_ < 0 || cutoff_max_ <= cutoff_)
+        p.fail("pointCloudCutoffMax", "need 0 <= pointCloudCutoff < pointCloudCutoffMax");
       depth_pub_ = nh.advertise<sensor_msgs::Image>(p.str("depthImageTopicName", "depth/image_raw"), 2);
-      depth_info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(p.str("depthImageCameraInfoTopicName", "depth/camera_info"), 2);
+      depth_info_pub_ =
+          nh.advertise<sensor_msgs::CameraInfo>(p.str("depthImageCameraInfoTopicName", "depth/camera_info"), 2);
       points_pub_ = nh.advertise<sensor_msgs::PointCloud2>(p.str("pointCloudTopicName", "points"), 2);
     }
   }
-  void update(double t) override {
+  void update(double t) override
+  {
     const bool want_image = image_pub_.getNumSubscribers() > 0 || info_pub_.getNumSubscribers() > 0;
     const bool want_points = depth_sensor_ && points_pub_.getNumSubscribers() > 0;
-    const bool want_depth = depth_sensor_ && (depth_pub_.getNumSubscribers() > 0 || depth_info_pub_.getNumSubscribers() > 0);
-    if (!want_image && !want_depth && !want_points) return;  // nobody looks: costs nothing
-    if (!rate_.due(t)) return;
+    const bool want_depth =
+        depth_sensor_ && (depth_pub_.getNumSubscribers() > 0 || depth_info_pub_.getNumSubscribers() > 0);
+    if (!want_image && !want_depth && !want_points)
+      return;  // nobody looks: costs nothing
+    if (!rate_.due(t))
+      return;
     btTransform tf = c_.robot->linkState(link_).tf * sensor_pose_;
     btScalar yaw, pitch, roll;
     tf.getBasis().getEulerZYX(yaw, pitch, roll);
@@ -92,18 +116,24 @@ class Camera : public SimPlugin {
     renderCamera(c_.slices->prisms(), k_, pose, settings_, need_rgb ? rgb_.data() : nullptr, depth_.data());
     const ros::Time stamp(t);
     info_.header.stamp = stamp;
-    if (need_rgb && !depth_sensor_ && noise_sd_ > 0) noise_.addToBytes(rgb_.data(), rgb_.size(), noise_mean_, noise_sd_);
-    if (want_image) {
+    if (need_rgb && !depth_sensor_ && noise_sd_ > 0)
+      noise_.addToBytes(rgb_.data(), rgb_.size(), noise_mean_, noise_sd_);
+    if (want_image)
+    {
       image_pub_.publish(colorImage(stamp));
       info_pub_.publish(info_);
     }
-    if (!depth_sensor_) return;
+    if (!depth_sensor_)
+      return;
     // A depth sensor's <noise> is in metres; outside the cutoffs there is no reading (NaN), as in openni_kinect.
-    if (noise_sd_ > 0) noise_.addToFloats(depth_.data(), n, noise_mean_, noise_sd_);
+    if (noise_sd_ > 0)
+      noise_.addToFloats(depth_.data(), n, noise_mean_, noise_sd_);
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (float& d : depth_)
-      if (!(d > cutoff_ && d < cutoff_max_)) d = nan;
-    if (want_depth) {
+      if (!(d > cutoff_ && d < cutoff_max_))
+        d = nan;
+    if (want_depth)
+    {
       sensor_msgs::ImagePtr m = boost::make_shared<sensor_msgs::Image>();
       m->header.stamp = stamp;
       m->header.frame_id = frame_;
@@ -116,11 +146,13 @@ class Camera : public SimPlugin {
       depth_pub_.publish(m);
       depth_info_pub_.publish(info_);
     }
-    if (want_points) points_pub_.publish(pointCloud(stamp));
+    if (want_points)
+      points_pub_.publish(pointCloud(stamp));
   }
 
- private:
-  sensor_msgs::ImagePtr colorImage(const ros::Time& stamp) const {
+private:
+  sensor_msgs::ImagePtr colorImage(const ros::Time& stamp) const
+  {
     sensor_msgs::ImagePtr m = boost::make_shared<sensor_msgs::Image>();
     m->header.stamp = stamp;
     m->header.frame_id = frame_;
@@ -128,28 +160,34 @@ class Camera : public SimPlugin {
     m->height = k_.height;
     m->encoding = encoding_;
     const size_t n = static_cast<size_t>(k_.width) * k_.height;
-    if (encoding_ == "mono8") {
+    if (encoding_ == "mono8")
+    {
       m->step = k_.width;
       m->data.resize(n);
       for (size_t i = 0; i < n; ++i)
         m->data[i] = static_cast<uint8_t>((299 * rgb_[3 * i] + 587 * rgb_[3 * i + 1] + 114 * rgb_[3 * i + 2]) / 1000);
-    } else {
+    }
+    else
+    {
       m->step = k_.width * 3;
       m->data = rgb_;
       if (encoding_ == "bgr8")
-        for (size_t i = 0; i < n; ++i) std::swap(m->data[3 * i], m->data[3 * i + 2]);
+        for (size_t i = 0; i < n; ++i)
+          std::swap(m->data[3 * i], m->data[3 * i + 2]);
     }
     return m;
   }
   // Organised cloud in the optical convention (x right, y down, z forward), NaN where there is no reading.
-  sensor_msgs::PointCloud2Ptr pointCloud(const ros::Time& stamp) const {
+  sensor_msgs::PointCloud2Ptr pointCloud(const ros::Time& stamp) const
+  {
     sensor_msgs::PointCloud2Ptr pc = boost::make_shared<sensor_msgs::PointCloud2>();
     pc->header.stamp = stamp;
     pc->header.frame_id = frame_;
     pc->width = k_.width;
     pc->height = k_.height;
     const char* names[4] = {"x", "y", "z", "rgb"};
-    for (uint32_t i = 0; i < 4; ++i) {
+    for (uint32_t i = 0; i < 4; ++i)
+    {
       sensor_msgs::PointField f;
       f.name = names[i];
       f.offset = 4 * i;
@@ -162,10 +200,12 @@ class Camera : public SimPlugin {
     pc->is_dense = false;
     pc->data.resize(static_cast<size_t>(pc->row_step) * k_.height);
     for (int v = 0; v < k_.height; ++v)
-      for (int u = 0; u < k_.width; ++u) {
+      for (int u = 0; u < k_.width; ++u)
+      {
         const size_t i = static_cast<size_t>(v) * k_.width + u;
         const float d = depth_[i];
-        float xyz_rgb[4] = {static_cast<float>((u - k_.cx) * d / k_.fx), static_cast<float>((v - k_.cy) * d / k_.fy), d, 0};
+        float xyz_rgb[4] = {static_cast<float>((u - k_.cx) * d / k_.fx), static_cast<float>((v - k_.cy) * d / k_.fy), d,
+                            0};
         const uint32_t packed = (uint32_t(rgb_[3 * i]) << 16) | (uint32_t(rgb_[3 * i + 1]) << 8) | rgb_[3 * i + 2];
         std::memcpy(&xyz_rgb[3], &packed, 4);
         std::memcpy(&pc->data[i * 16], xyz_rgb, 16);
@@ -188,7 +228,13 @@ class Camera : public SimPlugin {
 };
 }  // namespace
 
-std::unique_ptr<SimPlugin> makeCamera(const PluginContext& c) { return std::make_unique<Camera>(c, false); }
-std::unique_ptr<SimPlugin> makeDepthCamera(const PluginContext& c) { return std::make_unique<Camera>(c, true); }
+std::unique_ptr<SimPlugin> makeCamera(const PluginContext& c)
+{
+  return std::make_unique<Camera>(c, false);
+}
+std::unique_ptr<SimPlugin> makeDepthCamera(const PluginContext& c)
+{
+  return std::make_unique<Camera>(c, true);
+}
 
 }  // namespace mybot_gazebo_lite

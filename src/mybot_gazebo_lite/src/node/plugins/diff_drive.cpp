@@ -9,31 +9,40 @@
 
 #include <cmath>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
-class DiffDrive : public SimPlugin {
- public:
-  explicit DiffDrive(const PluginContext& c) : c_(c) {
+namespace
+{
+class DiffDrive : public SimPlugin
+{
+public:
+  explicit DiffDrive(const PluginContext& c) : c_(c)
+  {
     PluginParams p(c, c.spec->xml);
     ros::NodeHandle nh(c.ns);
     left_ = p.joint("leftJoint", "left_joint");
     right_ = p.joint("rightJoint", "right_joint");
     geo_.separation = p.num("wheelSeparation", 0.34);
     geo_.diameter = p.num("wheelDiameter", 0.15);
-    if (!(geo_.separation > 0)) p.fail("wheelSeparation", "must be positive");
-    if (!(geo_.diameter > 0)) p.fail("wheelDiameter", "must be positive");
+    if (!(geo_.separation > 0))
+      p.fail("wheelSeparation", "must be positive");
+    if (!(geo_.diameter > 0))
+      p.fail("wheelDiameter", "must be positive");
     if (!p.has("legacyMode"))
       ROS_WARN("%s: diff_drive plugin missing <legacyMode>, defaults to true (left/right swapped, as in gazebo_ros)",
                c.robot->name().c_str());
     geo_.legacy = p.boolean("legacyMode", true);
     accel_ = p.num("wheelAcceleration", 0.0);
     torque_ = p.num("wheelTorque", 5.0);
-    if (accel_ < 0) p.fail("wheelAcceleration", "must be >= 0");
-    if (!(torque_ > 0)) p.fail("wheelTorque", "must be positive");
+    if (accel_ < 0)
+      p.fail("wheelAcceleration", "must be >= 0");
+    if (!(torque_ > 0))
+      p.fail("wheelTorque", "must be positive");
     rate_ = Rate(p.num("updateRate", 100.0));
     timeout_ = p.num("commandTimeout", 0.5);
-    if (timeout_ < 0) p.fail("commandTimeout", "must be >= 0");
+    if (timeout_ < 0)
+      p.fail("commandTimeout", "must be >= 0");
     std::string src = p.str("odometrySource", "world");
     if (src == "encoder" || src == "0")
       encoder_ = true;
@@ -45,15 +54,19 @@ class DiffDrive : public SimPlugin {
     odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
     base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
     base_link_ = p.str("robotBaseFrame", "base_footprint");
-    if (!c.robot->hasLink(base_link_)) base_link_ = c.robot->spec().root;
+    if (!c.robot->hasLink(base_link_))
+      base_link_ = c.robot->spec().root;
     sub_ = subscribeCommand<geometry_msgs::Twist>(c, nh, p.str("commandTopic", "cmd_vel"),
                                                   [this](const geometry_msgs::Twist::ConstPtr& m) { onCmd(m); });
     odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
-    if (publish_wheel_js_) js_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 1);
+    if (publish_wheel_js_)
+      js_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 1);
     hold();
   }
-  void onCmd(const geometry_msgs::Twist::ConstPtr& m) {
-    if (!std::isfinite(m->linear.x) || !std::isfinite(m->angular.z)) {
+  void onCmd(const geometry_msgs::Twist::ConstPtr& m)
+  {
+    if (!std::isfinite(m->linear.x) || !std::isfinite(m->angular.z))
+    {
       ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite cmd_vel", c_.robot->name().c_str());
       return;
     }
@@ -62,17 +75,21 @@ class DiffDrive : public SimPlugin {
     last_cmd_ = c_.world->time();
     have_cmd_ = true;
   }
-  void reset() override {
+  void reset() override
+  {
     odo_ = EncoderOdometry();
     x_ = rot_ = 0;
     instr_[0] = instr_[1] = 0;
     hold();
   }
-  void update(double t) override {
+  void update(double t) override
+  {
     double dt = c_.world->stepSize();
     odo_.update(c_.robot->jointVelocity(left_), c_.robot->jointVelocity(right_), dt, geo_);
-    if (!rate_.due(t)) return;
-    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_) {
+    if (!rate_.due(t))
+      return;
+    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_)
+    {
       x_ = rot_ = 0;
       have_cmd_ = false;
     }
@@ -82,31 +99,37 @@ class DiffDrive : public SimPlugin {
     double period = rate_.period > 0 ? rate_.period : dt;
     double target[2] = {vl, vr};
     const std::string* joints[2] = {&left_, &right_};
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < 2; ++i)
+    {
       double cur = c_.robot->jointVelocity(*joints[i]) * r;
       instr_[i] = accel_ > 0 ? rampWheelSpeed(instr_[i], target[i], cur, accel_, period) : target[i];
       c_.robot->commandVelocity(*joints[i], instr_[i] / r, torque_);
     }
   }
 
- private:
-  void hold() {
+private:
+  void hold()
+  {
     c_.robot->commandVelocity(left_, 0, torque_);
     c_.robot->commandVelocity(right_, 0, torque_);
   }
-  void publishOdometry(double t) {
+  void publishOdometry(double t)
+  {
     nav_msgs::Odometry o;
     o.header.stamp = ros::Time(t);
     o.header.frame_id = odom_frame_;
     o.child_frame_id = base_frame_;
     btTransform pose;
-    if (encoder_) {
+    if (encoder_)
+    {
       btQuaternion q;
       q.setEulerZYX(odo_.theta, 0, 0);
       pose = btTransform(q, btVector3(odo_.x, odo_.y, 0));
       o.twist.twist.linear.x = odo_.v;
       o.twist.twist.angular.z = odo_.w;
-    } else {
+    }
+    else
+    {
       Pose s = c_.robot->linkState(c_.robot->spec().root);
       pose = s.tf;
       btScalar yaw, pitch, roll;
@@ -120,13 +143,17 @@ class DiffDrive : public SimPlugin {
     o.pose.covariance[14] = o.pose.covariance[21] = o.pose.covariance[28] = 1e12;
     o.pose.covariance[35] = 0.001;
     odom_pub_.publish(o);
-    if (publish_odom_tf_) c_.tf->sendTransform(toTf(pose, t, odom_frame_, base_frame_));
-    if (publish_wheel_tf_ || publish_wheel_js_) {
+    if (publish_odom_tf_)
+      c_.tf->sendTransform(toTf(pose, t, odom_frame_, base_frame_));
+    if (publish_wheel_tf_ || publish_wheel_js_)
+    {
       sensor_msgs::JointState js;
       js.header.stamp = ros::Time(t);
-      for (const std::string* j : {&left_, &right_}) {
+      for (const std::string* j : {&left_, &right_})
+      {
         const JointSpec* spec = c_.robot->joint(*j).spec;
-        if (publish_wheel_tf_) {
+        if (publish_wheel_tf_)
+        {
           btTransform rel = c_.robot->linkState(spec->parent).tf.inverse() * c_.robot->linkState(spec->child).tf;
           c_.tf->sendTransform(toTf(rel, t, resolveFrame(c_, spec->parent), resolveFrame(c_, spec->child)));
         }
@@ -134,7 +161,8 @@ class DiffDrive : public SimPlugin {
         js.position.push_back(c_.robot->jointPosition(*j));
         js.velocity.push_back(c_.robot->jointVelocity(*j));
       }
-      if (publish_wheel_js_) js_pub_.publish(js);
+      if (publish_wheel_js_)
+        js_pub_.publish(js);
     }
   }
   PluginContext c_;
@@ -151,6 +179,9 @@ class DiffDrive : public SimPlugin {
 };
 }  // namespace
 
-std::unique_ptr<SimPlugin> makeDiffDrive(const PluginContext& c) { return std::make_unique<DiffDrive>(c); }
+std::unique_ptr<SimPlugin> makeDiffDrive(const PluginContext& c)
+{
+  return std::make_unique<DiffDrive>(c);
+}
 
 }  // namespace mybot_gazebo_lite

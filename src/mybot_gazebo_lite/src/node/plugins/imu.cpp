@@ -7,34 +7,47 @@
 
 #include <cmath>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
-class Imu : public SimPlugin {
- public:
-  Imu(const PluginContext& c, bool sensor_plugin) : c_(c), noise_(0, 1) {
+namespace
+{
+class Imu : public SimPlugin
+{
+public:
+  Imu(const PluginContext& c, bool sensor_plugin) : c_(c), noise_(0, 1)
+  {
     PluginParams p(c, c.spec->xml);
-    if (sensor_plugin) {
-      if (!c.spec->has_sensor) p.fail("sensor", "libgazebo_ros_imu_sensor.so must sit inside a <sensor type=\"imu\">");
+    if (sensor_plugin)
+    {
+      if (!c.spec->has_sensor)
+        p.fail("sensor", "libgazebo_ros_imu_sensor.so must sit inside a <sensor type=\"imu\">");
       PluginParams s(c, c.spec->sensor);
       body_ = p.str("bodyName", c.spec->reference);
       sensor_pose_ = s.pose("pose");
       rate_ = Rate(p.num("updateRateHZ", s.num("update_rate", 1.0)));
-    } else {
+    }
+    else
+    {
       body_ = p.requiredStr("bodyName");
       rate_ = Rate(p.num("updateRate", 0.0));
     }
-    if (!c.robot->hasLink(body_)) p.fail("bodyName", "no link named '" + body_ + "'");
+    if (!c.robot->hasLink(body_))
+      p.fail("bodyName", "no link named '" + body_ + "'");
     frame_ = resolveFrame(c, p.str("frameName", body_));
     gn_ = p.num("gaussianNoise", 0.0);
     // Offsets of the reported frame: zero ones (as most URDFs write them) change nothing; others
     // are not simulated, and said so.
     for (const char* tag : {"xyzOffset", "rpyOffset"})
-      if (p.has(tag)) {
+      if (p.has(tag))
+      {
         btVector3 v;
-        try {
+        try
+        {
           v = parseVec3(p.str(tag, ""), tag);
-        } catch (const LoadError& e) {
+        }
+        catch (const LoadError& e)
+        {
           p.fail(tag, e.what());
         }
         if (v.length() > 0)
@@ -42,18 +55,22 @@ class Imu : public SimPlugin {
                    c.robot->spec().source.c_str(), c.spec->name.c_str(), c.spec->reference.c_str(), tag,
                    p.str(tag, "").c_str());
       }
-    if (gn_ < 0) p.fail("gaussianNoise", "must be >= 0");
+    if (gn_ < 0)
+      p.fail("gaussianNoise", "must be >= 0");
     pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Imu>(p.str("topicName", "imu"), 10);
   }
   void reset() override { have_prev_ = false; }
-  void update(double t) override {
+  void update(double t) override
+  {
     Pose s = c_.robot->linkState(body_);
     btTransform tf = s.tf * sensor_pose_;
     btVector3 v = s.linear + s.angular.cross(tf.getOrigin() - s.tf.getOrigin());
-    if (have_prev_) accel_ = (v - prev_v_) / c_.world->stepSize();
+    if (have_prev_)
+      accel_ = (v - prev_v_) / c_.world->stepSize();
     prev_v_ = v;
     have_prev_ = true;
-    if (!rate_.due(t)) return;
+    if (!rate_.due(t))
+      return;
     const btMatrix3x3& R = tf.getBasis();
     btVector3 w = R.transpose() * s.angular;
     btVector3 a = R.transpose() * (accel_ - c_.world->worldSpec().gravity);
@@ -74,11 +91,12 @@ class Imu : public SimPlugin {
     m.linear_acceleration.z = a.z() + n();
     double var = gn_ * gn_;
     for (int i = 0; i < 3; ++i)
-      m.orientation_covariance[i * 4] = m.angular_velocity_covariance[i * 4] = m.linear_acceleration_covariance[i * 4] = var;
+      m.orientation_covariance[i * 4] = m.angular_velocity_covariance[i * 4] = m.linear_acceleration_covariance[i * 4] =
+          var;
     pub_.publish(m);
   }
 
- private:
+private:
   PluginContext c_;
   std::string body_, frame_;
   btTransform sensor_pose_ = btTransform::getIdentity();
@@ -91,7 +109,13 @@ class Imu : public SimPlugin {
 };
 }  // namespace
 
-std::unique_ptr<SimPlugin> makeImuSensor(const PluginContext& c) { return std::make_unique<Imu>(c, true); }
-std::unique_ptr<SimPlugin> makeImu(const PluginContext& c) { return std::make_unique<Imu>(c, false); }
+std::unique_ptr<SimPlugin> makeImuSensor(const PluginContext& c)
+{
+  return std::make_unique<Imu>(c, true);
+}
+std::unique_ptr<SimPlugin> makeImu(const PluginContext& c)
+{
+  return std::make_unique<Imu>(c, false);
+}
 
 }  // namespace mybot_gazebo_lite

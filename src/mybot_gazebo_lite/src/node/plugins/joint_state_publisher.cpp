@@ -7,42 +7,55 @@
 
 #include <cmath>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
-class JointStatePub : public SimPlugin {
- public:
-  explicit JointStatePub(const PluginContext& c) : c_(c) {
+namespace
+{
+class JointStatePub : public SimPlugin
+{
+public:
+  explicit JointStatePub(const PluginContext& c) : c_(c)
+  {
     PluginParams p(c, c.spec->xml);
-    if (p.has("jointName")) {
+    if (p.has("jointName"))
+    {
       std::stringstream ss(p.str("jointName", ""));
       std::string j;
-      while (std::getline(ss, j, ',')) {
+      while (std::getline(ss, j, ','))
+      {
         j.erase(0, j.find_first_not_of(" \t\n"));
         j.erase(j.find_last_not_of(" \t\n") + 1);
-        if (j.empty()) continue;
-        if (!c.robot->hasJoint(j)) p.fail("jointName", "no movable joint named '" + j + "'");
+        if (j.empty())
+          continue;
+        if (!c.robot->hasJoint(j))
+          p.fail("jointName", "no movable joint named '" + j + "'");
         joints_.push_back(j);
       }
-    } else {
+    }
+    else
+    {
       joints_ = c.robot->movableJoints();
     }
     rate_ = Rate(p.num("updateRate", 100.0));
     pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::JointState>("joint_states", 10);
   }
-  void update(double t) override {
-    if (!rate_.due(t)) return;
+  void update(double t) override
+  {
+    if (!rate_.due(t))
+      return;
     sensor_msgs::JointState js;
     js.header.stamp = ros::Time(t);
     js.name = joints_;
-    for (const auto& j : joints_) {
+    for (const auto& j : joints_)
+    {
       js.position.push_back(c_.robot->jointPosition(j));
       js.velocity.push_back(c_.robot->jointVelocity(j));
     }
     pub_.publish(js);
   }
 
- private:
+private:
   PluginContext c_;
   std::vector<std::string> joints_;
   Rate rate_;
@@ -50,6 +63,9 @@ class JointStatePub : public SimPlugin {
 };
 }  // namespace
 
-std::unique_ptr<SimPlugin> makeJointStatePublisher(const PluginContext& c) { return std::make_unique<JointStatePub>(c); }
+std::unique_ptr<SimPlugin> makeJointStatePublisher(const PluginContext& c)
+{
+  return std::make_unique<JointStatePub>(c);
+}
 
 }  // namespace mybot_gazebo_lite

@@ -7,34 +7,47 @@
 
 #include <cmath>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
-class P3D : public SimPlugin {
- public:
-  explicit P3D(const PluginContext& c) : c_(c), noise_(0, 1) {
+namespace
+{
+class P3D : public SimPlugin
+{
+public:
+  explicit P3D(const PluginContext& c) : c_(c), noise_(0, 1)
+  {
     PluginParams p(c, c.spec->xml);
     body_ = p.requiredStr("bodyName");
-    if (!c.robot->hasLink(body_)) p.fail("bodyName", "no link named '" + body_ + "'");
+    if (!c.robot->hasLink(body_))
+      p.fail("bodyName", "no link named '" + body_ + "'");
     std::string topic = p.requiredStr("topicName");
     frame_ = p.str("frameName", "world");
     if (frame_ != "world" && frame_ != "/world" && frame_ != "map" && frame_ != "/map")
       p.fail("frameName", "only the world frame is supported, got '" + frame_ + "'");
-    while (!frame_.empty() && frame_[0] == '/') frame_.erase(0, 1);
+    while (!frame_.empty() && frame_[0] == '/')
+      frame_.erase(0, 1);
     rate_ = Rate(p.num("updateRate", 0.0));
     gn_ = p.num("gaussianNoise", 0.0);
     btVector3 xyz(0, 0, 0), rpy(0, 0, 0);
-    try {
-      if (p.has("xyzOffsets")) xyz = parseVec3(p.str("xyzOffsets", ""), "xyzOffsets");
-      if (p.has("rpyOffsets")) rpy = parseVec3(p.str("rpyOffsets", ""), "rpyOffsets");
-    } catch (const LoadError& e) {
+    try
+    {
+      if (p.has("xyzOffsets"))
+        xyz = parseVec3(p.str("xyzOffsets", ""), "xyzOffsets");
+      if (p.has("rpyOffsets"))
+        rpy = parseVec3(p.str("rpyOffsets", ""), "rpyOffsets");
+    }
+    catch (const LoadError& e)
+    {
       p.fail("xyzOffsets/rpyOffsets", e.what());
     }
     offset_ = makeTransform(xyz, rpy);
     pub_ = ros::NodeHandle(c.ns).advertise<nav_msgs::Odometry>(topic, 10);
   }
-  void update(double t) override {
-    if (!rate_.due(t)) return;
+  void update(double t) override
+  {
+    if (!rate_.due(t))
+      return;
     Pose s = c_.robot->linkState(body_);
     nav_msgs::Odometry o;
     o.header.stamp = ros::Time(t);
@@ -50,11 +63,12 @@ class P3D : public SimPlugin {
     o.twist.twist.angular.x = s.angular.x() + n();
     o.twist.twist.angular.y = s.angular.y() + n();
     o.twist.twist.angular.z = s.angular.z() + n();
-    for (int i = 0; i < 6; ++i) o.pose.covariance[i * 7] = o.twist.covariance[i * 7] = gn_ * gn_;
+    for (int i = 0; i < 6; ++i)
+      o.pose.covariance[i * 7] = o.twist.covariance[i * 7] = gn_ * gn_;
     pub_.publish(o);
   }
 
- private:
+private:
   PluginContext c_;
   std::string body_, frame_;
   Rate rate_;
@@ -65,6 +79,9 @@ class P3D : public SimPlugin {
 };
 }  // namespace
 
-std::unique_ptr<SimPlugin> makeP3D(const PluginContext& c) { return std::make_unique<P3D>(c); }
+std::unique_ptr<SimPlugin> makeP3D(const PluginContext& c)
+{
+  return std::make_unique<P3D>(c);
+}
 
 }  // namespace mybot_gazebo_lite

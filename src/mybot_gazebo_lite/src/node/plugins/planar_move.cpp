@@ -10,12 +10,16 @@
 
 #include <cmath>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
-class PlanarMove : public SimPlugin {
- public:
-  explicit PlanarMove(const PluginContext& c) : c_(c) {
+namespace
+{
+class PlanarMove : public SimPlugin
+{
+public:
+  explicit PlanarMove(const PluginContext& c) : c_(c)
+  {
     PluginParams p(c, c.spec->xml);
     ros::NodeHandle nh(c.ns);
     odom_rate_ = Rate(p.num("odometryRate", 20.0));
@@ -31,12 +35,15 @@ class PlanarMove : public SimPlugin {
     odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
     c.robot->setContactFriction(0.0);
   }
-  void reset() override {
+  void reset() override
+  {
     vx_ = vy_ = wz_ = 0;
     have_cmd_ = false;
   }
-  void preStep(double t) override {
-    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_) reset();
+  void preStep(double t) override
+  {
+    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_)
+      reset();
     const Pose s = c_.robot->linkState(c_.robot->spec().root);
     btScalar yaw, pitch, roll;
     s.tf.getBasis().getEulerZYX(yaw, pitch, roll);
@@ -44,16 +51,21 @@ class PlanarMove : public SimPlugin {
     c_.world->setRobotVelocity(*c_.robot, btVector3(vx_ * cy - vy_ * sy, vx_ * sy + vy_ * cy, s.linear.z()),
                                btVector3(0, 0, wz_));
   }
-  void update(double t) override {
-    if (!odom_rate_.due(t)) return;
+  void update(double t) override
+  {
+    if (!odom_rate_.due(t))
+      return;
     const nav_msgs::Odometry o = worldPoseOdometry(c_, t, odom_frame_, base_frame_, cov_);
     odom_pub_.publish(o);
-    if (publish_tf_) c_.tf->sendTransform(toTf(c_.robot->linkState(c_.robot->spec().root).tf, t, odom_frame_, base_frame_));
+    if (publish_tf_)
+      c_.tf->sendTransform(toTf(c_.robot->linkState(c_.robot->spec().root).tf, t, odom_frame_, base_frame_));
   }
 
- private:
-  void onCmd(const geometry_msgs::Twist::ConstPtr& m) {
-    if (!std::isfinite(m->linear.x) || !std::isfinite(m->linear.y) || !std::isfinite(m->angular.z)) {
+private:
+  void onCmd(const geometry_msgs::Twist::ConstPtr& m)
+  {
+    if (!std::isfinite(m->linear.x) || !std::isfinite(m->linear.y) || !std::isfinite(m->angular.z))
+    {
       ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite cmd_vel", c_.robot->name().c_str());
       return;
     }
@@ -75,6 +87,9 @@ class PlanarMove : public SimPlugin {
 };
 }  // namespace
 
-std::unique_ptr<SimPlugin> makePlanarMove(const PluginContext& c) { return std::make_unique<PlanarMove>(c); }
+std::unique_ptr<SimPlugin> makePlanarMove(const PluginContext& c)
+{
+  return std::make_unique<PlanarMove>(c);
+}
 
 }  // namespace mybot_gazebo_lite

@@ -6,9 +6,11 @@
 #include <set>
 #include <sstream>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-const RayCaster2D& StaticSliceCache::at(double z) {
+const RayCaster2D& StaticSliceCache::at(double z)
+{
   long key = std::lround(z * 100.0);  // 1 cm bins
   auto it = cache_.find(key);
   if (it == cache_.end())
@@ -16,111 +18,149 @@ const RayCaster2D& StaticSliceCache::at(double z) {
   return *it->second;
 }
 
-const PrismScene& StaticSliceCache::prisms() {
-  if (!prisms_) prisms_ = std::make_unique<PrismScene>(world_);
+const PrismScene& StaticSliceCache::prisms()
+{
+  if (!prisms_)
+    prisms_ = std::make_unique<PrismScene>(world_);
   return *prisms_;
 }
 
-void PluginParams::fail(const std::string& tag, const std::string& msg) const {
+void PluginParams::fail(const std::string& tag, const std::string& msg) const
+{
   std::ostringstream os;
   os << c_.robot->spec().source << ": plugin '" << c_.spec->name << "' (" << c_.spec->filename << ")";
-  if (!c_.spec->reference.empty()) os << " on link '" << c_.spec->reference << "'";
+  if (!c_.spec->reference.empty())
+    os << " on link '" << c_.spec->reference << "'";
   os << ": <" << tag << ">: " << msg;
   throw LoadError(os.str());
 }
 
-namespace {
+namespace
+{
 // The children of <plugin> and <sensor> blocks a plugin has looked at, so that what it never
 // read can be named (the simulator is single-threaded; specs outlive their plugins).
-std::set<const XmlNode*>& readTags() {
+std::set<const XmlNode*>& readTags()
+{
   static std::set<const XmlNode*> tags;
   return tags;
 }
 }  // namespace
 
-const XmlNode* PluginParams::node(const std::string& path) const {
+const XmlNode* PluginParams::node(const std::string& path) const
+{
   const XmlNode* n = &x_;
   std::stringstream ss(path);
   std::string part;
   bool first = true;
-  while (n && std::getline(ss, part, '/')) {
+  while (n && std::getline(ss, part, '/'))
+  {
     n = n->child(part);
-    if (first && n) readTags().insert(n);
+    if (first && n)
+      readTags().insert(n);
     first = false;
   }
   return n;
 }
 
-std::vector<const XmlNode*> PluginParams::all(const std::string& tag) const {
+std::vector<const XmlNode*> PluginParams::all(const std::string& tag) const
+{
   std::vector<const XmlNode*> out = x_.all(tag);
-  for (const XmlNode* n : out) readTags().insert(n);
+  for (const XmlNode* n : out)
+    readTags().insert(n);
   return out;
 }
 
-bool PluginParams::wasRead(const XmlNode& child) { return readTags().count(&child) != 0; }
-
-void PluginParams::forgetReads(const XmlNode& parent) {
-  for (const XmlNode& child : parent.children) readTags().erase(&child);
+bool PluginParams::wasRead(const XmlNode& child)
+{
+  return readTags().count(&child) != 0;
 }
 
-std::string PluginParams::str(const std::string& tag, const std::string& def) const {
+void PluginParams::forgetReads(const XmlNode& parent)
+{
+  for (const XmlNode& child : parent.children)
+    readTags().erase(&child);
+}
+
+std::string PluginParams::str(const std::string& tag, const std::string& def) const
+{
   const XmlNode* n = node(tag);
   return n ? n->text : def;
 }
 
-std::string PluginParams::requiredStr(const std::string& tag) const {
+std::string PluginParams::requiredStr(const std::string& tag) const
+{
   const XmlNode* n = node(tag);
-  if (!n || n->text.empty()) fail(tag, "required parameter missing");
+  if (!n || n->text.empty())
+    fail(tag, "required parameter missing");
   return n->text;
 }
 
-double PluginParams::num(const std::string& tag, double def) const {
+double PluginParams::num(const std::string& tag, double def) const
+{
   const XmlNode* n = node(tag);
   return n ? parse(tag, n->text) : def;
 }
 
-double PluginParams::requiredNum(const std::string& tag) const {
+double PluginParams::requiredNum(const std::string& tag) const
+{
   const XmlNode* n = node(tag);
-  if (!n) fail(tag, "required parameter missing");
+  if (!n)
+    fail(tag, "required parameter missing");
   return parse(tag, n->text);
 }
 
-bool PluginParams::boolean(const std::string& tag, bool def) const {
+bool PluginParams::boolean(const std::string& tag, bool def) const
+{
   const XmlNode* n = node(tag);
-  if (!n) return def;
-  if (n->text == "true" || n->text == "1") return true;
-  if (n->text == "false" || n->text == "0") return false;
+  if (!n)
+    return def;
+  if (n->text == "true" || n->text == "1")
+    return true;
+  if (n->text == "false" || n->text == "0")
+    return false;
   fail(tag, "expected true/false, got '" + n->text + "'");
 }
 
-std::string PluginParams::joint(const std::string& tag, const std::string& def) const {
+std::string PluginParams::joint(const std::string& tag, const std::string& def) const
+{
   std::string j = str(tag, def);
-  if (!c_.robot->hasJoint(j)) fail(tag, "no movable joint named '" + j + "'");
+  if (!c_.robot->hasJoint(j))
+    fail(tag, "no movable joint named '" + j + "'");
   return j;
 }
 
-btTransform PluginParams::pose(const std::string& tag) const {
+btTransform PluginParams::pose(const std::string& tag) const
+{
   const XmlNode* n = node(tag);
-  if (!n) return btTransform::getIdentity();
-  try {
+  if (!n)
+    return btTransform::getIdentity();
+  try
+  {
     return parsePose6(n->text, "pose");
-  } catch (const LoadError& e) {
+  }
+  catch (const LoadError& e)
+  {
     fail(tag, e.what());
   }
 }
 
-double PluginParams::parse(const std::string& tag, const std::string& t) const {
+double PluginParams::parse(const std::string& tag, const std::string& t) const
+{
   char* end = nullptr;
   double d = std::strtod(t.c_str(), &end);
-  if (t.empty() || *end != '\0' || !std::isfinite(d)) fail(tag, "expected a number, got '" + t + "'");
+  if (t.empty() || *end != '\0' || !std::isfinite(d))
+    fail(tag, "expected a number, got '" + t + "'");
   return d;
 }
-std::string resolveFrame(const PluginContext& c, std::string f) {
-  while (!f.empty() && f[0] == '/') f.erase(0, 1);
+std::string resolveFrame(const PluginContext& c, std::string f)
+{
+  while (!f.empty() && f[0] == '/')
+    f.erase(0, 1);
   return c.tf_prefix.empty() ? f : c.tf_prefix + "/" + f;
 }
 
-void toMsg(const btTransform& tf, geometry_msgs::Pose& p) {
+void toMsg(const btTransform& tf, geometry_msgs::Pose& p)
+{
   p.position.x = tf.getOrigin().x();
   p.position.y = tf.getOrigin().y();
   p.position.z = tf.getOrigin().z();
@@ -131,7 +171,9 @@ void toMsg(const btTransform& tf, geometry_msgs::Pose& p) {
   p.orientation.w = q.w();
 }
 
-geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std::string& parent, const std::string& child) {
+geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std::string& parent,
+                                     const std::string& child)
+{
   geometry_msgs::TransformStamped m;
   m.header.stamp = ros::Time(t);
   m.header.frame_id = parent;
@@ -146,21 +188,26 @@ geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std:
   m.transform.rotation.w = q.w();
   return m;
 }
-SensorRays SensorRays::fromSensor(const PluginParams& s) {
+SensorRays SensorRays::fromSensor(const PluginParams& s)
+{
   SensorRays r;
   const double hs = s.num("ray/scan/horizontal/samples", 1), vs = s.num("ray/scan/vertical/samples", 1);
   if (hs < 1 || vs < 1 || hs != std::floor(hs) || vs != std::floor(vs) || hs * vs > 100000)
     s.fail("ray/scan", "need whole numbers of samples, 1 to 100000 rays (horizontal x vertical)");
   const double hmin = s.num("ray/scan/horizontal/min_angle", 0.0), hmax = s.num("ray/scan/horizontal/max_angle", 0.0);
   const double vmin = s.num("ray/scan/vertical/min_angle", 0.0), vmax = s.num("ray/scan/vertical/max_angle", 0.0);
-  if (hmax < hmin) s.fail("ray/scan/horizontal/max_angle", "smaller than min_angle");
-  if (vmax < vmin) s.fail("ray/scan/vertical/max_angle", "smaller than min_angle");
+  if (hmax < hmin)
+    s.fail("ray/scan/horizontal/max_angle", "smaller than min_angle");
+  if (vmax < vmin)
+    s.fail("ray/scan/vertical/max_angle", "smaller than min_angle");
   r.min = s.requiredNum("ray/range/min");
   r.max = s.requiredNum("ray/range/max");
-  if (r.min < 0 || r.max <= r.min) s.fail("ray/range/max", "need 0 <= min < max");
+  if (r.min < 0 || r.max <= r.min)
+    s.fail("ray/range/max", "need 0 <= min < max");
   const int nh = static_cast<int>(hs), nv = static_cast<int>(vs);
   for (int v = 0; v < nv; ++v)
-    for (int h = 0; h < nh; ++h) {
+    for (int h = 0; h < nh; ++h)
+    {
       const double a = nh > 1 ? hmin + h * (hmax - hmin) / (nh - 1) : hmin;
       const double e = nv > 1 ? vmin + v * (vmax - vmin) / (nv - 1) : vmin;
       r.dirs.emplace_back(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
@@ -168,10 +215,12 @@ SensorRays SensorRays::fromSensor(const PluginParams& s) {
   return r;
 }
 
-std::vector<double> SensorRays::cast(const PhysicsWorld& world, const btTransform& sensor, const Robot* self) const {
+std::vector<double> SensorRays::cast(const PhysicsWorld& world, const btTransform& sensor, const Robot* self) const
+{
   std::vector<double> out;
   out.reserve(dirs.size());
-  for (const btVector3& d : dirs) {
+  for (const btVector3& d : dirs)
+  {
     const double hit = world.rayTest(sensor * (d * min), sensor * (d * max), self);
     out.push_back(hit >= 0 ? min + hit : max);
   }
@@ -179,7 +228,8 @@ std::vector<double> SensorRays::cast(const PhysicsWorld& world, const btTransfor
 }
 
 nav_msgs::Odometry worldPoseOdometry(const PluginContext& c, double t, const std::string& odom_frame,
-                                     const std::string& base_frame, const double cov[3]) {
+                                     const std::string& base_frame, const double cov[3])
+{
   const Pose s = c.robot->linkState(c.robot->spec().root);
   nav_msgs::Odometry o;
   o.header.stamp = ros::Time(t);
@@ -191,7 +241,8 @@ nav_msgs::Odometry worldPoseOdometry(const PluginContext& c, double t, const std
   o.twist.twist.linear.x = std::cos(yaw) * s.linear.x() + std::sin(yaw) * s.linear.y();
   o.twist.twist.linear.y = std::cos(yaw) * s.linear.y() - std::sin(yaw) * s.linear.x();
   o.twist.twist.angular.z = s.angular.z();
-  for (auto* m : {&o.pose.covariance, &o.twist.covariance}) {
+  for (auto* m : {&o.pose.covariance, &o.twist.covariance})
+  {
     (*m)[0] = cov[0];
     (*m)[7] = cov[1];
     (*m)[14] = (*m)[21] = (*m)[28] = 1e6;  // z, roll, pitch: not estimated

@@ -8,14 +8,19 @@
 
 #include <cmath>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
-class Range : public SimPlugin {
- public:
-  explicit Range(const PluginContext& c) : c_(c), noise_(0, 1) {
+namespace
+{
+class Range : public SimPlugin
+{
+public:
+  explicit Range(const PluginContext& c) : c_(c), noise_(0, 1)
+  {
     PluginParams p(c, c.spec->xml);
-    if (!c.spec->has_sensor) p.fail("sensor", "the range plugin must sit inside a <sensor type=\"ray\">");
+    if (!c.spec->has_sensor)
+      p.fail("sensor", "the range plugin must sit inside a <sensor type=\"ray\">");
     PluginParams s(c, c.spec->sensor);
     link_ = c.spec->reference;
     sensor_pose_ = s.pose("pose");
@@ -24,7 +29,8 @@ class Range : public SimPlugin {
     msg_.min_range = rays_.min;
     msg_.max_range = rays_.max;
     gn_ = p.num("gaussianNoise", 0.0);
-    if (gn_ < 0) p.fail("gaussianNoise", "must be >= 0");
+    if (gn_ < 0)
+      p.fail("gaussianNoise", "must be >= 0");
     const std::string radiation = p.str("radiation", "infrared");
     if (radiation == "ultrasound")
       msg_.radiation_type = sensor_msgs::Range::ULTRASOUND;
@@ -32,23 +38,28 @@ class Range : public SimPlugin {
       msg_.radiation_type = sensor_msgs::Range::INFRARED;
     else
       p.fail("radiation", "expected 'ultrasound' or 'infrared', got '" + radiation + "'");
-    msg_.field_of_view = p.num("fov", s.num("ray/scan/horizontal/max_angle", 0.0) - s.num("ray/scan/horizontal/min_angle", 0.0));
+    msg_.field_of_view =
+        p.num("fov", s.num("ray/scan/horizontal/max_angle", 0.0) - s.num("ray/scan/horizontal/min_angle", 0.0));
     msg_.header.frame_id = resolveFrame(c, p.str("frameName", c.spec->reference));
     pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Range>(p.str("topicName", "sonar"), 1);
   }
-  void update(double t) override {
-    if (!rate_.due(t)) return;
+  void update(double t) override
+  {
+    if (!rate_.due(t))
+      return;
     const btTransform tf = c_.robot->linkState(link_).tf * sensor_pose_;
     double nearest = msg_.max_range;
-    for (double d : rays_.cast(*c_.world, tf, c_.robot)) nearest = std::min(nearest, d);
+    for (double d : rays_.cast(*c_.world, tf, c_.robot))
+      nearest = std::min(nearest, d);
     msg_.header.stamp = ros::Time(t);
-    msg_.range = nearest < msg_.max_range
-                     ? std::max<double>(msg_.min_range, std::min<double>(msg_.max_range, nearest + gn_ * noise_(*c_.rng)))
-                     : msg_.max_range;
+    msg_.range =
+        nearest < msg_.max_range
+            ? std::max<double>(msg_.min_range, std::min<double>(msg_.max_range, nearest + gn_ * noise_(*c_.rng)))
+            : msg_.max_range;
     pub_.publish(msg_);
   }
 
- private:
+private:
   PluginContext c_;
   std::string link_;
   btTransform sensor_pose_;
@@ -61,6 +72,9 @@ class Range : public SimPlugin {
 };
 }  // namespace
 
-std::unique_ptr<SimPlugin> makeRange(const PluginContext& c) { return std::make_unique<Range>(c); }
+std::unique_ptr<SimPlugin> makeRange(const PluginContext& c)
+{
+  return std::make_unique<Range>(c);
+}
 
 }  // namespace mybot_gazebo_lite

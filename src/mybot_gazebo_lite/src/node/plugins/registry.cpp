@@ -10,11 +10,14 @@
 #include <functional>
 #include <vector>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
+namespace
+{
 
-struct Builtin {
+struct Builtin
+{
   std::string filename;
   std::unique_ptr<SimPlugin> (*make)(const PluginContext&);
   // The parameters the upstream plugin reads (gazebo_ros_pkgs, Noetic), whether or not the
@@ -23,46 +26,58 @@ struct Builtin {
   std::set<std::string> tags;
 };
 
-const std::set<std::string> kLaserTags = {"topicName", "frameName", "gaussianNoise", "hokuyoMinIntensity", "updateRate"};
+const std::set<std::string> kLaserTags = {"topicName", "frameName", "gaussianNoise", "hokuyoMinIntensity",
+                                          "updateRate"};
 const std::set<std::string> kCameraTags = {
-    "updateRate",   "cameraName",   "imageTopicName", "cameraInfoTopicName", "frameName",
-    "hackBaseline", "distortionK1", "distortionK2",   "distortionK3",        "distortionT1",
-    "distortionT2", "Cx",           "Cy",             "CxPrime",             "focalLength",
-    "borderCrop",   "triggerTopicName", "autoDistortion"};
+    "updateRate",   "cameraName",   "imageTopicName", "cameraInfoTopicName", "frameName",        "hackBaseline",
+    "distortionK1", "distortionK2", "distortionK3",   "distortionT1",        "distortionT2",     "Cx",
+    "Cy",           "CxPrime",      "focalLength",    "borderCrop",          "triggerTopicName", "autoDistortion"};
 
-std::set<std::string> with(std::set<std::string> a, const std::set<std::string>& b) {
+std::set<std::string> with(std::set<std::string> a, const std::set<std::string>& b)
+{
   a.insert(b.begin(), b.end());
   return a;
 }
 
-const std::vector<Builtin>& builtins() {
+const std::vector<Builtin>& builtins()
+{
   static const std::vector<Builtin> table = {
-      {"libgazebo_ros_diff_drive.so", makeDiffDrive,
+      {"libgazebo_ros_diff_drive.so",
+       makeDiffDrive,
        {"leftJoint", "rightJoint", "wheelSeparation", "wheelDiameter", "wheelAcceleration", "wheelTorque",
         "commandTopic", "odometryTopic", "odometryFrame", "robotBaseFrame", "odometrySource", "publishWheelTF",
         "publishOdomTF", "publishWheelJointState", "publishTf", "legacyMode", "updateRate", "rosDebugLevel",
         "commandTimeout"}},
-      {"libgazebo_ros_skid_steer_drive.so", makeSkidSteerDrive,
+      {"libgazebo_ros_skid_steer_drive.so",
+       makeSkidSteerDrive,
        {"leftFrontJoint", "rightFrontJoint", "leftRearJoint", "rightRearJoint", "wheelSeparation", "wheelDiameter",
         "torque", "MaxForce", "commandTopic", "odometryTopic", "odometryFrame", "robotBaseFrame", "broadcastTF",
         "updateRate", "covariance_x", "covariance_y", "covariance_yaw", "commandTimeout"}},
-      {"libgazebo_ros_planar_move.so", makePlanarMove,
+      {"libgazebo_ros_planar_move.so",
+       makePlanarMove,
        {"commandTopic", "odometryTopic", "odometryFrame", "odometryRate", "robotBaseFrame", "publishOdometryTf",
         "cmdTimeout", "covariance_x", "covariance_y", "covariance_yaw"}},
-      {"libgazebo_ros_p3d.so", makeP3D,
+      {"libgazebo_ros_p3d.so",
+       makeP3D,
        {"bodyName", "topicName", "frameName", "xyzOffsets", "rpyOffsets", "xyzOffset", "rpyOffset", "gaussianNoise",
         "updateRate"}},
       {"libgazebo_ros_joint_state_publisher.so", makeJointStatePublisher, {"jointName", "updateRate"}},
       {"libmybot_joint_command.so", makeJointCommand, {"commandTimeout", "joint"}},
       {"libgazebo_ros_laser.so", makeLaser, kLaserTags},
       {"libgazebo_ros_gpu_laser.so", makeLaser, kLaserTags},
-      {"libgazebo_ros_range.so", makeRange, {"topicName", "frameName", "updateRate", "gaussianNoise", "radiation", "fov"}},
+      {"libgazebo_ros_range.so",
+       makeRange,
+       {"topicName", "frameName", "updateRate", "gaussianNoise", "radiation", "fov"}},
       {"libgazebo_ros_bumper.so", makeBumper, {"bumperTopicName", "frameName"}},
-      {"libgazebo_ros_block_laser.so", makeBlockLaser, {"topicName", "frameName", "gaussianNoise", "hokuyoMinIntensity", "updateRate"}},
-      {"libgazebo_ros_imu_sensor.so", makeImuSensor,
+      {"libgazebo_ros_block_laser.so",
+       makeBlockLaser,
+       {"topicName", "frameName", "gaussianNoise", "hokuyoMinIntensity", "updateRate"}},
+      {"libgazebo_ros_imu_sensor.so",
+       makeImuSensor,
        {"topicName", "bodyName", "frameName", "updateRateHZ", "gaussianNoise", "xyzOffset", "rpyOffset", "serviceName",
         "initialOrientationAsReference"}},
-      {"libgazebo_ros_imu.so", makeImu,
+      {"libgazebo_ros_imu.so",
+       makeImu,
        {"bodyName", "topicName", "serviceName", "gaussianNoise", "updateRate", "frameName", "xyzOffset", "rpyOffset"}},
       {"libgazebo_ros_camera.so", makeCamera, kCameraTags},
       {"libgazebo_ros_openni_kinect.so", makeDepthCamera,
@@ -72,15 +87,20 @@ const std::vector<Builtin>& builtins() {
   return table;
 }
 
-std::size_t editDistance(const std::string& a, const std::string& b) {
+std::size_t editDistance(const std::string& a, const std::string& b)
+{
   std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
+  for (std::size_t j = 0; j <= b.size(); ++j)
+    row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+  {
     std::size_t diag = row[0];
     row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
+    for (std::size_t j = 1; j <= b.size(); ++j)
+    {
       const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (std::tolower(a[i - 1]) == std::tolower(b[j - 1]) ? 0 : 1)});
+      row[j] =
+          std::min({row[j] + 1, row[j - 1] + 1, diag + (std::tolower(a[i - 1]) == std::tolower(b[j - 1]) ? 0 : 1)});
       diag = up;
     }
   }
@@ -90,19 +110,24 @@ std::size_t editDistance(const std::string& a, const std::string& b) {
 // A plugin of another package: `lib<name>.so` is emulated by `libgazebo_lite_<name>.so` on
 // LD_LIBRARY_PATH (catkin puts every workspace's lib/ there). The library stays loaded for the
 // life of the process, as in Gazebo. nullptr when there is none.
-std::unique_ptr<SimPlugin> loadLibraryPlugin(const PluginContext& c) {
+std::unique_ptr<SimPlugin> loadLibraryPlugin(const PluginContext& c)
+{
   std::string f = c.spec->filename;
-  if (f.rfind("lib", 0) != 0 || f.size() < 7 || f.compare(f.size() - 3, 3, ".so") != 0) return nullptr;
+  if (f.rfind("lib", 0) != 0 || f.size() < 7 || f.compare(f.size() - 3, 3, ".so") != 0)
+    return nullptr;
   const std::string lib = "libgazebo_lite_" + f.substr(3);
   void* handle = dlopen(lib.c_str(), RTLD_NOW | RTLD_GLOBAL);
-  if (!handle) {
+  if (!handle)
+  {
     const char* err = dlerror();
     // A library that exists but does not load is worth its own message (a missing symbol, say).
-    if (err && !std::strstr(err, "No such file")) ROS_ERROR("gazebo_lite: %s: %s", lib.c_str(), err);
+    if (err && !std::strstr(err, "No such file"))
+      ROS_ERROR("gazebo_lite: %s: %s", lib.c_str(), err);
     return nullptr;
   }
   auto factory = reinterpret_cast<PluginFactory>(dlsym(handle, "mybot_gazebo_lite_create_plugin"));
-  if (!factory) {
+  if (!factory)
+  {
     ROS_ERROR("gazebo_lite: %s does not export mybot_gazebo_lite_create_plugin", lib.c_str());
     return nullptr;
   }
@@ -111,13 +136,16 @@ std::unique_ptr<SimPlugin> loadLibraryPlugin(const PluginContext& c) {
 
 }  // namespace
 
-void warnUnknownTags(const PluginContext& c, const std::set<std::string>& known) {
+void warnUnknownTags(const PluginContext& c, const std::set<std::string>& known)
+{
   const std::string link = c.spec->reference.empty() ? "" : " on link '" + c.spec->reference + "'";
-  for (const XmlNode& child : c.spec->xml.children) {
+  for (const XmlNode& child : c.spec->xml.children)
+  {
     if (PluginParams::wasRead(child) || child.name == "robotNamespace" || child.name == "alwaysOn" ||
         child.name == "rosDebugLevel")
       continue;
-    if (known.count(child.name)) {
+    if (known.count(child.name))
+    {
       ROS_WARN("%s: plugin '%s' (%s)%s: parameter <%s> is not simulated by gazebo_lite; ignored",
                c.robot->spec().source.c_str(), c.spec->name.c_str(), c.spec->filename.c_str(), link.c_str(),
                child.name.c_str());
@@ -126,17 +154,20 @@ void warnUnknownTags(const PluginContext& c, const std::set<std::string>& known)
     std::string best;
     std::size_t best_d = 4;  // a few letters off at most
     for (const std::string& k : known)
-      if (const std::size_t d = editDistance(child.name, k); d < best_d) best_d = d, best = k;
+      if (const std::size_t d = editDistance(child.name, k); d < best_d)
+        best_d = d, best = k;
     ROS_WARN("%s: plugin '%s' (%s)%s: unknown parameter <%s> ignored%s", c.robot->spec().source.c_str(),
              c.spec->name.c_str(), c.spec->filename.c_str(), link.c_str(), child.name.c_str(),
              best.empty() ? "" : (" (did you mean <" + best + ">?)").c_str());
   }
 }
 
-std::unique_ptr<SimPlugin> createPlugin(const PluginContext& c) {
+std::unique_ptr<SimPlugin> createPlugin(const PluginContext& c)
+{
   PluginParams::forgetReads(c.spec->xml);
   for (const Builtin& b : builtins())
-    if (b.filename == c.spec->filename) {
+    if (b.filename == c.spec->filename)
+    {
       auto plugin = b.make(c);
       warnUnknownTags(c, b.tags);
       PluginParams::forgetReads(c.spec->xml);
@@ -144,7 +175,8 @@ std::unique_ptr<SimPlugin> createPlugin(const PluginContext& c) {
     }
   auto plugin = loadLibraryPlugin(c);  // it warns about its own tags
   PluginParams::forgetReads(c.spec->xml);
-  if (plugin) return plugin;
+  if (plugin)
+    return plugin;
   ROS_WARN("%s: plugin '%s': unknown plugin file '%s' ignored", c.robot->spec().source.c_str(), c.spec->name.c_str(),
            c.spec->filename.c_str());
   return nullptr;

@@ -10,12 +10,16 @@
 
 #include <cmath>
 
-namespace mybot_gazebo_lite {
+namespace mybot_gazebo_lite
+{
 
-namespace {
-class SkidSteerDrive : public SimPlugin {
- public:
-  explicit SkidSteerDrive(const PluginContext& c) : c_(c) {
+namespace
+{
+class SkidSteerDrive : public SimPlugin
+{
+public:
+  explicit SkidSteerDrive(const PluginContext& c) : c_(c)
+  {
     PluginParams p(c, c.spec->xml);
     ros::NodeHandle nh(c.ns);
     left_ = {p.joint("leftFrontJoint", "left_front_joint"), p.joint("leftRearJoint", "left_rear_joint")};
@@ -23,13 +27,17 @@ class SkidSteerDrive : public SimPlugin {
     geo_.separation = p.num("wheelSeparation", 0.4);
     geo_.diameter = p.num("wheelDiameter", 0.15);
     geo_.legacy = false;
-    if (!(geo_.separation > 0)) p.fail("wheelSeparation", "must be positive");
-    if (!(geo_.diameter > 0)) p.fail("wheelDiameter", "must be positive");
+    if (!(geo_.separation > 0))
+      p.fail("wheelSeparation", "must be positive");
+    if (!(geo_.diameter > 0))
+      p.fail("wheelDiameter", "must be positive");
     torque_ = p.num("torque", p.num("MaxForce", 5.0));
-    if (!(torque_ > 0)) p.fail("torque", "must be positive");
+    if (!(torque_ > 0))
+      p.fail("torque", "must be positive");
     rate_ = Rate(p.num("updateRate", 100.0));
     timeout_ = p.num("commandTimeout", 0.5);
-    if (timeout_ < 0) p.fail("commandTimeout", "must be >= 0");
+    if (timeout_ < 0)
+      p.fail("commandTimeout", "must be >= 0");
     broadcast_tf_ = p.boolean("broadcastTF", false);
     cov_[0] = p.num("covariance_x", 0.0001);
     cov_[1] = p.num("covariance_y", 0.0001);
@@ -41,14 +49,18 @@ class SkidSteerDrive : public SimPlugin {
     odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
     drive(0, 0);
   }
-  void reset() override {
+  void reset() override
+  {
     x_ = rot_ = 0;
     have_cmd_ = false;
     drive(0, 0);
   }
-  void update(double t) override {
-    if (!rate_.due(t)) return;
-    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_) {
+  void update(double t) override
+  {
+    if (!rate_.due(t))
+      return;
+    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_)
+    {
       x_ = rot_ = 0;
       have_cmd_ = false;
     }
@@ -56,9 +68,11 @@ class SkidSteerDrive : public SimPlugin {
     drive(x_, rot_);
   }
 
- private:
-  void onCmd(const geometry_msgs::Twist::ConstPtr& m) {
-    if (!std::isfinite(m->linear.x) || !std::isfinite(m->angular.z)) {
+private:
+  void onCmd(const geometry_msgs::Twist::ConstPtr& m)
+  {
+    if (!std::isfinite(m->linear.x) || !std::isfinite(m->angular.z))
+    {
       ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite cmd_vel", c_.robot->name().c_str());
       return;
     }
@@ -67,16 +81,21 @@ class SkidSteerDrive : public SimPlugin {
     last_cmd_ = c_.world->time();
     have_cmd_ = true;
   }
-  void drive(double v, double w) {
+  void drive(double v, double w)
+  {
     const auto [vl, vr] = diffDriveWheelSpeeds(v, w, geo_);
     const double r = geo_.diameter / 2;
-    for (const auto& j : left_) c_.robot->commandVelocity(j, vl / r, torque_);
-    for (const auto& j : right_) c_.robot->commandVelocity(j, vr / r, torque_);
+    for (const auto& j : left_)
+      c_.robot->commandVelocity(j, vl / r, torque_);
+    for (const auto& j : right_)
+      c_.robot->commandVelocity(j, vr / r, torque_);
   }
-  void publishOdometry(double t) {
+  void publishOdometry(double t)
+  {
     const nav_msgs::Odometry o = worldPoseOdometry(c_, t, odom_frame_, base_frame_, cov_);
     odom_pub_.publish(o);
-    if (broadcast_tf_) c_.tf->sendTransform(toTf(c_.robot->linkState(c_.robot->spec().root).tf, t, odom_frame_, base_frame_));
+    if (broadcast_tf_)
+      c_.tf->sendTransform(toTf(c_.robot->linkState(c_.robot->spec().root).tf, t, odom_frame_, base_frame_));
   }
   PluginContext c_;
   std::array<std::string, 2> left_, right_;
@@ -92,6 +111,9 @@ class SkidSteerDrive : public SimPlugin {
 };
 }  // namespace
 
-std::unique_ptr<SimPlugin> makeSkidSteerDrive(const PluginContext& c) { return std::make_unique<SkidSteerDrive>(c); }
+std::unique_ptr<SimPlugin> makeSkidSteerDrive(const PluginContext& c)
+{
+  return std::make_unique<SkidSteerDrive>(c);
+}
 
 }  // namespace mybot_gazebo_lite
