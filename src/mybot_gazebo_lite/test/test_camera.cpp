@@ -85,6 +85,20 @@ TEST(CameraIntrinsics, GazeboRosFormulas)
   EXPECT_DOUBLE_EQ(k.cy, 240);
 }
 
+TEST(CameraIntrinsics, DepthPixelsBecomeOpticalPoints)
+{
+  const CameraIntrinsics k = gazeboIntrinsics(640, 480, 1.047);
+  const OpticalPoint centre = depthToPoint(k, static_cast<int>(k.cx), static_cast<int>(k.cy), 2.0f);
+  EXPECT_NEAR(centre.x, (static_cast<int>(k.cx) - k.cx) * 2.0 / k.fx, 1e-6);
+  EXPECT_FLOAT_EQ(centre.z, 2.0f);
+  // One focal length right of and below the principal point: 45 degrees off the axis on both.
+  const OpticalPoint corner = depthToPoint(CameraIntrinsics{640, 480, 100, 100, 300, 200}, 400, 300, 3.0f);
+  EXPECT_FLOAT_EQ(corner.x, 3.0f);
+  EXPECT_FLOAT_EQ(corner.y, 3.0f);
+  EXPECT_FLOAT_EQ(corner.z, 3.0f);
+  EXPECT_TRUE(std::isnan(depthToPoint(k, 10, 10, std::nanf("")).x));
+}
+
 TEST(CameraRender, WallRowsAndDepth)
 {
   CameraPose pose{0, 0, 0.3, 0};

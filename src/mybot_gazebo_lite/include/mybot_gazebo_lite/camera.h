@@ -80,6 +80,18 @@ void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const Came
 
 // Cheap Gaussian noise for images: a table of N(0, 1) samples read from a
 // random start with a random odd stride, so a 640x480 frame costs no Box-Muller.
+// The point a depth pixel (u, v) at range along the optical axis `depth` sees, in the optical
+// convention of ROS cameras (x right, y down, z forward): the pinhole model inverted. NaN depth
+// gives NaN coordinates (no reading).
+struct OpticalPoint
+{
+  float x, y, z;
+};
+inline OpticalPoint depthToPoint(const CameraIntrinsics& k, int u, int v, float depth)
+{
+  return {static_cast<float>((u - k.cx) * depth / k.fx), static_cast<float>((v - k.cy) * depth / k.fy), depth};
+}
+
 class NoiseTable
 {
 public:

@@ -204,8 +204,8 @@ private:
       {
         const size_t i = static_cast<size_t>(v) * k_.width + u;
         const float d = depth_[i];
-        float xyz_rgb[4] = {static_cast<float>((u - k_.cx) * d / k_.fx), static_cast<float>((v - k_.cy) * d / k_.fy), d,
-                            0};
+        const OpticalPoint pt = depthToPoint(k_, u, v, d);
+        float xyz_rgb[4] = {pt.x, pt.y, pt.z, 0};
         const uint32_t packed = (uint32_t(rgb_[3 * i]) << 16) | (uint32_t(rgb_[3 * i + 1]) << 8) | rgb_[3 * i + 2];
         std::memcpy(&xyz_rgb[3], &packed, 4);
         std::memcpy(&pc->data[i * 16], xyz_rgb, 16);

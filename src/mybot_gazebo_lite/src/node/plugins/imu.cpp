@@ -1,6 +1,7 @@
 // IMU (sensor and model plugin)
 #include "builtin.h"
 
+#include "mybot_gazebo_lite/imu_model.h"
 #include "mybot_gazebo_lite/parsing.h"
 
 #include <sensor_msgs/Imu.h>
@@ -58,27 +59,23 @@ public:
     if (gn_ < 0)
       p.fail("gaussianNoise", "must be >= 0");
     pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Imu>(p.str("topicName", "imu"), 10);
+    model_ = ImuModel(sensor_pose_);
   }
-  void reset() override { have_prev_ = false; }
+  void reset() override { model_.reset(); }
   void update(double t) override
   {
-    Pose s = c_.robot->linkState(body_);
-    btTransform tf = s.tf * sensor_pose_;
-    btVector3 v = s.linear + s.angular.cross(tf.getOrigin() - s.tf.getOrigin());
-    if (have_prev_)
-      accel_ = (v - prev_v_) / c_.world->stepSize();
-    prev_v_ = v;
-    have_prev_ = true;
+    const Pose s = c_.robot->linkState(body_);
+    model_.step(s, c_.world->stepSize());
     if (!rate_.due(t))
       return;
-    const btMatrix3x3& R = tf.getBasis();
-    btVector3 w = R.transpose() * s.angular;
-    btVector3 a = R.transpose() * (accel_ - c_.world->worldSpec().gravity);
+    const ImuModel::Reading r = model_.read(s, c_.world->worldSpec().gravity);
+    const btVector3& w = r.angular_velocity;
+    const btVector3& a = r.linear_acceleration;
     auto n = [&]() { return gn_ > 0 ? gn_ * noise_(*c_.rng) : 0.0; };
     sensor_msgs::Imu m;
     m.header.stamp = ros::Time(t);
     m.header.frame_id = frame_;
-    btQuaternion q = tf.getRotation();
+    const btQuaternion& q = r.orientation;
     m.orientation.x = q.x();
     m.orientation.y = q.y();
     m.orientation.z = q.z();
@@ -102,8 +99,7 @@ private:
   btTransform sensor_pose_ = btTransform::getIdentity();
   Rate rate_;
   double gn_;
-  btVector3 prev_v_{0, 0, 0}, accel_{0, 0, 0};
-  bool have_prev_ = false;
+  ImuModel model_;
   std::normal_distribution<double> noise_;
   ros::Publisher pub_;
 };
