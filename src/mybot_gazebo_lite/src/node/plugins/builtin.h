@@ -3,10 +3,30 @@
 
 #include "mybot_gazebo_lite/sim_plugin.h"
 
+#include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
 
 namespace mybot_gazebo_lite
 {
+
+// The cmd_vel input of the drive plugins (counted under lockstep): a twist with a NaN or inf in
+// vx, vy or wz is ignored with a warning, and the command falls back to zero once `timeout` s of
+// sim time pass without one (<= 0: never).
+class TwistCommand
+{
+public:
+  TwistCommand(const PluginContext& c, ros::NodeHandle& nh, const std::string& topic, double timeout);
+  // The command in force at sim time t.
+  const geometry_msgs::Twist& at(double t);
+  void reset();
+
+private:
+  const PluginContext& c_;
+  double timeout_, stamp_ = 0;
+  bool have_ = false;
+  geometry_msgs::Twist cmd_;
+  ros::Subscriber sub_;
+};
 
 // Odometry that is the root link's world pose and body-frame twist (the drive plugins that report
 // ground truth as odometry, as upstream), with a diagonal covariance {x, y, yaw} on pose and twist.

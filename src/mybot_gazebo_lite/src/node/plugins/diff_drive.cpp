@@ -56,29 +56,16 @@ public:
     base_link_ = p.str("robotBaseFrame", "base_footprint");
     if (!c.robot->hasLink(base_link_))
       base_link_ = c.robot->spec().root;
-    sub_ = subscribeCommand<geometry_msgs::Twist>(c, nh, p.str("commandTopic", "cmd_vel"),
-                                                  [this](const geometry_msgs::Twist::ConstPtr& m) { onCmd(m); });
+    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), timeout_);
     odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
     if (publish_wheel_js_)
       js_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 1);
     hold();
   }
-  void onCmd(const geometry_msgs::Twist::ConstPtr& m)
-  {
-    if (!std::isfinite(m->linear.x) || !std::isfinite(m->angular.z))
-    {
-      ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite cmd_vel", c_.robot->name().c_str());
-      return;
-    }
-    x_ = m->linear.x;
-    rot_ = m->angular.z;
-    last_cmd_ = c_.world->time();
-    have_cmd_ = true;
-  }
   void reset() override
   {
     odo_ = EncoderOdometry();
-    x_ = rot_ = 0;
+    cmd_->reset();
     instr_[0] = instr_[1] = 0;
     hold();
   }
@@ -88,13 +75,9 @@ public:
     odo_.update(c_.robot->jointVelocity(left_), c_.robot->jointVelocity(right_), dt, geo_);
     if (!rate_.due(t))
       return;
-    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_)
-    {
-      x_ = rot_ = 0;
-      have_cmd_ = false;
-    }
+    const geometry_msgs::Twist& cmd = cmd_->at(t);
     publishOdometry(t);
-    auto [vl, vr] = diffDriveWheelSpeeds(x_, rot_, geo_);
+    auto [vl, vr] = diffDriveWheelSpeeds(cmd.linear.x, cmd.angular.z, geo_);
     double r = geo_.diameter / 2;
     double period = rate_.period > 0 ? rate_.period : dt;
     double target[2] = {vl, vr};
@@ -171,10 +154,9 @@ private:
   double accel_, torque_, timeout_;
   bool encoder_ = false, publish_odom_tf_, publish_wheel_tf_, publish_wheel_js_;
   Rate rate_;
-  double x_ = 0, rot_ = 0, last_cmd_ = 0, instr_[2] = {0, 0};
-  bool have_cmd_ = false;
+  double instr_[2] = {0, 0};
+  std::unique_ptr<TwistCommand> cmd_;
   EncoderOdometry odo_;
-  ros::Subscriber sub_;
   ros::Publisher odom_pub_, js_pub_;
 };
 }  // namespace

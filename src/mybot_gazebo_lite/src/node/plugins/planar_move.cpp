@@ -30,26 +30,21 @@ public:
     cov_[2] = p.num("covariance_yaw", 0.01);
     odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
     base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
-    sub_ = subscribeCommand<geometry_msgs::Twist>(c, nh, p.str("commandTopic", "cmd_vel"),
-                                                  [this](const geometry_msgs::Twist::ConstPtr& m) { onCmd(m); });
+    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), timeout_);
     odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
     c.robot->setContactFriction(0.0);
   }
-  void reset() override
-  {
-    vx_ = vy_ = wz_ = 0;
-    have_cmd_ = false;
-  }
+  void reset() override { cmd_->reset(); }
   void preStep(double t) override
   {
-    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_)
-      reset();
+    const geometry_msgs::Twist& cmd = cmd_->at(t);
+    const double vx = cmd.linear.x, vy = cmd.linear.y, wz = cmd.angular.z;
     const Pose s = c_.robot->linkState(c_.robot->spec().root);
     btScalar yaw, pitch, roll;
     s.tf.getBasis().getEulerZYX(yaw, pitch, roll);
     const double cy = std::cos(yaw), sy = std::sin(yaw);
-    c_.world->setRobotVelocity(*c_.robot, btVector3(vx_ * cy - vy_ * sy, vx_ * sy + vy_ * cy, s.linear.z()),
-                               btVector3(0, 0, wz_));
+    c_.world->setRobotVelocity(*c_.robot, btVector3(vx * cy - vy * sy, vx * sy + vy * cy, s.linear.z()),
+                               btVector3(0, 0, wz));
   }
   void update(double t) override
   {
@@ -62,27 +57,12 @@ public:
   }
 
 private:
-  void onCmd(const geometry_msgs::Twist::ConstPtr& m)
-  {
-    if (!std::isfinite(m->linear.x) || !std::isfinite(m->linear.y) || !std::isfinite(m->angular.z))
-    {
-      ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite cmd_vel", c_.robot->name().c_str());
-      return;
-    }
-    vx_ = m->linear.x;
-    vy_ = m->linear.y;
-    wz_ = m->angular.z;
-    last_cmd_ = c_.world->time();
-    have_cmd_ = true;
-  }
   PluginContext c_;
   Rate odom_rate_;
   double timeout_, cov_[3];
   bool publish_tf_;
   std::string odom_frame_, base_frame_;
-  double vx_ = 0, vy_ = 0, wz_ = 0, last_cmd_ = 0;
-  bool have_cmd_ = false;
-  ros::Subscriber sub_;
+  std::unique_ptr<TwistCommand> cmd_;
   ros::Publisher odom_pub_;
 };
 }  // namespace

@@ -227,6 +227,37 @@ std::vector<double> SensorRays::cast(const PhysicsWorld& world, const btTransfor
   return out;
 }
 
+TwistCommand::TwistCommand(const PluginContext& c, ros::NodeHandle& nh, const std::string& topic, double timeout)
+    : c_(c), timeout_(timeout)
+{
+  sub_ = subscribeCommand<geometry_msgs::Twist>(
+      c, nh, topic,
+      [this](const geometry_msgs::Twist::ConstPtr& m)
+      {
+        if (!std::isfinite(m->linear.x) || !std::isfinite(m->linear.y) || !std::isfinite(m->angular.z))
+        {
+          ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite cmd_vel", c_.robot->name().c_str());
+          return;
+        }
+        cmd_ = *m;
+        stamp_ = c_.world->time();
+        have_ = true;
+      });
+}
+
+const geometry_msgs::Twist& TwistCommand::at(double t)
+{
+  if (have_ && timeout_ > 0 && t - stamp_ > timeout_)
+    reset();
+  return cmd_;
+}
+
+void TwistCommand::reset()
+{
+  cmd_ = geometry_msgs::Twist();
+  have_ = false;
+}
+
 nav_msgs::Odometry worldPoseOdometry(const PluginContext& c, double t, const std::string& odom_frame,
                                      const std::string& base_frame, const double cov[3])
 {

@@ -44,43 +44,25 @@ public:
     cov_[2] = p.num("covariance_yaw", 0.01);
     odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
     base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
-    sub_ = subscribeCommand<geometry_msgs::Twist>(c, nh, p.str("commandTopic", "cmd_vel"),
-                                                  [this](const geometry_msgs::Twist::ConstPtr& m) { onCmd(m); });
+    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), timeout_);
     odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
     drive(0, 0);
   }
   void reset() override
   {
-    x_ = rot_ = 0;
-    have_cmd_ = false;
+    cmd_->reset();
     drive(0, 0);
   }
   void update(double t) override
   {
     if (!rate_.due(t))
       return;
-    if (have_cmd_ && timeout_ > 0 && t - last_cmd_ > timeout_)
-    {
-      x_ = rot_ = 0;
-      have_cmd_ = false;
-    }
+    const geometry_msgs::Twist& cmd = cmd_->at(t);
     publishOdometry(t);
-    drive(x_, rot_);
+    drive(cmd.linear.x, cmd.angular.z);
   }
 
 private:
-  void onCmd(const geometry_msgs::Twist::ConstPtr& m)
-  {
-    if (!std::isfinite(m->linear.x) || !std::isfinite(m->angular.z))
-    {
-      ROS_WARN_THROTTLE(1.0, "%s: ignoring non-finite cmd_vel", c_.robot->name().c_str());
-      return;
-    }
-    x_ = m->linear.x;
-    rot_ = m->angular.z;
-    last_cmd_ = c_.world->time();
-    have_cmd_ = true;
-  }
   void drive(double v, double w)
   {
     const auto [vl, vr] = diffDriveWheelSpeeds(v, w, geo_);
@@ -104,9 +86,7 @@ private:
   bool broadcast_tf_;
   std::string odom_frame_, base_frame_;
   Rate rate_;
-  double x_ = 0, rot_ = 0, last_cmd_ = 0;
-  bool have_cmd_ = false;
-  ros::Subscriber sub_;
+  std::unique_ptr<TwistCommand> cmd_;
   ros::Publisher odom_pub_;
 };
 }  // namespace
