@@ -330,7 +330,7 @@ def score_map(map_yaml, truth_yaml, traj_npz, out_prefix):
     est, gt = out_prefix + "_est.txt", out_prefix + "_gt.txt"
     np.savetxt(est, est_rows, header="stamp x y yaw (SLAM %s, map frame)" % source)
     np.savetxt(gt, gt_rows, header="stamp x y yaw (ground truth, map frame)")
-    res = subprocess.run(["rosrun", "mybot_navigation", "slam_score", "--map", map_yaml, "--truth", truth_yaml,
+    res = subprocess.run(["rosrun", "mybot_slam", "slam_score", "--map", map_yaml, "--truth", truth_yaml,
                           "--traj", est, "--truth-traj", gt], capture_output=True, text=True)
     if res.returncode != 0:
         return {"error": res.stderr.strip(), "trajectory": source}

@@ -30,8 +30,8 @@ from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from rosgraph_msgs.msg import Clock
 
 from mybot_gazebo_lite.msg import ModelContacts
-from mybot_navigation.action_client import SimpleActionClient
-from mybot_navigation.trajectory import sideways_distance
+from mybot_move_base.action_client import SimpleActionClient
+from mybot_move_base.trajectory import sideways_distance
 from mybot_common.geometry import wrap, yaw_of
 
 
@@ -200,7 +200,7 @@ def path_length(a):
 def run_mapping(args, rec, result):
     log("exploring (frontiers on the SLAM map, goals through the move_base action)")
     t0 = rospy.Time.now()
-    cmd = ["rosrun", "mybot_navigation", "explore",
+    cmd = ["rosrun", "mybot_explore", "explore",
            "_time_budget:=%f" % args.budget, "_robot_radius:=%f" % args.robot_radius,
            # Half a metre of frontier is still worth a trip in a building of shelves.
            "_min_frontier_size:=0.5",
@@ -215,7 +215,7 @@ def run_mapping(args, rec, result):
     result["explored_completely"] = explore.returncode == 0
     log("exploration ended (%s) after %.0f s of sim time" %
         ("no frontier left" if explore.returncode == 0 else "exit %d" % explore.returncode, result["explore_sim_s"]))
-    saver = subprocess.run(["rosrun", "mybot_navigation", "map_saver", "-f", args.map_out],
+    saver = subprocess.run(["rosrun", "mybot_map_server", "map_saver", "-f", args.map_out],
                            capture_output=True, text=True, timeout=120)
     result["map_saved"] = saver.returncode == 0
     if saver.returncode != 0:

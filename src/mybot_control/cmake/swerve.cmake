@@ -32,7 +32,9 @@ install(TARGETS mybot_swerve_lib mybot_swerve_ros mybot_swerve_nodes mybot_swerv
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_swerve_lib test/swerve/test_swerve_lib.cpp)
+  # One test file per type, as wpimath does.
+  catkin_add_gtest(test_swerve_lib test/swerve/test_swerve_kinematics.cpp test/swerve/test_swerve_odometry.cpp
+    test/swerve/test_swerve_module.cpp test/swerve/test_swerve_limiter.cpp)
   target_link_libraries(test_swerve_lib mybot_swerve_lib gtest_main)
 
   find_package(rostest REQUIRED)

@@ -1,6 +1,6 @@
 // map_server's file pair (NAME.pgm + NAME.yaml) as ROS navigation's map_saver writes it, byte for
 // byte, saved atomically: a failed or killed save leaves the old pair as it was. The C++ home of
-// this format; Python's is mybot_navigation.map_saver. No ROS.
+// this format; Python's is mybot_map_server.map_saver. No ROS.
 #pragma once
 
 #include <cstdint>

@@ -22,6 +22,8 @@ struct ParamError : std::runtime_error
       : std::runtime_error("parameter " + nh.resolveName(name) + ": " + why)
   {
   }
+  // A message already naming the parameter (readers that resolve names themselves).
+  explicit ParamError(const std::string& what) : std::runtime_error(what) {}
 };
 
 // Reads an optional parameter; a value of the wrong type throws ParamError.

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "mybot_common/pose2d.h"
+
 namespace mybot_control
 {
 
@@ -18,15 +20,9 @@ struct Twist2D
   bool finite() const { return std::isfinite(vx) && std::isfinite(vy) && std::isfinite(wz); }
 };
 
-struct Pose2D
-{
-  double x = 0.0;
-  double y = 0.0;
-  double theta = 0.0;  // rad, kept in (-pi, pi]
-};
-
-// Wrap an angle to (-pi, pi].
-double wrapAngle(double a);
+// The workspace's one SE(2) pose and angle wrap (to (-pi, pi]), shared with the navigation stack.
+using mybot_common::Pose2D;
+using mybot_common::wrapAngle;
 
 // Integrate a body-frame displacement (dx, dy, dtheta) -- a twist times dt -- from `pose`
 // along the constant-twist path (the SE(2) exponential). Exact for any dtheta; when

@@ -9,16 +9,17 @@
 #include <string>
 #include <vector>
 
+#include "mybot_common/node_main.h"
+#include "mybot_common/params.h"
 #include "mybot_control/pid.hpp"
 #include "mybot_control/speed_limiter.hpp"
 
 namespace mybot_control
 {
 
-struct ParamError : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
-};
+// The workspace's one parameter error and node main (mybot_common).
+using mybot_common::ParamError;
+using mybot_common::runNode;
 
 class ParamReader
 {
@@ -73,8 +74,5 @@ WheelGeometry wheelGeometryFromUrdf(const std::string& urdf_xml, const std::stri
 // wheel_separation_multiplier / left_/right_wheel_radius_multiplier.
 WheelGeometry loadWheelGeometry(const ParamReader& params, const std::string& left_joint,
                                 const std::string& right_joint, bool need_separation, bool need_radius);
-
-// Run a node body; a ParamError is logged as one fatal line and turns into exit code 1.
-int runNode(int argc, char** argv, const std::string& name, void (*body)());
 
 }  // namespace mybot_control

@@ -3,14 +3,6 @@
 namespace mybot_control
 {
 
-double wrapAngle(double a)
-{
-  if (!std::isfinite(a))
-    return a;
-  a = std::remainder(a, 2.0 * M_PI);  // [-pi, pi]
-  return a <= -M_PI ? a + 2.0 * M_PI : a;
-}
-
 namespace
 {
 // sin(t)/t and (1 - cos(t))/t with Taylor series near 0.

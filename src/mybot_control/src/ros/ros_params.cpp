@@ -269,23 +269,4 @@ WheelGeometry loadWheelGeometry(const ParamReader& p, const std::string& left_jo
   return g;
 }
 
-int runNode(int argc, char** argv, const std::string& name, void (*body)())
-{
-  ros::init(argc, argv, name);
-  // Outlives the node's handles: when the last NodeHandle goes (as when the constructor
-  // throws), roscpp shuts down and would swallow the fatal message below.
-  ros::NodeHandle keep_alive;
-  try
-  {
-    body();
-  }
-  catch (const ParamError& e)
-  {
-    ROS_FATAL("%s: %s", ros::this_node::getName().c_str(), e.what());
-    ros::shutdown();
-    return 1;
-  }
-  return 0;
-}
-
 }  // namespace mybot_control

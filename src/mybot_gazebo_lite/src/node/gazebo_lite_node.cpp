@@ -10,6 +10,7 @@
 #include "mybot_gazebo_lite/parsing.h"
 #include "mybot_gazebo_lite/physics.h"
 #include "mybot_common/checks.h"
+#include "mybot_common/node_main.h"
 #include "mybot_common/params.h"
 
 #include <ros/ros.h>
@@ -553,10 +554,14 @@ private:
 
 int main(int argc, char** argv)
 {
-  ros::init(argc, argv, "gazebo_lite");
-  mybot_gazebo_lite::SimNode node;
-  if (!node.init())
-    return 1;
-  node.run();
-  return 0;
+  bool loaded = true;  // init() has named what it refused (world, model, plugin, parameter)
+  const int rc = mybot_common::runNode(argc, argv, "gazebo_lite",
+                                       [&]
+                                       {
+                                         mybot_gazebo_lite::SimNode node;
+                                         loaded = node.init();
+                                         if (loaded)
+                                           node.run();
+                                       });
+  return loaded ? rc : 1;
 }

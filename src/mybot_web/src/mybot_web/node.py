@@ -24,7 +24,7 @@ from nav_msgs.msg import OccupancyGrid, Path
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Bool, Float32, Float64
 
-from mybot_navigation.action_client import SimpleActionClient
+from mybot_move_base.action_client import SimpleActionClient
 
 from . import config as web_config
 from . import hosts, views

@@ -1,0 +1,122 @@
+// AMCL's odometry motion models and likelihood-field laser model, with amcl's parameter names,
+// defaults and formulas (Thrun et al., Probabilistic Robotics, ch. 5 and 6). No ROS types.
+#pragma once
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "mybot_nav_common/grid_map.h"
+
+namespace mybot_navigation
+{
+
+using Rng = std::mt19937;
+
+// amcl's `odom_model_type`: "diff" and "omni" keep amcl's historical noise scaling (variance
+// passed where a standard deviation belongs); the "-corrected" variants fix it.
+enum class OdomModelType
+{
+  Diff,
+  Omni,
+  DiffCorrected,
+  OmniCorrected
+};
+
+// False for an unknown name.
+bool parseOdomModelType(const std::string& name, OdomModelType& type);
+
+struct MotionNoise
+{
+  double alpha1 = 0.2;  // rotation noise from rotation
+  double alpha2 = 0.2;  // rotation noise from translation
+  double alpha3 = 0.2;  // translation noise from translation
+  double alpha4 = 0.2;  // translation noise from rotation
+  double alpha5 = 0.2;  // strafe noise from translation (omni only)
+};
+
+class MotionModel
+{
+public:
+  MotionModel(OdomModelType type = OdomModelType::DiffCorrected, const MotionNoise& noise = MotionNoise())
+      : type_(type), noise_(noise)
+  {
+  }
+
+  // Moves every pose by the odometry motion odom_old -> odom_new with sampled noise.
+  void apply(const Pose2D& odom_old, const Pose2D& odom_new, std::vector<Pose2D*>& poses, Rng& rng) const;
+  // Convenience for one pose.
+  Pose2D sample(const Pose2D& pose, const Pose2D& odom_old, const Pose2D& odom_new, Rng& rng) const;
+
+  OdomModelType type() const { return type_; }
+  const MotionNoise& noise() const { return noise_; }
+
+private:
+  OdomModelType type_;
+  MotionNoise noise_;
+};
+
+// amcl's laser_* parameters for the likelihood field model.
+struct LaserModelParams
+{
+  int max_beams = 30;                // laser_max_beams
+  double z_hit = 0.95;               // laser_z_hit
+  double z_rand = 0.05;              // laser_z_rand
+  double sigma_hit = 0.2;            // laser_sigma_hit, m
+  double likelihood_max_dist = 2.0;  // laser_likelihood_max_dist, m
+  int occupied_threshold = 65;       // map value counted as an obstacle (map_server's 0.65)
+};
+
+// One laser reading in the base frame: range and bearing relative to the sensor.
+struct LaserReading
+{
+  double range;
+  double bearing;
+};
+
+struct LaserScanData
+{
+  Pose2D sensor_in_base;               // 2D pose of the laser in the robot's base frame
+  double range_max = 30.0;             // readings >= this are skipped (no return)
+  std::vector<LaserReading> readings;  // all beams, in order; the model subsamples max_beams
+};
+
+// Likelihood field (amcl's LikelihoodFieldModel): p = 1 + sum over beams of
+// (z_hit * exp(-d^2 / 2 sigma_hit^2) + z_rand / range_max)^3, d = distance from the beam end
+// point to the nearest obstacle (capped at likelihood_max_dist; off-map end points use the cap).
+class LikelihoodField
+{
+public:
+  explicit LikelihoodField(const LaserModelParams& params = LaserModelParams()) : params_(params) {}
+
+  void setMap(const GridMap& map);
+  bool hasMap() const { return !gauss_.empty(); }
+  const LaserModelParams& params() const { return params_; }
+
+  // Distance (m) from a map-frame point to the nearest obstacle, capped.
+  double distance(double x, double y) const;
+  // amcl's (unnormalised) weight factor of one robot pose for the scan.
+  double weight(const Pose2D& robot, const LaserScanData& scan) const;
+  // The weight of a pose that explains every beam the model uses (all end points on obstacles).
+  double maxWeight(const LaserScanData& scan) const;
+  // The same, counting only the beams whose end points, seen from `robot`, fall on cells the
+  // map knows (free or occupied; at least a quarter of the beams). A beam that ends in unknown
+  // space, such as a shelf face SLAM never saw, says nothing about whether `robot` is right.
+  double maxWeightSeenFrom(const Pose2D& robot, const LaserScanData& scan) const;
+  // Indices of the beams the model uses (amcl's integer step).
+  std::vector<size_t> beamIndices(size_t count) const;
+
+private:
+  // The map cell index of a beam's end point (sensor pose relative to the map origin), -1 off the map.
+  long endCell(const Pose2D& sensor, double inv_res, const LaserReading& r) const;
+
+  LaserModelParams params_;
+  MapInfo info_;
+  Pose2D inverse_origin_;
+  std::vector<float> dist_;     // capped distance per cell
+  std::vector<float> gauss_;    // exp(-d^2 / 2 sigma^2) per cell
+  std::vector<uint8_t> known_;  // 1 where the map is not unknown
+  float gauss_off_map_ = 0.0f;
+};
+
+}  // namespace mybot_navigation

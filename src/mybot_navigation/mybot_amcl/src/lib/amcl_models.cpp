@@ -1,0 +1,241 @@
+#include "mybot_amcl/amcl_models.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mybot_nav_common/costmap_distance.h"
+
+namespace mybot_navigation
+{
+
+bool parseOdomModelType(const std::string& name, OdomModelType& type)
+{
+  if (name == "diff")
+    type = OdomModelType::Diff;
+  else if (name == "omni")
+    type = OdomModelType::Omni;
+  else if (name == "diff-corrected")
+    type = OdomModelType::DiffCorrected;
+  else if (name == "omni-corrected")
+    type = OdomModelType::OmniCorrected;
+  else
+    return false;
+  return true;
+}
+
+namespace
+{
+
+double angleDiff(double a, double b)
+{
+  return wrapAngle(a - b);
+}
+
+double gaussian(Rng& rng, double sd)
+{
+  if (!(sd > 0.0))
+    return 0.0;
+  return std::normal_distribution<double>(0.0, sd)(rng);
+}
+
+}  // namespace
+
+void MotionModel::apply(const Pose2D& odom_old, const Pose2D& odom_new, std::vector<Pose2D*>& poses, Rng& rng) const
+{
+  const double dx = odom_new.x - odom_old.x, dy = odom_new.y - odom_old.y;
+  const double dtheta = angleDiff(odom_new.theta, odom_old.theta);
+  const MotionNoise& a = noise_;
+  const bool corrected = type_ == OdomModelType::DiffCorrected || type_ == OdomModelType::OmniCorrected;
+  // amcl's uncorrected models pass the variance expression as the standard deviation.
+  auto sd = [corrected](double variance) { return corrected ? std::sqrt(std::max(0.0, variance)) : variance; };
+
+  if (type_ == OdomModelType::Diff || type_ == OdomModelType::DiffCorrected)
+  {
+    const double trans = std::hypot(dx, dy);
+    // Rotation before a (near) pure spin is meaningless: amcl's 1 cm threshold.
+    const double rot1 = trans < 0.01 ? 0.0 : angleDiff(std::atan2(dy, dx), odom_old.theta);
+    const double rot2 = angleDiff(dtheta, rot1);
+    // Driving backwards is not a half turn: take the smaller of forward/backward rotation.
+    const double rot1_noise = std::min(std::abs(angleDiff(rot1, 0.0)), std::abs(angleDiff(rot1, M_PI)));
+    const double rot2_noise = std::min(std::abs(angleDiff(rot2, 0.0)), std::abs(angleDiff(rot2, M_PI)));
+    const double sd_rot1 = sd(a.alpha1 * rot1_noise * rot1_noise + a.alpha2 * trans * trans);
+    const double sd_trans =
+        sd(a.alpha3 * trans * trans + a.alpha4 * rot1_noise * rot1_noise + a.alpha4 * rot2_noise * rot2_noise);
+    const double sd_rot2 = sd(a.alpha1 * rot2_noise * rot2_noise + a.alpha2 * trans * trans);
+    for (Pose2D* p : poses)
+    {
+      const double rot1_hat = angleDiff(rot1, gaussian(rng, sd_rot1));
+      const double trans_hat = trans - gaussian(rng, sd_trans);
+      const double rot2_hat = angleDiff(rot2, gaussian(rng, sd_rot2));
+      p->x += trans_hat * std::cos(p->theta + rot1_hat);
+      p->y += trans_hat * std::sin(p->theta + rot1_hat);
+      p->theta = wrapAngle(p->theta + rot1_hat + rot2_hat);
+    }
+    return;
+  }
+
+  const double trans = std::hypot(dx, dy), rot = dtheta;
+  double sd_trans, sd_rot, sd_strafe;
+  if (corrected)
+  {
+    sd_trans = std::sqrt(a.alpha3 * trans * trans + a.alpha1 * rot * rot);
+    sd_rot = std::sqrt(a.alpha4 * trans * trans + a.alpha2 * rot * rot);
+    sd_strafe = std::sqrt(a.alpha1 * rot * rot + a.alpha5 * trans * trans);
+  }
+  else
+  {
+    sd_trans = a.alpha3 * trans + a.alpha1 * std::abs(rot);
+    sd_rot = a.alpha4 * std::abs(rot) + a.alpha2 * trans;
+    sd_strafe = a.alpha1 * std::abs(rot) + a.alpha5 * trans;
+  }
+  const double bearing_in_odom = trans > 0.0 ? angleDiff(std::atan2(dy, dx), odom_old.theta) : 0.0;
+  for (Pose2D* p : poses)
+  {
+    const double bearing = bearing_in_odom + p->theta;
+    const double c = std::cos(bearing), s = std::sin(bearing);
+    const double trans_hat = trans + gaussian(rng, sd_trans);
+    const double rot_hat = rot + gaussian(rng, sd_rot);
+    const double strafe_hat = gaussian(rng, sd_strafe);
+    p->x += trans_hat * c + strafe_hat * s;
+    p->y += trans_hat * s - strafe_hat * c;
+    p->theta = wrapAngle(p->theta + rot_hat);
+  }
+}
+
+Pose2D MotionModel::sample(const Pose2D& pose, const Pose2D& odom_old, const Pose2D& odom_new, Rng& rng) const
+{
+  Pose2D p = pose;
+  std::vector<Pose2D*> one{&p};
+  apply(odom_old, odom_new, one, rng);
+  return p;
+}
+
+void LikelihoodField::setMap(const GridMap& map)
+{
+  info_ = map.info;
+  inverse_origin_ = inverse(map.info.origin);
+  const size_t n = map.data.size();
+  std::vector<uint8_t> seed(n);
+  known_.resize(n);
+  for (size_t i = 0; i < n; ++i)
+  {
+    seed[i] = map.data[i] >= params_.occupied_threshold ? 1 : 0;
+    known_[i] = map.data[i] != GridMap::kUnknown ? 1 : 0;
+  }
+  dist_ = distanceTransform(seed, info_.width, info_.height);
+  // Inside obstacles use the depth below the surface: amcl's field is 0 everywhere inside, so
+  // with solid (thick) obstacles end points may sink into walls unpunished, which biases the
+  // pose towards them.
+  std::vector<uint8_t> outside(n);
+  for (size_t i = 0; i < n; ++i)
+    outside[i] = !seed[i];
+  const std::vector<float> depth = distanceTransform(outside, info_.width, info_.height);
+  gauss_.resize(n);
+  const double max_d = params_.likelihood_max_dist;
+  const double denom = 2.0 * params_.sigma_hit * params_.sigma_hit;
+  for (size_t i = 0; i < n; ++i)
+  {
+    // Centre-to-centre distance minus half a cell approximates the distance to the obstacle's
+    // surface (amcl's plain cell distance biases poses by half a cell).
+    const double centres = static_cast<double>(seed[i] ? depth[i] : dist_[i]) * info_.resolution;
+    const double d = std::min(std::max(0.0, centres - 0.5 * info_.resolution), max_d);
+    dist_[i] = static_cast<float>(d);
+    gauss_[i] = static_cast<float>(std::exp(-d * d / denom));
+  }
+  gauss_off_map_ = static_cast<float>(std::exp(-max_d * max_d / denom));
+}
+
+double LikelihoodField::distance(double x, double y) const
+{
+  const Point2D local = transformPoint(inverse_origin_, {x, y});
+  const int cx = static_cast<int>(std::floor(local.x / info_.resolution));
+  const int cy = static_cast<int>(std::floor(local.y / info_.resolution));
+  if (cx < 0 || cy < 0 || cx >= info_.width || cy >= info_.height)
+    return params_.likelihood_max_dist;
+  return dist_[static_cast<size_t>(cy) * info_.width + cx];
+}
+
+namespace
+{
+// amcl: step = (range_count - 1) / (max_beams - 1), integer division, at least 1.
+size_t beamStep(size_t count, int max_beams)
+{
+  const size_t step = max_beams > 1 ? (count - 1) / static_cast<size_t>(max_beams - 1) : count;
+  return std::max<size_t>(step, 1);
+}
+}  // namespace
+
+std::vector<size_t> LikelihoodField::beamIndices(size_t count) const
+{
+  std::vector<size_t> out;
+  if (count == 0)
+    return out;
+  const size_t step = beamStep(count, params_.max_beams);
+  for (size_t i = 0; i < count; i += step)
+    out.push_back(i);
+  return out;
+}
+
+double LikelihoodField::maxWeight(const LaserScanData& scan) const
+{
+  const double pz = params_.z_hit + params_.z_rand / scan.range_max;
+  double p = 1.0;
+  for (size_t i : beamIndices(scan.readings.size()))  // the beams weight() uses
+    if (scan.readings[i].range < scan.range_max)
+      p += pz * pz * pz;
+  return p;
+}
+
+long LikelihoodField::endCell(const Pose2D& sensor, double inv_res, const LaserReading& r) const
+{
+  const double a = sensor.theta + r.bearing;
+  const int cx = static_cast<int>(std::floor((sensor.x + r.range * std::cos(a)) * inv_res));
+  const int cy = static_cast<int>(std::floor((sensor.y + r.range * std::sin(a)) * inv_res));
+  if (cx < 0 || cy < 0 || cx >= info_.width || cy >= info_.height)
+    return -1;
+  return static_cast<long>(cy) * info_.width + cx;
+}
+
+double LikelihoodField::maxWeightSeenFrom(const Pose2D& robot, const LaserScanData& scan) const
+{
+  const Pose2D s = compose(inverse_origin_, compose(robot, scan.sensor_in_base));
+  const double inv_res = 1.0 / info_.resolution;
+  const double pz = params_.z_hit + params_.z_rand / scan.range_max;
+  int used = 0, known = 0;
+  for (size_t i : beamIndices(scan.readings.size()))
+  {
+    const LaserReading& r = scan.readings[i];
+    if (!(r.range < scan.range_max))
+      continue;
+    ++used;
+    const long cell = endCell(s, inv_res, r);
+    if (cell >= 0 && known_[static_cast<size_t>(cell)])
+      ++known;
+  }
+  return 1.0 + std::max(known, (used + 3) / 4) * pz * pz * pz;
+}
+
+double LikelihoodField::weight(const Pose2D& robot, const LaserScanData& scan) const
+{
+  const Pose2D sensor = compose(robot, scan.sensor_in_base);
+  // Work in map-cell coordinates so the inner loop is a multiply-add and a lookup.
+  const Pose2D s = compose(inverse_origin_, sensor);
+  const double inv_res = 1.0 / info_.resolution;
+  const double z_rand_term = params_.z_rand / scan.range_max;
+  double p = 1.0;
+  const size_t count = scan.readings.size();
+  const size_t step = beamStep(count, params_.max_beams);
+  for (size_t i = 0; i < count; i += step)
+  {
+    const LaserReading& r = scan.readings[i];
+    if (!(r.range < scan.range_max))  // also skips NaN
+      continue;
+    const long cell = endCell(s, inv_res, r);
+    const float g = cell < 0 ? gauss_off_map_ : gauss_[static_cast<size_t>(cell)];
+    const double pz = params_.z_hit * g + z_rand_term;
+    p += pz * pz * pz;
+  }
+  return p;
+}
+
+}  // namespace mybot_navigation

@@ -1,0 +1,384 @@
+// Particle filter (KLD resampling, clustering, recovery) and AMCL end to end on synthetic drives.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "mybot_amcl/amcl.h"
+#include "mybot_nav_common/ray_cast.h"
+#include "synthetic_world.h"
+
+using namespace mybot_navigation;
+
+namespace
+{
+
+LaserScanData toScan(const std::vector<float>& ranges, const LaserSpec& laser)
+{
+  LaserScanData s;
+  s.range_max = laser.range_max;
+  for (size_t i = 0; i < ranges.size(); ++i)
+    s.readings.push_back(
+        {std::isfinite(ranges[i]) ? ranges[i] : laser.range_max, laser.angle_min + laser.angleIncrement() * i});
+  return s;
+}
+
+double poseError(const Pose2D& a, const Pose2D& b)
+{
+  return std::hypot(a.x - b.x, a.y - b.y);
+}
+
+AmclParams trackingParams(const Pose2D& start)
+{
+  AmclParams p;
+  p.odom_model = OdomModelType::DiffCorrected;
+  p.odom_noise = {0.05, 0.05, 0.05, 0.05, 0.05};
+  p.filter.min_particles = 200;
+  p.filter.max_particles = 2000;
+  p.update_min_d = 0.1;
+  p.update_min_a = 0.2;
+  p.laser.max_beams = 60;
+  p.laser.sigma_hit = 0.1;
+  p.initial_pose = start;
+  p.initial_cov_xx = p.initial_cov_yy = 0.1 * 0.1;
+  p.initial_cov_aa = 0.1 * 0.1;
+  p.seed = 42;
+  return p;
+}
+
+const std::vector<Point2D> kOfficeLoop{{1.5, 1.5}, {5.0, 1.0}, {5.0, 4.2}, {8.0, 4.2},
+                                       {8.0, 6.5}, {4.0, 6.0}, {3.0, 4.0}, {1.5, 1.5}};
+
+}  // namespace
+
+TEST(ParticleFilter, KldLimitFollowsAmclFormula)
+{
+  FilterParams fp;  // kld_err 0.01, kld_z 0.99, 100..5000
+  ParticleFilter pf(fp);
+  EXPECT_EQ(pf.resampleLimit(1), 5000);  // one bin: amcl returns max
+  EXPECT_EQ(pf.resampleLimit(2), 100);   // 97 clamped to min_particles
+  EXPECT_EQ(pf.resampleLimit(10), 651);  // ceil(9 / 0.02 * (1 - 2/81 + 0.99 sqrt(2/81))^3)
+  EXPECT_EQ(pf.resampleLimit(1000), 5000);
+  for (int k = 3; k < 60; ++k)
+    EXPECT_LE(pf.resampleLimit(k - 1), pf.resampleLimit(k));
+}
+
+TEST(ParticleFilter, ResampleSizeAdaptsToSpread)
+{
+  FilterParams fp;
+  fp.min_particles = 100;
+  fp.max_particles = 5000;
+  ParticleFilter pf(fp, 3);
+  // Centred in an x/y bin, straddling two heading bins: k = 2 -> min_particles (amcl gives
+  // max_particles for k = 1).
+  pf.initGaussian({1.25, 1.25, 0}, 0.01 * 0.01, 0.01 * 0.01, 0.01 * 0.01);
+  pf.resample(nullptr);
+  EXPECT_LE(pf.particles().size(), 110u);
+  EXPECT_GE(pf.particles().size(), 100u);
+
+  pf.initGaussian({1, 1, 0}, 5.0 * 5.0, 5.0 * 5.0, 3.0);
+  pf.resample(nullptr);
+  EXPECT_GT(pf.particles().size(), 3000u);  // spread over many bins
+}
+
+TEST(ParticleFilter, EstimatePicksHeaviestClusterAndWrapsHeading)
+{
+  ParticleFilter pf(FilterParams(), 1);
+  auto& ps = pf.particles();
+  for (int i = 0; i < 100; ++i)
+  {
+    const double a = (i % 2 ? 1 : -1) * (M_PI - 0.01 * (i % 5));
+    ps.push_back({{2.0 + 0.001 * (i % 7), 3.0, a}, 0.007});  // heavy cluster around heading pi
+    ps.push_back({{-4.0, 8.0, 0.0}, 0.003});                 // light cluster elsewhere
+  }
+  const PoseEstimate e = pf.estimate();
+  EXPECT_EQ(e.clusters, 2);
+  EXPECT_NEAR(e.mean.x, 2.003, 0.01);
+  EXPECT_NEAR(e.mean.y, 3.0, 1e-9);
+  EXPECT_NEAR(std::abs(e.mean.theta), M_PI, 0.03);
+  EXPECT_NEAR(e.weight, 0.7, 1e-9);
+  EXPECT_GT(e.cov[0], 1.0);  // the whole set is spread between both clusters
+}
+
+TEST(ParticleFilter, RecoveryAveragesTrackTheFitAndTriggerOnlyWhenLost)
+{
+  FilterParams fp;
+  fp.alpha_slow = 0.001;
+  fp.alpha_fast = 0.1;
+  fp.max_particles = 2000;
+  ParticleFilter pf(fp, 1);
+  pf.initGaussian({0, 0, 0}, 1, 1, 1);
+  const auto constant = [](double l) { return [l](const Pose2D&) { return l; }; };
+  int random = 0;
+  const ParticleFilter::PoseGenerator far = [&random](Rng&)
+  {
+    ++random;
+    return Pose2D{100, 100, 0};
+  };
+  // The fit is the posterior's likelihood between floor and ceiling: 10 of 0..20 is 0.5,
+  // whatever the particle count.
+  ASSERT_TRUE(pf.correct(constant(10.0), 0.0, 20.0));
+  EXPECT_NEAR(pf.wSlow(), 0.5, 1e-12);
+  EXPECT_NEAR(pf.wFast(), 0.5, 1e-12);
+  // A better fit raises w_slow at alpha_fast (it learns the localized level quickly).
+  pf.correct(constant(16.0), 0.0, 20.0);
+  EXPECT_NEAR(pf.wSlow(), 0.5 + 0.1 * 0.3, 1e-12);
+  // A dip that stays above recovery_trigger_ratio adds no random particles.
+  for (int i = 0; i < 3; ++i)
+    pf.correct(constant(8.0), 0.0, 20.0);
+  EXPECT_LT(pf.wFast(), pf.wSlow());
+  EXPECT_GT(pf.wFast(), fp.recovery_trigger_ratio * pf.wSlow());
+  pf.resample(far);
+  EXPECT_EQ(random, 0);
+  // Lost: the fit collapses and stays low; random particles keep coming (no reset).
+  for (int i = 0; i < 15; ++i)
+    pf.correct(constant(0.2), 0.0, 20.0);
+  ASSERT_LT(pf.wFast(), fp.recovery_trigger_ratio * pf.wSlow());
+  const double w_slow = pf.wSlow();
+  pf.resample(far);
+  EXPECT_GT(random, 0);
+  EXPECT_EQ(pf.wSlow(), w_slow);
+  const int first = random;
+  pf.correct(constant(0.2), 0.0, 20.0);
+  pf.resample(far);
+  EXPECT_GT(random, first);
+  EXPECT_TRUE(pf.lost());
+  // Found again: the fit climbs back; between the trigger and the release ratio the search
+  // goes on, and it stops once past recovery_release_ratio.
+  bool searched_between = false;
+  for (int i = 0; i < 100 && pf.lost(); ++i)
+  {
+    pf.correct(constant(16.0), 0.0, 20.0);
+    const double ratio = pf.wFast() / pf.wSlow();
+    const int before = random;
+    pf.resample(far);
+    if (ratio > fp.recovery_trigger_ratio && ratio < fp.recovery_release_ratio)
+      searched_between = searched_between || random > before;
+  }
+  EXPECT_TRUE(searched_between);
+  EXPECT_FALSE(pf.lost());
+  const int found = random;
+  pf.correct(constant(16.0), 0.0, 20.0);
+  pf.resample(far);
+  EXPECT_EQ(random, found);
+  EXPECT_FALSE(pf.correct(constant(0.0), 0.0, 20.0));  // all weights vanished
+}
+
+TEST(Amcl, ValidateNamesTheBadParameter)
+{
+  AmclParams p;
+  EXPECT_EQ(validate(p), "");
+  p.filter.max_particles = 10;
+  EXPECT_NE(validate(p).find("max_particles"), std::string::npos);
+  p = AmclParams();
+  p.filter.recovery_trigger_ratio = 0.0;
+  EXPECT_NE(validate(p).find("recovery_trigger_ratio"), std::string::npos);
+  p = AmclParams();
+  p.resample_interval = 0;
+  EXPECT_NE(validate(p).find("resample_interval"), std::string::npos);
+  p = AmclParams();
+  p.laser.sigma_hit = 0;
+  EXPECT_NE(validate(p).find("laser_sigma_hit"), std::string::npos);
+}
+
+TEST(Amcl, UpdatesOnlyAfterEnoughMotionOrWhenRequested)
+{
+  const GridMap world = officeWorld(0.05);
+  const LaserSpec laser;
+  AmclParams p = trackingParams({3.0, 3.0, 0.0});
+  Amcl amcl(p);
+  amcl.setMap(world);
+  const LaserScanData scan = toScan(
+      simulateScan(world, {3, 3, 0}, laser.angle_min, laser.angleIncrement(), laser.beams, laser.range_max), laser);
+  EXPECT_TRUE(amcl.processScan({0, 0, 0}, scan));      // first scan always updates
+  EXPECT_FALSE(amcl.processScan({0.05, 0, 0}, scan));  // below update_min_d
+  EXPECT_FALSE(amcl.processScan({0.05, 0.05, 0.1}, scan));
+  amcl.requestNoMotionUpdate();
+  EXPECT_TRUE(amcl.processScan({0.05, 0.05, 0.1}, scan));
+  EXPECT_TRUE(amcl.processScan({0.05, 0.05, 0.35}, scan));  // rotation beyond update_min_a
+  EXPECT_EQ(amcl.updates(), 3);
+  EXPECT_EQ(amcl.resamples(), 1);  // resample_interval 2
+}
+
+TEST(Amcl, TracksANoisyOdometryLoopWithinFiveCentimetres)
+{
+  const GridMap world = officeWorld(0.02);
+  const GridMap map = officeWorld(0.05);
+  LaserSpec laser;
+  OdometryNoise noise;
+  noise.alpha_trans = 0.05;
+  noise.alpha_rot = 0.05;
+  noise.drift_rot = 0.02;
+  DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 9);
+  DriveSample s;
+  ASSERT_TRUE(drive.next(s));
+  Amcl amcl(trackingParams(s.truth));
+  amcl.setMap(map);
+  double sq = 0, sq_a = 0, odom_sq = 0;
+  int n = 0;
+  do
+  {
+    if (!amcl.processScan(s.odom, toScan(s.ranges, laser)))
+      continue;
+    const Pose2D est = compose(amcl.mapToOdom(), s.odom);
+    sq += std::pow(poseError(est, s.truth), 2);
+    sq_a += std::pow(wrapAngle(est.theta - s.truth.theta), 2);
+    odom_sq += std::pow(poseError(s.odom, s.truth), 2);
+    ++n;
+  } while (drive.next(s));
+  ASSERT_GT(n, 50);
+  const double rms = std::sqrt(sq / n), rms_a = std::sqrt(sq_a / n);
+  RecordProperty("rms_m", std::to_string(rms));
+  EXPECT_LT(rms, 0.05);
+  EXPECT_LT(rms_a, 2.0 * M_PI / 180.0);
+  EXPECT_LT(rms, 0.5 * std::sqrt(odom_sq / n));  // localization beats dead reckoning
+}
+
+TEST(Amcl, GlobalLocalizationConverges)
+{
+  const GridMap world = officeWorld(0.02);
+  const GridMap map = officeWorld(0.05);
+  LaserSpec laser;
+  DriveSimulator drive(world, kOfficeLoop, laser, OdometryNoise(), 0.5, 1.0, 4);
+  AmclParams p = trackingParams({});
+  p.filter.max_particles = 5000;
+  p.filter.min_particles = 300;
+  p.laser.sigma_hit = 0.2;
+  Amcl amcl(p);
+  amcl.setMap(map);
+  amcl.globalLocalization();
+  DriveSample s;
+  double err = 1e9;
+  while (drive.next(s))
+    if (amcl.processScan(s.odom, toScan(s.ranges, laser)))
+      err = poseError(compose(amcl.mapToOdom(), s.odom), s.truth);
+  EXPECT_LT(err, 0.1);
+}
+
+TEST(Amcl, RecoversFromKidnapping)
+{
+  const GridMap world = officeWorld(0.02);
+  const GridMap map = officeWorld(0.05);
+  LaserSpec laser;
+  // Track along the first drive, then carry the robot to the other room: the second drive's
+  // scans arrive with odometry that continues smoothly from the first.
+  DriveSimulator before(world, {{1.5, 1.5}, {5.0, 1.0}, {5.0, 3.0}}, laser, OdometryNoise(), 0.5, 1.0, 4);
+  DriveSimulator after(world,
+                       {{9.0, 5.5},
+                        {10.0, 3.0},
+                        {8.0, 1.0},
+                        {7.0, 3.0},
+                        {8.0, 6.0},
+                        {9.5, 6.5},
+                        {10.0, 3.0},
+                        {8.0, 1.0},
+                        {7.0, 3.0},
+                        {8.0, 6.0}},
+                       laser, OdometryNoise(), 0.5, 1.0, 5);
+  DriveSample s;
+  ASSERT_TRUE(before.next(s));
+  AmclParams p = trackingParams(s.truth);
+  p.filter.alpha_slow = 0.001;
+  p.filter.alpha_fast = 0.1;
+  p.filter.max_particles = 5000;
+  p.laser.sigma_hit = 0.2;
+  Amcl amcl(p);
+  amcl.setMap(map);
+  double err = 1e9;
+  Pose2D odom_end;
+  do
+  {
+    if (amcl.processScan(s.odom, toScan(s.ranges, laser)))
+      err = poseError(compose(amcl.mapToOdom(), s.odom), s.truth);
+    odom_end = s.odom;
+  } while (before.next(s));
+  ASSERT_LT(err, 0.1);
+  ASSERT_TRUE(after.next(s));
+  const Pose2D after_start = s.odom;
+  bool lost = false;
+  do
+  {
+    const Pose2D odom = compose(odom_end, between(after_start, s.odom));
+    if (amcl.processScan(odom, toScan(s.ranges, laser)))
+    {
+      err = poseError(compose(amcl.mapToOdom(), odom), s.truth);
+      lost = lost || err > 1.0;
+    }
+  } while (after.next(s));
+  EXPECT_TRUE(lost);
+  EXPECT_LT(err, 0.15);
+}
+
+namespace
+{
+// Tracks the office loop in a world with furniture the map lacks: `unseen` is filled into the
+// map's copy as unknown (as SLAM leaves what it never saw) or as free (a stale map). Returns the
+// lowest w_fast / w_slow ratio after the filter settled, and whether recovery ever fired.
+struct UnseenRun
+{
+  double min_ratio = 1e9;
+  bool lost = false;
+  double max_err = 0.0;
+};
+
+UnseenRun trackPastUnmappedFurniture(int8_t unseen)
+{
+  const std::vector<Rect> extra{{3.2, 2.4, 4.2, 3.0}, {6.6, 0.5, 7.6, 1.5},   {9.5, 5.6, 10.2, 6.3},
+                                {0.2, 2.0, 0.8, 3.6}, {10.5, 0.5, 11.5, 1.6}, {1.0, 5.5, 2.0, 6.2},
+                                {4.5, 8.5, 5.5, 9.3}, {7.0, 8.6, 7.8, 9.4}};
+  const GridMap office = officeWorld(0.02);
+  GridMap world = office;
+  for (const Rect& r : extra)
+    for (double y = r.y0; y < r.y1; y += 0.01)
+      for (double x = r.x0; x < r.x1; x += 0.01)
+      {
+        int cx, cy;
+        if (world.worldToCell(x, y, cx, cy))
+          world.at(cx, cy) = GridMap::kOccupied;
+      }
+  GridMap map = officeWorld(0.05);
+  for (const Rect& r : extra)  // the furniture and a 0.2 m band around it
+    for (double y = r.y0 - 0.2; y < r.y1 + 0.2; y += 0.025)
+      for (double x = r.x0 - 0.2; x < r.x1 + 0.2; x += 0.025)
+      {
+        int cx, cy;
+        if (map.worldToCell(x, y, cx, cy) && map.at(cx, cy) != GridMap::kOccupied)
+          map.at(cx, cy) = unseen;
+      }
+  LaserSpec laser;
+  OdometryNoise noise;
+  noise.alpha_trans = noise.alpha_rot = 0.05;
+  DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 9);
+  DriveSample s;
+  EXPECT_TRUE(drive.next(s));
+  AmclParams p = trackingParams(s.truth);
+  p.filter.alpha_slow = 0.001;
+  p.filter.alpha_fast = 0.1;
+  Amcl amcl(p);
+  amcl.setMap(map);
+  UnseenRun run;
+  do
+  {
+    if (!amcl.processScan(s.odom, toScan(s.ranges, laser)))
+      continue;
+    run.max_err = std::max(run.max_err, poseError(compose(amcl.mapToOdom(), s.odom), s.truth));
+    if (amcl.updates() > 10)
+      run.min_ratio = std::min(run.min_ratio, amcl.filter().wFast() / amcl.filter().wSlow());
+    run.lost = run.lost || amcl.filter().lost();
+  } while (drive.next(s));
+  return run;
+}
+}  // namespace
+
+TEST(Amcl, FurnitureInUnknownMapSpaceIsNoReasonToThinkItLost)
+{
+  // Beams ending where the map knows nothing do not count against the fit.
+  const UnseenRun unknown = trackPastUnmappedFurniture(GridMap::kUnknown);
+  // The same furniture on free map cells does: the map says the beams should have gone on.
+  const UnseenRun free = trackPastUnmappedFurniture(GridMap::kFree);
+  RecordProperty("min_ratio_unknown", std::to_string(unknown.min_ratio));
+  RecordProperty("min_ratio_free", std::to_string(free.min_ratio));
+  EXPECT_FALSE(unknown.lost);
+  EXPECT_LT(unknown.max_err, 0.15);
+  EXPECT_GT(unknown.min_ratio, free.min_ratio + 0.1);
+}

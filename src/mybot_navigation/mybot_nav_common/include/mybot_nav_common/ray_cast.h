@@ -1,0 +1,79 @@
+// Grid traversal (Bresenham between cells; exact for segments) and range casting against a static map.
+#pragma once
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <vector>
+
+#include "mybot_nav_common/grid_map.h"
+
+namespace mybot_navigation
+{
+
+// Visits every cell on the line from (x0,y0) to (x1,y1), both included, in order.
+// The visitor returns false to stop early.
+template <typename Visitor>
+void traceLine(int x0, int y0, int x1, int y1, Visitor&& visit)
+{
+  const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
+  const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+  int err = dx + dy;
+  while (true)
+  {
+    if (!visit(x0, y0))
+      return;
+    if (x0 == x1 && y0 == y1)
+      return;
+    const int e2 = 2 * err;
+    if (e2 >= dy)
+    {
+      err += dy;
+      x0 += sx;
+    }
+    if (e2 <= dx)
+    {
+      err += dx;
+      y0 += sy;
+    }
+  }
+}
+
+// Visits every cell a segment given in cell units (x / resolution) passes through, however little
+// of it, in order from the first end (Amanatides & Woo); traceLine's Bresenham line between the
+// end cells strays up to a cell off the true segment. The visitor returns false to stop early.
+template <class Visit>
+void traceSegment(double x0, double y0, double x1, double y1, Visit&& visit)
+{
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  int x = static_cast<int>(std::floor(x0)), y = static_cast<int>(std::floor(y0));
+  const int x_end = static_cast<int>(std::floor(x1)), y_end = static_cast<int>(std::floor(y1));
+  const double dx = x1 - x0, dy = y1 - y0;
+  const int sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
+  // Parameter t (0..1 along the segment) per cell crossed, and at the next x / y cell boundary.
+  const double t_dx = dx != 0 ? std::abs(1.0 / dx) : kInf, t_dy = dy != 0 ? std::abs(1.0 / dy) : kInf;
+  double t_x = dx > 0 ? (x + 1 - x0) * t_dx : dx < 0 ? (x0 - x) * t_dx : kInf;
+  double t_y = dy > 0 ? (y + 1 - y0) * t_dy : dy < 0 ? (y0 - y) * t_dy : kInf;
+  if (!visit(x, y))
+    return;
+  for (int steps = std::abs(x_end - x) + std::abs(y_end - y); steps > 0; --steps)
+  {
+    if (t_x < t_y)
+      t_x += t_dx, x += sx;
+    else
+      t_y += t_dy, y += sy;
+    if (!visit(x, y))
+      return;
+  }
+}
+
+// Range along a ray from a map-frame point until the first cell with value >= occupied_threshold
+// (or unknown if unknown_is_obstacle). Returns max_range if nothing is hit or the map ends.
+double castRay(const GridMap& map, double x, double y, double angle, double max_range, int occupied_threshold = 50,
+               bool unknown_is_obstacle = false);
+
+// A simulated laser scan (ranges in the sensor frame) from a pose in the map.
+std::vector<float> simulateScan(const GridMap& map, const Pose2D& sensor_pose, double angle_min, double angle_increment,
+                                int beams, double max_range);
+
+}  // namespace mybot_navigation

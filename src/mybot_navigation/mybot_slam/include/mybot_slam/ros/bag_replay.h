@@ -1,0 +1,41 @@
+// The core of slam_replay: a bag's scans and odometry through a Slam, at full speed, no roscore
+// (rosbag's C++ API). Shared by the tool and its gtest.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "mybot_slam/evaluation.h"
+#include "mybot_slam/slam.h"
+#include "mybot_slam/slam_params.h"
+
+namespace mybot_navigation
+{
+
+struct BagReplayOptions
+{
+  std::string bag, scan_topic = "/scan", odom_topic = "/odom";
+  // Odometry at a scan: "last" = the last odometry message before it in bag order (what CARMEN
+  // logs embed in each FLASER); "interpolate" = between the messages around its stamp.
+  std::string odom = "last";
+  double max_log_seconds = 0.0;  // > 0: stop after this much log from the first scan
+};
+
+struct BagReplayResult
+{
+  std::vector<StampedPose> trajectory;  // every scan, after the last optimisation, map frame
+  std::vector<StampedPose> odometry;    // every scan's odometry pose (the raw estimate)
+  std::size_t scans = 0;
+  double first_stamp = 0.0, last_stamp = 0.0;
+};
+
+// Throws std::runtime_error naming the bag. `progress(done, total)` is called per message.
+BagReplayResult replayBag(const BagReplayOptions& options, Slam& slam, const SlamRunParams& params,
+                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
+
+// slam_node's parameters from a YAML file (config/slam.yaml); node-only settings are skipped,
+// anything unknown or out of range throws naming the file and parameter.
+SlamRunParams loadSlamParams(const std::string& path);
+
+}  // namespace mybot_navigation

@@ -1,0 +1,334 @@
+#include "mybot_slam/scan_matcher.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <unordered_set>
+
+#include <Eigen/Dense>
+
+namespace mybot_navigation
+{
+
+MatchField::MatchField(const OccupancyGrid& grid, double sigma, int levels)
+    : MatchField(grid, sigma, levels, grid.minCellX(), grid.minCellY(), grid.minCellX() + grid.width() - 1,
+                 grid.minCellY() + grid.height() - 1)
+{
+}
+
+MatchField::MatchField(const OccupancyGrid& grid, double sigma, int levels, int x0, int y0, int x1, int y1)
+{
+  resolution_ = grid.resolution();
+  x0 = std::max(x0, grid.minCellX());
+  y0 = std::max(y0, grid.minCellY());
+  x1 = std::min(x1, grid.minCellX() + grid.width() - 1);
+  y1 = std::min(y1, grid.minCellY() + grid.height() - 1);
+  std::vector<std::pair<int, int>> occupied;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      if (grid.logOdds(x, y) > 0.0f)
+        occupied.emplace_back(x, y);
+  build(occupied, x0, y0, x1, y1, sigma, levels);
+}
+
+MatchField::MatchField(const GridMap& map, double sigma, int levels, int occupied_threshold)
+{
+  resolution_ = map.info.resolution;
+  const int ox = static_cast<int>(std::lround(map.info.origin.x / resolution_));
+  const int oy = static_cast<int>(std::lround(map.info.origin.y / resolution_));
+  std::vector<std::pair<int, int>> occupied;
+  for (int y = 0; y < map.info.height; ++y)
+    for (int x = 0; x < map.info.width; ++x)
+      if (map.at(x, y) >= occupied_threshold)
+        occupied.emplace_back(x + ox, y + oy);
+  build(occupied, ox, oy, ox + map.info.width - 1, oy + map.info.height - 1, sigma, levels);
+}
+
+void MatchField::build(const std::vector<std::pair<int, int>>& occupied, int bx0, int by0, int bx1, int by1,
+                       double sigma, int levels)
+{
+  levels = std::max(1, levels);
+  if (bx1 < bx0 || by1 < by0)
+    return;
+  const double s = std::max(sigma / resolution_, 0.3);  // in cells
+  const int radius = static_cast<int>(std::ceil(3.0 * s));
+  // Low-side padding so max-pooled levels cover offsets that start before the data.
+  const int pad = radius + (1 << (levels - 1));
+  min_x_ = bx0 - pad;
+  min_y_ = by0 - pad;
+  width_ = bx1 - bx0 + 1 + pad + radius;
+  height_ = by1 - by0 + 1 + pad + radius;
+  const size_t n = static_cast<size_t>(width_) * height_;
+  std::vector<uint8_t> base(n, 0);
+  std::vector<uint8_t> kernel;
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx)
+      kernel.push_back(static_cast<uint8_t>(std::lround(255.0 * std::exp(-(dx * dx + dy * dy) / (2.0 * s * s)))));
+  const int kw = 2 * radius + 1;
+  for (const auto& c : occupied)
+  {
+    const int cx = c.first - min_x_, cy = c.second - min_y_;
+    for (int dy = -radius; dy <= radius; ++dy)
+    {
+      uint8_t* row = &base[static_cast<size_t>(cy + dy) * width_];
+      const uint8_t* krow = &kernel[static_cast<size_t>(dy + radius) * kw];
+      for (int dx = -radius; dx <= radius; ++dx)
+        row[cx + dx] = std::max(row[cx + dx], krow[dx + radius]);
+    }
+  }
+  levels_.clear();
+  levels_.push_back(std::move(base));
+  for (int h = 1; h < levels; ++h)
+  {
+    const int half = 1 << (h - 1);
+    const std::vector<uint8_t>& prev = levels_.back();
+    std::vector<uint8_t> next(n, 0);
+    for (int y = 0; y < height_; ++y)
+      for (int x = 0; x < width_; ++x)
+      {
+        uint8_t m = prev[static_cast<size_t>(y) * width_ + x];
+        if (x + half < width_)
+          m = std::max(m, prev[static_cast<size_t>(y) * width_ + x + half]);
+        if (y + half < height_)
+        {
+          m = std::max(m, prev[static_cast<size_t>(y + half) * width_ + x]);
+          if (x + half < width_)
+            m = std::max(m, prev[static_cast<size_t>(y + half) * width_ + x + half]);
+        }
+        next[static_cast<size_t>(y) * width_ + x] = m;
+      }
+    levels_.push_back(std::move(next));
+  }
+}
+
+double MatchField::interpolate(double wx, double wy, double* dfdx, double* dfdy) const
+{
+  // Cell centres sit at (i + 0.5) * res.
+  const double u = wx / resolution_ - 0.5, v = wy / resolution_ - 0.5;
+  const int i = static_cast<int>(std::floor(u)), j = static_cast<int>(std::floor(v));
+  const double fx = u - i, fy = v - j;
+  const double v00 = value(0, i, j), v10 = value(0, i + 1, j), v01 = value(0, i, j + 1), v11 = value(0, i + 1, j + 1);
+  if (dfdx)
+    *dfdx = ((v10 - v00) * (1 - fy) + (v11 - v01) * fy) / resolution_;
+  if (dfdy)
+    *dfdy = ((v01 - v00) * (1 - fx) + (v11 - v10) * fx) / resolution_;
+  return (v00 * (1 - fx) + v10 * fx) * (1 - fy) + (v01 * (1 - fx) + v11 * fx) * fy;
+}
+
+std::vector<Point2D> voxelFilter(const std::vector<Point2D>& points, double cell)
+{
+  std::vector<Point2D> out;
+  std::unordered_set<int64_t> seen;
+  out.reserve(points.size());
+  for (const Point2D& p : points)
+  {
+    const int64_t key = (static_cast<int64_t>(std::floor(p.x / cell)) << 32) ^
+                        (static_cast<int64_t>(std::floor(p.y / cell)) & 0xffffffffLL);
+    if (seen.insert(key).second)
+      out.push_back(p);
+  }
+  return out;
+}
+
+double scorePose(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& pose)
+{
+  if (points.empty() || field.empty())
+    return 0.0;
+  const double res = field.resolution();
+  double sum = 0.0;
+  for (const Point2D& p : points)
+  {
+    const Point2D w = transformPoint(pose, p);
+    sum += field.value(0, static_cast<int>(std::floor(w.x / res)), static_cast<int>(std::floor(w.y / res)));
+  }
+  return sum / static_cast<double>(points.size());
+}
+
+namespace
+{
+struct Candidate
+{
+  int angle;
+  int dx, dy;
+  double score;
+};
+}  // namespace
+
+MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& points, const MatchRequest& request)
+{
+  MatchResult result;
+  if (points.empty() || field.empty())
+    return result;
+  const double res = field.resolution();
+  double max_range = 0.0;
+  for (const Point2D& p : points)
+    max_range = std::max(max_range, std::hypot(p.x, p.y));
+  // Angular step that moves the farthest point by about one cell (capped so far points do not
+  // make the step needlessly fine: refinement recovers the rest).
+  const double d = std::clamp(max_range, 3 * res, 15.0);
+  const double angle_step = std::acos(1.0 - res * res / (2.0 * d * d));
+  const int n_angles = static_cast<int>(std::ceil(request.angular_window / angle_step));
+  const int window = static_cast<int>(std::ceil(request.linear_window / res));
+  const int top = field.levels() - 1;
+  const int top_step = 1 << top;
+
+  // Discretised scan for each rotation, in lattice cells, at zero translation offset.
+  const int n_rot = 2 * n_angles + 1;
+  std::vector<std::vector<std::pair<int, int>>> scans(static_cast<size_t>(n_rot));
+  for (int k = 0; k < n_rot; ++k)
+  {
+    Pose2D p = request.initial;
+    p.theta = request.initial.theta + (k - n_angles) * angle_step;
+    auto& cells = scans[static_cast<size_t>(k)];
+    cells.reserve(points.size());
+    for (const Point2D& q : points)
+    {
+      const Point2D w = transformPoint(p, q);
+      cells.emplace_back(static_cast<int>(std::floor(w.x / res)), static_cast<int>(std::floor(w.y / res)));
+    }
+  }
+  const double inv_n = 1.0 / static_cast<double>(points.size());
+  // Smallest |offset| over [d, d + size - 1] cells, in metres: keeps the penalised score of a
+  // block an upper bound of its children's.
+  auto nearest = [res](int d, int size)
+  {
+    if (d <= 0 && d + size - 1 >= 0)
+      return 0.0;
+    return res * std::min(std::abs(d), std::abs(d + size - 1));
+  };
+  auto score = [&](int level, int k, int dx, int dy)
+  {
+    double s = 0.0;
+    for (const auto& c : scans[static_cast<size_t>(k)])
+      s += field.value(level, c.first + dx, c.second + dy);
+    const int size = 1 << level;
+    const double ex = nearest(dx, size), ey = nearest(dy, size), et = (k - n_angles) * angle_step;
+    return s * inv_n - request.translation_weight * (ex * ex + ey * ey) - request.rotation_weight * et * et;
+  };
+
+  std::vector<Candidate> tops;
+  for (int k = 0; k < n_rot; ++k)
+    for (int dy = -window; dy <= window; dy += top_step)
+      for (int dx = -window; dx <= window; dx += top_step)
+        tops.push_back({k, dx, dy, score(top, k, dx, dy)});
+  std::sort(tops.begin(), tops.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+
+  Candidate best{n_angles, 0, 0, request.min_score};
+  bool found = false;
+  std::function<void(const Candidate&, int)> descend = [&](const Candidate& c, int level)
+  {
+    if (c.score <= best.score)
+      return;
+    if (level == 0)
+    {
+      best = c;
+      found = true;
+      return;
+    }
+    const int half = 1 << (level - 1);
+    Candidate children[4];
+    int n = 0;
+    for (int b = 0; b < 2; ++b)
+      for (int a = 0; a < 2; ++a)
+      {
+        const int dx = c.dx + a * half, dy = c.dy + b * half;
+        if (dx > window || dy > window)
+          continue;
+        children[n++] = {c.angle, dx, dy, score(level - 1, c.angle, dx, dy)};
+      }
+    for (int i = 1; i < n; ++i)  // insertion sort, best first (n <= 4)
+      for (int j = i; j > 0 && children[j].score > children[j - 1].score; --j)
+        std::swap(children[j], children[j - 1]);
+    for (int i = 0; i < n; ++i)
+      descend(children[i], level - 1);
+  };
+  for (const Candidate& c : tops)
+  {
+    if (c.score <= best.score)
+      break;
+    descend(c, top);
+  }
+  if (!found)
+    return result;
+  Pose2D pose{request.initial.x + best.dx * res, request.initial.y + best.dy * res,
+              wrapAngle(request.initial.theta + (best.angle - n_angles) * angle_step)};
+  if (request.refine)
+  {
+    const Pose2D refined =
+        refinePose(field, points, pose, 10, res, &request.initial, request.translation_weight, request.rotation_weight);
+    if (scorePose(field, points, refined) >= scorePose(field, points, pose) * 0.98)
+      pose = refined;
+  }
+  result.ok = true;
+  result.pose = pose;
+  result.score = scorePose(field, points, pose);
+  return result;
+}
+
+double translationConstraintRatio(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& pose)
+{
+  Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
+  for (const Point2D& p : points)
+  {
+    const Point2D w = transformPoint(pose, p);
+    double fx = 0, fy = 0;
+    field.interpolate(w.x, w.y, &fx, &fy);
+    const Eigen::Vector2d g(fx, fy);
+    H += g * g.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(H);
+  const double hi = eig.eigenvalues()(1);
+  return hi > 0 ? eig.eigenvalues()(0) / hi : 0.0;
+}
+
+Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& start, int iterations,
+                  double max_step, const Pose2D* prior, double translation_weight, double rotation_weight)
+{
+  const double w = prior ? translation_weight * static_cast<double>(points.size()) : 0.0;
+  const double wr = prior ? rotation_weight * static_cast<double>(points.size()) : 0.0;
+  Pose2D pose = start;
+  for (int it = 0; it < iterations; ++it)
+  {
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    for (const Point2D& p : points)
+    {
+      const Point2D w = transformPoint(pose, p);
+      double fx = 0, fy = 0;
+      const double f = field.interpolate(w.x, w.y, &fx, &fy);
+      const double r = 1.0 - f;
+      // d(1-f)/d(x,y,theta)
+      Eigen::Vector3d J(-fx, -fy, -(fx * (-s * p.x - c * p.y) + fy * (c * p.x - s * p.y)));
+      H += J * J.transpose();
+      g += J * r;
+    }
+    if (w > 0.0)
+    {
+      H(0, 0) += w;
+      H(1, 1) += w;
+      g.x() += w * (pose.x - prior->x);
+      g.y() += w * (pose.y - prior->y);
+    }
+    if (wr > 0.0)
+    {
+      H(2, 2) += wr;
+      g.z() += wr * wrapAngle(pose.theta - prior->theta);
+    }
+    H.diagonal() += Eigen::Vector3d(1e-3, 1e-3, 1e-3) * (H.trace() / 3.0 + 1e-9);  // LM damping
+    const Eigen::Vector3d delta = -H.ldlt().solve(g);
+    if (!delta.allFinite())
+      break;
+    pose.x += delta.x();
+    pose.y += delta.y();
+    pose.theta = wrapAngle(pose.theta + delta.z());
+    if (std::hypot(pose.x - start.x, pose.y - start.y) > max_step)
+      return start;
+    if (delta.head<2>().norm() < 1e-4 && std::abs(delta.z()) < 1e-5)
+      break;
+  }
+  return pose;
+}
+
+}  // namespace mybot_navigation

@@ -1,0 +1,381 @@
+#include "mybot_slam/slam.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mybot_navigation
+{
+namespace
+{
+// Enough max-pooled levels that the coarsest block spans the search window.
+int levelsFor(double window, double resolution)
+{
+  int levels = 1;
+  while ((1 << (levels - 1)) * resolution < window && levels < 7)
+    ++levels;
+  return levels;
+}
+
+double maxRange(const std::vector<Point2D>& pts)
+{
+  double r = 0.0;
+  for (const Point2D& p : pts)
+    r = std::max(r, std::hypot(p.x, p.y));
+  return r;
+}
+
+// Information-weighted mean of a scan-match edge and an odometry increment (per component).
+Pose2D fuseIncrements(const PoseGraphEdge& match, const Pose2D& odom, double odom_sigma_xy, double odom_sigma_theta)
+{
+  const double wxy = 1.0 / (1.0 + std::pow(odom_sigma_xy / match.sigma_xy, 2));  // odometry's share
+  const double wt = 1.0 / (1.0 + std::pow(odom_sigma_theta / match.sigma_theta, 2));
+  const Pose2D& m = match.measurement;
+  return Pose2D{m.x + wxy * (odom.x - m.x), m.y + wxy * (odom.y - m.y),
+                wrapAngle(m.theta + wt * wrapAngle(odom.theta - m.theta))};
+}
+}  // namespace
+
+Slam::Slam(const SlamParams& params) : params_(params), global_(params.grid)
+{
+  local_[0].grid = OccupancyGrid(params.grid);
+  local_[1].grid = OccupancyGrid(params.grid);
+}
+
+size_t Slam::memoryBytes() const
+{
+  size_t bytes = global_.memoryBytes() + local_[0].grid.memoryBytes() + local_[1].grid.memoryBytes();
+  for (const Keyframe& k : keyframes_)
+    bytes += sizeof(Keyframe) +
+             (k.scan.hits.capacity() + k.scan.misses.capacity() + k.match_points.capacity()) * sizeof(Point2D);
+  return bytes;
+}
+
+bool Slam::wantsScan(double stamp, const Pose2D& odom) const
+{
+  if (stamp <= last_stamp_)
+    return false;
+  if (keyframes_.empty())
+    return true;
+  const Keyframe& last = keyframes_.back();
+  const Pose2D delta = between(last.odom, odom);
+  return translationNorm(delta) >= params_.linear_update || std::abs(delta.theta) >= params_.angular_update ||
+         (params_.temporal_update >= 0.0 && stamp - last.stamp >= params_.temporal_update);
+}
+
+void Slam::updateOdometry(const Pose2D& odom)
+{
+  if (!keyframes_.empty())
+    current_pose_ = compose(map_to_odom_, odom);
+}
+
+ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& scan)
+{
+  ++stats_.scans;
+  if (stamp <= last_stamp_)
+    return ScanOutcome::OutOfOrder;
+  last_stamp_ = stamp;
+
+  if (keyframes_.empty())
+  {
+    if (scan.hits.size() < 3)
+      return ScanOutcome::NoValidPoints;
+    Keyframe kf;
+    kf.stamp = stamp;
+    kf.odom = odom;
+    kf.pose = odom;  // the map frame coincides with the odometry frame at start
+    kf.scan = scan;
+    kf.match_points = voxelFilter(scan.hits, params_.match_point_spacing);
+    keyframes_.push_back(std::move(kf));
+    graph_.addNode(odom);
+    global_.insertScan(odom, scan);
+    insertIntoLocalMaps(0);
+    map_to_odom_ = Pose2D{};
+    current_pose_ = odom;
+    ++stats_.keyframes;
+    ++map_version_;
+    return ScanOutcome::Processed;
+  }
+
+  const Keyframe& last = keyframes_.back();
+  const Pose2D delta = between(last.odom, odom);
+  current_pose_ = compose(last.pose, delta);
+  const bool moved = translationNorm(delta) >= params_.linear_update ||
+                     std::abs(delta.theta) >= params_.angular_update ||
+                     (params_.temporal_update >= 0.0 && stamp - last.stamp >= params_.temporal_update);
+  if (!moved)
+    return ScanOutcome::Skipped;
+  if (scan.hits.size() < 3)
+    return ScanOutcome::NoValidPoints;
+
+  Keyframe kf;
+  kf.stamp = stamp;
+  kf.odom = odom;
+  kf.scan = scan;
+  kf.match_points = voxelFilter(scan.hits, params_.match_point_spacing);
+  kf.travelled = last.travelled + translationNorm(delta);
+  const Pose2D predicted = current_pose_;
+
+  const int source = local_[1].members.size() > local_[0].members.size() ? 1 : 0;
+  if (local_field_dirty_ || source != local_field_source_)
+  {
+    const OccupancyGrid& g = local_[source].grid;
+    const double reach = maxRange(kf.match_points) + params_.search_window_linear + 1.0;
+    local_field_ = MatchField(g, params_.match_sigma, levelsFor(params_.search_window_linear, g.resolution()),
+                              g.worldToLattice(predicted.x - reach), g.worldToLattice(predicted.y - reach),
+                              g.worldToLattice(predicted.x + reach), g.worldToLattice(predicted.y + reach));
+    local_field_source_ = source;
+    local_field_dirty_ = false;
+  }
+  MatchRequest req;
+  req.initial = predicted;
+  req.linear_window = params_.search_window_linear;
+  req.angular_window = params_.search_window_angular;
+  req.min_score = params_.min_match_score;
+  req.translation_weight = params_.match_translation_weight;
+  req.rotation_weight = params_.match_rotation_weight;
+  const MatchResult res = matchScan(local_field_, kf.match_points, req);
+  stats_.last_match_score = res.ok ? res.score : scorePose(local_field_, kf.match_points, predicted);
+  PoseGraphEdge edge;
+  edge.from = static_cast<int>(keyframes_.size()) - 1;
+  edge.sigma_xy = params_.sigma_xy;
+  edge.sigma_theta = params_.sigma_theta;
+  if (res.ok)
+  {
+    kf.pose = res.pose;
+  }
+  else
+  {
+    // Nothing reliable to match against (e.g. open space): trust odometry, loosely.
+    ++stats_.weak_matches;
+    kf.pose = predicted;
+    edge.sigma_xy *= 5.0;
+    edge.sigma_theta *= 5.0;
+  }
+  edge.measurement = between(last.pose, kf.pose);
+  const bool odom_edges = params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0;
+  if (odom_edges)
+  {
+    // Start the new node where the two edges to it agree best (the optimum of this chain link):
+    // the graph is optimised only at loop closures, and the matcher alone lets the heading creep
+    // by a fraction of a degree per keyframe towards a local map that is itself a little turned.
+    kf.pose =
+        compose(last.pose, fuseIncrements(edge, delta, params_.odom_edge_sigma_xy, params_.odom_edge_sigma_theta));
+  }
+  keyframes_.push_back(std::move(kf));
+  const int index = static_cast<int>(keyframes_.size()) - 1;
+  graph_.addNode(keyframes_.back().pose);
+  edge.to = index;
+  graph_.addEdge(edge);
+  if (odom_edges)
+  {
+    PoseGraphEdge odom_edge;
+    odom_edge.from = edge.from;
+    odom_edge.to = index;
+    odom_edge.measurement = delta;
+    odom_edge.sigma_xy = params_.odom_edge_sigma_xy;
+    odom_edge.sigma_theta = params_.odom_edge_sigma_theta;
+    graph_.addEdge(odom_edge);
+  }
+  global_.insertScan(keyframes_.back().pose, keyframes_.back().scan);
+  insertIntoLocalMaps(index);
+  ++stats_.keyframes;
+  ++map_version_;
+
+  if (params_.loop_closure && index - last_loop_attempt_ >= params_.loop_check_interval)
+    tryLoopClosure(index);
+
+  const Keyframe& now = keyframes_.back();
+  map_to_odom_ = compose(now.pose, inverse(now.odom));
+  current_pose_ = now.pose;
+  return ScanOutcome::Processed;
+}
+
+void Slam::insertIntoLocalMaps(int index)
+{
+  const int n = std::max(2, params_.local_map_scans);
+  for (int m = 0; m < 2; ++m)
+  {
+    LocalMap& lm = local_[m];
+    if (m == 1 && index < n / 2)
+      continue;  // staggered so one local map is always well populated
+    if (static_cast<int>(lm.members.size()) >= n)
+    {
+      lm.grid.clear();
+      lm.members.clear();
+    }
+    const Keyframe& k = keyframes_[static_cast<size_t>(index)];
+    lm.grid.insertScan(k.pose, k.scan);
+    lm.members.push_back(index);
+  }
+  local_field_dirty_ = true;
+}
+
+void Slam::rebuildLocalMaps()
+{
+  for (LocalMap& lm : local_)
+  {
+    lm.grid.clear();
+    for (int i : lm.members)
+      lm.grid.insertScan(keyframes_[static_cast<size_t>(i)].pose, keyframes_[static_cast<size_t>(i)].scan);
+  }
+  local_field_dirty_ = true;
+}
+
+void Slam::renderGlobalMap()
+{
+  global_.clear();
+  for (const Keyframe& k : keyframes_)
+    global_.insertScan(k.pose, k.scan);
+  ++map_version_;
+}
+
+bool Slam::tryLoopClosure(int current)
+{
+  const Keyframe& kf = keyframes_[static_cast<size_t>(current)];
+  int best = -1;
+  double best_d = params_.loop_search_radius;
+  for (int i = 0; i < current; ++i)
+  {
+    const Keyframe& k = keyframes_[static_cast<size_t>(i)];
+    if (kf.travelled - k.travelled < params_.loop_min_travel)
+      break;  // travelled grows with the index
+    const double d = std::hypot(k.pose.x - kf.pose.x, k.pose.y - kf.pose.y);
+    if (d < best_d)
+    {
+      best_d = d;
+      best = i;
+    }
+  }
+  if (best < 0)
+    return false;
+  last_loop_attempt_ = current;
+  ++stats_.loop_attempts;
+  if (held_.active && held_.attempts_left-- <= 0)
+  {
+    held_.active = false;
+    ++stats_.loop_unconfirmed;
+    stats_.last_unconfirmed = held_.record;
+  }
+
+  // Render the candidate's neighbourhood (only keyframes well separated from the current one).
+  OccupancyGrid sub(params_.grid);
+  const int lo = std::max(0, best - params_.loop_submap_scans);
+  const int hi = std::min(current - 1, best + params_.loop_submap_scans);
+  for (int j = lo; j <= hi; ++j)
+  {
+    const Keyframe& k = keyframes_[static_cast<size_t>(j)];
+    if (kf.travelled - k.travelled >= 0.5 * params_.loop_min_travel)
+      sub.insertScan(k.pose, k.scan);
+  }
+  if (sub.empty())
+    return false;
+  const MatchField field(sub, params_.match_sigma, levelsFor(params_.loop_window_linear, sub.resolution()));
+  MatchRequest req;
+  req.initial = kf.pose;
+  req.linear_window = params_.loop_window_linear;
+  req.angular_window = params_.loop_window_angular;
+  req.min_score = params_.loop_min_score;
+  const MatchResult res = matchScan(field, kf.match_points, req);
+  if (!res.ok)
+    return false;
+  // A corridor matches equally well anywhere along it: such a closure would pull the graph by
+  // an arbitrary amount in that direction.
+  const double ratio = translationConstraintRatio(field, kf.match_points, res.pose);
+  if (ratio < params_.loop_min_constraint_ratio)
+    return false;
+
+  const Keyframe& candidate = keyframes_[static_cast<size_t>(best)];
+  const Pose2D correction = between(kf.pose, res.pose);
+  const double score_at_estimate = scorePose(field, kf.match_points, kf.pose);
+  stats_.last_closure = {best, current, res.score, score_at_estimate, ratio, correction, false, ""};
+  auto reject = [this](const char* reason)
+  {
+    ++stats_.loop_rejected;
+    stats_.last_closure.reason = reason;
+    return false;
+  };
+  // A closure that merely confirms the estimate is harmless however weak. One that moves the
+  // pose must fit clearly better there than at the estimate: in a well-structured place a
+  // few centimetres off costs most of the score, while along an aisle of identical shelves
+  // (or seen from the opposite side) both poses fit about equally.
+  if (translationNorm(correction) > 2.0 * params_.grid.resolution &&
+      res.score < params_.loop_min_score_gain * score_at_estimate)
+    return reject("rejected: it fits hardly better than the current estimate (ambiguous place)");
+  const double max_correction =
+      params_.loop_max_correction + params_.loop_max_correction_per_m * (kf.travelled - candidate.travelled);
+  if (translationNorm(correction) > max_correction)
+    return reject("rejected: correction larger than the drift possible since the candidate");
+
+  PoseGraphEdge edge;
+  edge.from = best;
+  edge.to = current;
+  edge.measurement = between(candidate.pose, res.pose);
+  edge.sigma_xy = params_.loop_sigma_xy;
+  edge.sigma_theta = params_.loop_sigma_theta;
+  edge.robust = true;
+
+  std::vector<PoseGraphEdge> added;
+  const Pose2D map_correction = compose(res.pose, inverse(kf.pose));
+  if (params_.loop_confirm_correction > 0.0 && translationNorm(correction) > params_.loop_confirm_correction)
+  {
+    if (translationNorm(correction) > params_.loop_large_correction && res.score < params_.loop_min_score_large)
+      return reject("rejected: a large correction from a weak match");
+    // Both corrections applied to the current pose must land in the same place.
+    const Pose2D a = compose(map_correction, kf.pose);
+    const Pose2D b = held_.active ? compose(held_.map_correction, kf.pose) : Pose2D{};
+    if (!held_.active || std::hypot(a.x - b.x, a.y - b.y) > params_.loop_confirm_tolerance ||
+        std::abs(wrapAngle(a.theta - b.theta)) > 0.05)
+    {
+      if (held_.active)
+      {
+        ++stats_.loop_unconfirmed;
+        stats_.last_unconfirmed = held_.record;
+      }
+      held_.active = true;
+      held_.edge = edge;
+      held_.map_correction = map_correction;
+      held_.record = stats_.last_closure;
+      held_.record.reason = "held until a later attempt finds the same correction";
+      held_.attempts_left = params_.loop_confirm_attempts;
+      stats_.last_closure.reason = held_.record.reason;
+      ++stats_.loop_held;
+      return false;
+    }
+    added.push_back(held_.edge);
+    held_.active = false;
+  }
+  added.push_back(edge);
+  for (const PoseGraphEdge& e : added)
+    graph_.addEdge(e);
+  if (translationNorm(correction) < params_.grid.resolution && std::abs(correction.theta) < 0.01)
+  {
+    ++stats_.loop_closures;
+    stats_.last_closure.accepted = true;
+    return true;  // already consistent: keep the constraint, skip the expensive re-render
+  }
+  graph_.optimize();
+  // The robust loss lets a wrong closure sit in the graph half-satisfied while it bends the
+  // rest: a closure the optimised graph cannot honour is undone.
+  for (const PoseGraphEdge& e : added)
+  {
+    const Pose2D r = graph_.residual(e);
+    if (translationNorm(r) > params_.loop_max_residual_sigma * params_.loop_sigma_xy ||
+        std::abs(r.theta) > params_.loop_max_residual_sigma * params_.loop_sigma_theta)
+    {
+      for (size_t k = 0; k < added.size(); ++k)
+        graph_.popEdge();
+      for (size_t i = 0; i < keyframes_.size(); ++i)
+        graph_.setNode(static_cast<int>(i), keyframes_[i].pose);
+      return reject("rejected: the optimised graph disagrees with it");
+    }
+  }
+  ++stats_.loop_closures;
+  stats_.last_closure.accepted = true;
+  for (size_t i = 0; i < keyframes_.size(); ++i)
+    keyframes_[i].pose = graph_.node(static_cast<int>(i));
+  renderGlobalMap();
+  rebuildLocalMaps();
+  return true;
+}
+
+}  // namespace mybot_navigation

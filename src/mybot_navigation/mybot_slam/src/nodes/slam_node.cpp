@@ -1,0 +1,365 @@
+// slam_node: thin ROS wrapper around mybot_navigation::Slam with gmapping's interface
+// (scan + tf odom->base in; map, map_metadata, tf map->odom, dynamic_map out).
+#include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include <message_filters/subscriber.h>
+#include <nav_msgs/GetMap.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <sensor_msgs/LaserScan.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/message_filter.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "mybot_common/node_main.h"
+#include "mybot_nav_common/ros/node_params.h"
+#include "mybot_nav_common/ros/conversions.h"
+#include "mybot_slam/slam.h"
+#include "mybot_slam/slam_params.h"
+
+using namespace mybot_navigation;
+
+namespace
+{
+// Reads a private parameter strictly (mybot_common::readParam: the wrong type stops the node
+// naming it), applies a check and stops the node with one clear message on failure.
+template <typename T, typename Check>
+T param(ros::NodeHandle& pnh, const std::string& name, T def, Check ok, const char* requirement)
+{
+  const T v = mybot_common::readParam<T>("slam", pnh, name, def);
+  if (!ok(v))
+    mybot_common::fatalParam("slam", pnh, name, std::string("is invalid: must be ") + requirement);
+  return v;
+}
+
+const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+const auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
+const auto any_number = [](double v) { return std::isfinite(v); };
+const auto probability = [](double v) { return v > 0.0 && v < 1.0; };
+const auto non_empty = [](const std::string& s) { return !s.empty(); };
+}  // namespace
+
+class SlamNode
+{
+public:
+  SlamNode() : pnh_("~"), listener_(tf_buffer_)
+  {
+    base_frame_ = param<std::string>(pnh_, "base_frame", "base_link", non_empty, "a frame name");
+    odom_frame_ = param<std::string>(pnh_, "odom_frame", "odom", non_empty, "a frame name");
+    map_frame_ = param<std::string>(pnh_, "map_frame", "map", non_empty, "a frame name");
+    map_update_interval_ = param(pnh_, "map_update_interval", 5.0, non_negative, "a number >= 0 (s)");
+    transform_publish_period_ = param(pnh_, "transform_publish_period", 0.05, non_negative, "a number >= 0 (s)");
+    throttle_scans_ = param(
+        pnh_, "throttle_scans", 1, [](int v) { return v >= 1; }, "an integer >= 1");
+
+    // The Slam's own parameters: one table, shared with slam_replay.
+    SlamRunParams run;
+    for (const SlamParamSpec& spec : slamParamSpecs())
+    {
+      switch (spec.type)
+      {
+        case SlamParamSpec::Type::Number:
+          spec.field_double(run) = param(pnh_, spec.name, spec.field_double(run), spec.ok, spec.requirement);
+          break;
+        case SlamParamSpec::Type::Integer:
+          spec.field_int(run) = param(
+              pnh_, spec.name, spec.field_int(run), [&spec](int v) { return spec.ok(v); }, spec.requirement);
+          break;
+        case SlamParamSpec::Type::Boolean:
+          spec.field_bool(run) = param(
+              pnh_, spec.name, spec.field_bool(run), [](bool) { return true; }, "a bool");
+          break;
+      }
+    }
+    const std::string inconsistent = checkSlamRunParams(run);
+    if (!inconsistent.empty())
+    {
+      ROS_FATAL("slam: parameters %s", inconsistent.c_str());
+      ros::shutdown();
+      std::exit(1);
+    }
+    max_urange_ = run.max_urange;
+    max_range_ = run.max_range;
+    SlamParams p = run.slam;
+    if (p.grid.resolution > 1.0)
+      ROS_WARN("slam: ~delta = %.2f m is a very coarse map", p.grid.resolution);
+    params_ = p;
+    slam_ = std::make_unique<Slam>(p);
+
+    map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
+    meta_pub_ = nh_.advertise<nav_msgs::MapMetaData>("map_metadata", 1, true);
+    map_srv_ = nh_.advertiseService("dynamic_map", &SlamNode::mapService, this);
+    // The keyframe poses as the pose graph now has them (after every loop closure): what the map
+    // was rendered from, for scoring a run against ground truth and for rviz.
+    path_pub_ = pnh_.advertise<nav_msgs::Path>("trajectory", 1, true);
+
+    scan_sub_.subscribe(nh_, "scan", 5);
+    scan_filter_ =
+        std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(scan_sub_, tf_buffer_, odom_frame_, 10, nh_);
+    scan_filter_->registerCallback(&SlamNode::scanCallback, this);
+    scan_filter_->registerFailureCallback(
+        [this](const sensor_msgs::LaserScan::ConstPtr& scan, tf2_ros::filter_failure_reasons::FilterFailureReason r)
+        {
+          const char* why = r == tf2_ros::filter_failure_reasons::OutTheBack
+                                ? "older than the tf cache"
+                                : (r == tf2_ros::filter_failure_reasons::EmptyFrameID
+                                       ? "empty frame_id"
+                                       : "transform not available in time or scan queue full (SLAM behind the sensor)");
+          ROS_WARN_THROTTLE(5.0, "slam: dropping scan at %.3f (%s -> %s): %s", scan->header.stamp.toSec(),
+                            scan->header.frame_id.c_str(), odom_frame_.c_str(), why);
+        });
+    if (transform_publish_period_ > 0.0)
+      tf_timer_ = nh_.createTimer(ros::Duration(transform_publish_period_), &SlamNode::publishTransform, this);
+    ROS_INFO("slam: delta %.3f m, linearUpdate %.2f m, angularUpdate %.2f rad, frames %s -> %s -> %s, loop closure %s",
+             p.grid.resolution, p.linear_update, p.angular_update, map_frame_.c_str(), odom_frame_.c_str(),
+             base_frame_.c_str(), p.loop_closure ? "on" : "off");
+  }
+
+private:
+  struct BeamTable
+  {
+    double angle_min, angle_increment;
+    size_t count;
+  };
+
+  bool laserGeometry(const sensor_msgs::LaserScan& scan, ScanGeometry& g)
+  {
+    auto it = geometry_.find(scan.header.frame_id);
+    if (it != geometry_.end())
+    {
+      g = it->second;
+      return true;
+    }
+    geometry_msgs::TransformStamped t;
+    try
+    {
+      t = tf_buffer_.lookupTransform(base_frame_, scan.header.frame_id, ros::Time(0));
+    }
+    catch (const tf2::TransformException& e)
+    {
+      ROS_WARN_THROTTLE(5.0, "slam: no transform %s -> %s yet: %s", scan.header.frame_id.c_str(), base_frame_.c_str(),
+                        e.what());
+      return false;
+    }
+    const auto& q = t.transform.rotation;
+    // Laser z axis expressed in the base frame: pointing down means a mounted-upside-down laser.
+    const double z_z = 1.0 - 2.0 * (q.x * q.x + q.y * q.y);
+    // Laser x axis in the base frame gives the yaw of beam 0 direction reference.
+    const double x_x = 1.0 - 2.0 * (q.y * q.y + q.z * q.z), x_y = 2.0 * (q.x * q.y + q.w * q.z);
+    g.sensor_in_base = {t.transform.translation.x, t.transform.translation.y, std::atan2(x_y, x_x)};
+    g.upside_down = z_z < 0.0;
+    if (std::abs(z_z) < 0.99)
+      ROS_WARN("slam: laser frame %s is tilted with respect to %s; treating it as horizontal",
+               scan.header.frame_id.c_str(), base_frame_.c_str());
+    geometry_[scan.header.frame_id] = g;
+    return true;
+  }
+
+  static void logClosure(const LoopClosureRecord& c, const char* what)
+  {
+    ROS_INFO(
+        "slam: loop closure keyframe %d -> %d %s (score %.2f, %.2f at the estimate, constraint ratio %.2f, "
+        "correction %.3f m %.3f m %.3f rad)",
+        c.to, c.from, what, c.score, c.score_at_estimate, c.ratio, c.correction.x, c.correction.y, c.correction.theta);
+  }
+
+  void scanCallback(const sensor_msgs::LaserScan::ConstPtr& scan)
+  {
+    if (++scan_counter_ % throttle_scans_ != 0)
+      return;
+    const double stamp = scan->header.stamp.toSec();
+    if (scan->ranges.empty())
+    {
+      ROS_WARN_THROTTLE(5.0, "slam: empty scan at %.3f ignored", stamp);
+      return;
+    }
+    if (!mybot_navigation::scanGeometryOk("slam", scan_sub_.getTopic(), *scan))
+      return;
+    geometry_msgs::TransformStamped odom_tf;
+    try
+    {
+      odom_tf = tf_buffer_.lookupTransform(odom_frame_, base_frame_, scan->header.stamp);
+    }
+    catch (const tf2::TransformException& e)
+    {
+      ROS_WARN_THROTTLE(5.0, "slam: no odometry (%s -> %s) at scan time %.3f: %s", odom_frame_.c_str(),
+                        base_frame_.c_str(), stamp, e.what());
+      return;
+    }
+    const Pose2D odom = toPose2D(odom_tf.transform);
+    std::lock_guard<std::mutex> lock(mutex_);
+    startOverIfTimeWentBack();
+    if (!slam_->wantsScan(stamp, odom))
+    {
+      if (stamp <= last_stamp_)
+        ROS_WARN_THROTTLE(5.0, "slam: scan at %.3f is not newer than the last one (%.3f): dropped", stamp, last_stamp_);
+      else
+        slam_->updateOdometry(odom);
+      return;
+    }
+    ScanGeometry g;
+    if (!laserGeometry(*scan, g))
+      return;
+    const double range_max = max_range_ > 0.0 ? std::min<double>(max_range_, scan->range_max) : scan->range_max;
+    ScanConversionStats stats;
+    const RangeScan rs = convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min, range_max,
+                                       max_urange_, g, &stats);
+    // Throttled hard: some lasers mark every dropout NaN (REP 117), and the scan is still used.
+    if (stats.invalid > 0)
+      ROS_WARN_THROTTLE(30.0, "slam: scan at %.3f has %d invalid readings (NaN/-inf/below range_min): ignored", stamp,
+                        stats.invalid);
+    const SlamStats before = slam_->stats();
+    const ScanOutcome outcome = slam_->addScan(stamp, odom, rs);
+    const SlamStats& after = slam_->stats();
+    if (after.loop_unconfirmed != before.loop_unconfirmed)
+      logClosure(after.last_unconfirmed, "dropped: no later attempt confirmed it");
+    if (after.loop_closures != before.loop_closures || after.loop_rejected != before.loop_rejected ||
+        after.loop_held != before.loop_held)
+      logClosure(after.last_closure, after.last_closure.accepted ? "accepted" : after.last_closure.reason);
+    last_stamp_ = std::max(last_stamp_, stamp);
+    switch (outcome)
+    {
+      case ScanOutcome::NoValidPoints:
+        ROS_WARN_THROTTLE(5.0, "slam: scan at %.3f has no valid returns (%d invalid, %d out of range): not used", stamp,
+                          stats.invalid, stats.no_return + stats.clipped);
+        return;
+      case ScanOutcome::OutOfOrder:
+        ROS_WARN_THROTTLE(5.0, "slam: scan at %.3f is out of order: dropped", stamp);
+        return;
+      case ScanOutcome::Skipped:
+        return;
+      case ScanOutcome::Processed:
+        break;
+    }
+    if (slam_->stats().last_match_score < slam_->params().min_match_score)
+      ROS_WARN_THROTTLE(10.0, "slam: weak scan match (score %.2f): using odometry for this step",
+                        slam_->stats().last_match_score);
+    if (!published_ || stamp - last_map_publish_ >= map_update_interval_)
+      publishMap(scan->header.stamp);
+  }
+
+  void publishMap(const ros::Time& stamp)
+  {
+    if (slam_->mapVersion() == published_version_ && published_)
+      return;
+    nav_msgs::OccupancyGrid msg;
+    toOccupancyGrid(slam_->map(), msg);
+    msg.header.frame_id = map_frame_;
+    msg.header.stamp = stamp;
+    msg.info.map_load_time = stamp;
+    map_pub_.publish(msg);
+    meta_pub_.publish(msg.info);
+    publishTrajectory(stamp);
+    published_ = true;
+    published_version_ = slam_->mapVersion();
+    last_map_publish_ = stamp.toSec();
+    ROS_DEBUG("slam: published %dx%d map (%d keyframes, %d loop closures)", msg.info.width, msg.info.height,
+              slam_->stats().keyframes, slam_->stats().loop_closures);
+  }
+
+  void publishTrajectory(const ros::Time& stamp)
+  {
+    nav_msgs::Path path;
+    path.header.frame_id = map_frame_;
+    path.header.stamp = stamp;
+    path.poses.reserve(slam_->keyframes().size());
+    for (const Keyframe& k : slam_->keyframes())
+    {
+      geometry_msgs::PoseStamped p;
+      p.header.frame_id = map_frame_;
+      p.header.stamp.fromSec(k.stamp);
+      p.pose = toPoseMsg(k.pose);
+      path.poses.push_back(p);
+    }
+    path_pub_.publish(path);
+  }
+
+  bool mapService(nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& res)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (slam_->keyframes().empty())
+      return false;  // gmapping also fails the call until a map exists
+    toOccupancyGrid(slam_->map(), res.map);
+    res.map.header.frame_id = map_frame_;
+    res.map.header.stamp = ros::Time::now();
+    return true;
+  }
+
+  // Time went backwards (a simulation reset sends the robot back to its spawn pose and the
+  // odometry to zero; a bag played again, to its start): the map and trajectory belong to a past
+  // that did not happen. Start a new map, as at launch, and go on. Call with mutex_ held.
+  void startOverIfTimeWentBack()
+  {
+    const ros::Time now = ros::Time::now();
+    const bool back = now < last_now_;
+    last_now_ = now;
+    if (!back)
+      return;
+    ROS_WARN("slam: time went backwards (to %.3f s); starting a new map", now.toSec());
+    slam_ = std::make_unique<Slam>(params_);
+    last_stamp_ = -1e300;
+    published_ = false;
+    published_version_ = 0;
+    last_map_publish_ = 0.0;
+    last_tf_stamp_ = ros::Time();
+  }
+
+  void publishTransform(const ros::TimerEvent&)
+  {
+    Pose2D m2o;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      startOverIfTimeWentBack();
+      m2o = slam_->mapToOdom();
+    }
+    geometry_msgs::TransformStamped t;
+    // Future-dated like gmapping so consumers can interpolate up to the next publication.
+    t.header.stamp = ros::Time::now() + ros::Duration(transform_publish_period_);
+    if (t.header.stamp <= last_tf_stamp_)
+      return;  // the sim clock has not advanced since the last publication (tf2 rejects repeats)
+    last_tf_stamp_ = t.header.stamp;
+    t.header.frame_id = map_frame_;
+    t.child_frame_id = odom_frame_;
+    t.transform = toTransform(m2o);
+    broadcaster_.sendTransform(t);
+  }
+
+  ros::NodeHandle nh_, pnh_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener listener_;
+  tf2_ros::TransformBroadcaster broadcaster_;
+  message_filters::Subscriber<sensor_msgs::LaserScan> scan_sub_;
+  std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
+  ros::Publisher map_pub_, meta_pub_, path_pub_;
+  ros::ServiceServer map_srv_;
+  ros::Timer tf_timer_;
+  std::string base_frame_, odom_frame_, map_frame_;
+  double map_update_interval_, transform_publish_period_, max_urange_, max_range_;
+  int throttle_scans_;
+  long scan_counter_ = 0;
+  std::unique_ptr<Slam> slam_;
+  std::map<std::string, ScanGeometry> geometry_;
+  std::mutex mutex_;
+  double last_stamp_ = -1e300;
+  bool published_ = false;
+  uint64_t published_version_ = 0;
+  double last_map_publish_ = 0.0;
+  ros::Time last_tf_stamp_, last_now_;
+  SlamParams params_;
+};
+
+int main(int argc, char** argv)
+{
+  return mybot_common::runNode(argc, argv, "slam",
+                               []
+                               {
+                                 SlamNode node;
+                                 ros::spin();
+                               });
+}

@@ -1,0 +1,195 @@
+#include "mybot_slam/ros/bag_replay.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/LaserScan.h>
+#include <tf2_msgs/TFMessage.h>
+#include <yaml-cpp/yaml.h>
+
+#include "mybot_nav_common/range_scan.h"
+#include "mybot_nav_common/ros/conversions.h"
+
+namespace mybot_navigation
+{
+
+namespace
+{
+struct ScanRecord
+{
+  double stamp;
+  Pose2D odom;
+  int keyframe;  // the keyframe current after this scan (-1 before the first)
+};
+
+Pose2D interpolate(const std::vector<std::pair<double, Pose2D>>& odom, double t)
+{
+  auto it = std::lower_bound(odom.begin(), odom.end(), t,
+                             [](const std::pair<double, Pose2D>& a, double v) { return a.first < v; });
+  if (it == odom.begin())
+    return it->second;
+  if (it == odom.end())
+    return odom.back().second;
+  const auto& [t1, b] = *it;
+  const auto& [t0, a] = *(it - 1);
+  const double f = t1 > t0 ? (t - t0) / (t1 - t0) : 0.0;
+  const Pose2D d = between(a, b);
+  return compose(a, {d.x * f, d.y * f, d.theta * f});
+}
+}  // namespace
+
+// slam_node's parameters from a YAML file (the same names as its ROS parameters, e.g.
+// config/slam.yaml); node-only settings (frames, rates) are skipped, anything else is an error.
+SlamRunParams loadSlamParams(const std::string& path)
+{
+  SlamRunParams run;
+  if (path.empty())
+    return run;
+  YAML::Node doc;
+  try
+  {
+    doc = YAML::LoadFile(path);
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+  if (!doc.IsMap())
+    throw std::runtime_error(path + ": expected a mapping of slam_node parameters");
+  std::map<std::string, const SlamParamSpec*> by_name;
+  for (const SlamParamSpec& s : slamParamSpecs())
+    by_name[s.name] = &s;
+  static const char* node_only[] = {
+      "base_frame", "odom_frame", "map_frame", "map_update_interval", "transform_publish_period", "throttle_scans"};
+  for (const auto& kv : doc)
+  {
+    const std::string name = kv.first.as<std::string>();
+    auto it = by_name.find(name);
+    if (it == by_name.end())
+    {
+      if (std::find(std::begin(node_only), std::end(node_only), name) != std::end(node_only))
+        continue;
+      throw std::runtime_error(path + ": unknown parameter '" + name + "'");
+    }
+    const SlamParamSpec& s = *it->second;
+    try
+    {
+      if (s.type == SlamParamSpec::Type::Boolean)
+        s.field_bool(run) = kv.second.as<bool>();
+      else
+      {
+        const double v = kv.second.as<double>();
+        if (!s.ok(v) || (s.type == SlamParamSpec::Type::Integer && v != std::floor(v)))
+          throw std::runtime_error("");
+        if (s.type == SlamParamSpec::Type::Integer)
+          s.field_int(run) = static_cast<int>(v);
+        else
+          s.field_double(run) = v;
+      }
+    }
+    catch (const std::exception&)
+    {
+      throw std::runtime_error(path + ": parameter '" + name + "' must be " + s.requirement);
+    }
+  }
+  const std::string inconsistent = checkSlamRunParams(run);
+  if (!inconsistent.empty())
+    throw std::runtime_error(path + ": " + inconsistent);
+  return run;
+}
+
+BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRunParams& run,
+                          const std::function<void(std::size_t, std::size_t)>& progress)
+{
+  rosbag::Bag bag;
+  try
+  {
+    bag.open(opt.bag, rosbag::bagmode::Read);
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw std::runtime_error(opt.bag + ": " + e.what());
+  }
+  // The laser's mounting, and (for "interpolate") every odometry pose by stamp.
+  std::map<std::string, Pose2D> mount;  // child frame -> pose in its parent (the base)
+  std::vector<std::pair<double, Pose2D>> odom_by_stamp;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery({"/tf_static", opt.odom_topic})))
+  {
+    if (auto tf = m.instantiate<tf2_msgs::TFMessage>())
+      for (const auto& t : tf->transforms)
+        mount[t.child_frame_id] = toPose2D(t.transform);
+    else if (auto o = m.instantiate<nav_msgs::Odometry>())
+      odom_by_stamp.push_back({o->header.stamp.toSec(), toPose2D(o->pose.pose)});
+  }
+  std::stable_sort(odom_by_stamp.begin(), odom_by_stamp.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+
+  rosbag::View view(bag, rosbag::TopicQuery({opt.scan_topic, opt.odom_topic}));
+  const std::size_t total = view.size();
+  std::vector<ScanRecord> scans;
+  BagReplayResult result;
+  bool have_odom = false, started = false;
+  Pose2D last_odom;
+  std::size_t done = 0;
+  for (const rosbag::MessageInstance& m : view)
+  {
+    if (progress)
+      progress(++done, total);
+    if (auto o = m.instantiate<nav_msgs::Odometry>())
+    {
+      last_odom = toPose2D(o->pose.pose);
+      have_odom = true;
+      continue;
+    }
+    auto scan = m.instantiate<sensor_msgs::LaserScan>();
+    if (!scan || scan->ranges.empty() || !have_odom)
+      continue;
+    const double stamp = scan->header.stamp.toSec();
+    if (!started)
+    {
+      result.first_stamp = result.last_stamp = stamp;
+      started = true;
+    }
+    if (opt.max_log_seconds > 0.0 && stamp - result.first_stamp > opt.max_log_seconds)
+      break;
+    result.first_stamp = std::min(result.first_stamp, stamp);
+    result.last_stamp = std::max(result.last_stamp, stamp);
+    const Pose2D odom = opt.odom == "last" ? last_odom : interpolate(odom_by_stamp, stamp);
+    ScanGeometry g;
+    auto mt = mount.find(scan->header.frame_id);
+    if (mt != mount.end())
+      g.sensor_in_base = mt->second;
+    if (slam.wantsScan(stamp, odom))
+    {
+      const double range_max = run.max_range > 0.0 ? std::min<double>(run.max_range, scan->range_max) : scan->range_max;
+      slam.addScan(stamp, odom,
+                   convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min, range_max,
+                                 run.max_urange, g));
+    }
+    else
+    {
+      slam.updateOdometry(odom);
+    }
+    scans.push_back({stamp, odom, static_cast<int>(slam.keyframes().size()) - 1});
+  }
+  bag.close();
+  result.scans = scans.size();
+  // Every scan's pose after the last optimisation: its keyframe's, moved by the odometry since.
+  const auto& kfs = slam.keyframes();
+  for (const ScanRecord& s : scans)
+  {
+    result.odometry.push_back({s.stamp, s.odom});
+    if (s.keyframe < 0)
+      continue;
+    const Keyframe& k = kfs[static_cast<std::size_t>(s.keyframe)];
+    result.trajectory.push_back({s.stamp, compose(k.pose, between(k.odom, s.odom))});
+  }
+  return result;
+}
+
+}  // namespace mybot_navigation

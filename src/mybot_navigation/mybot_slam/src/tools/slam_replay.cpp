@@ -1,0 +1,189 @@
+// slam_replay: offline mapping from a bag, as slam_toolbox's offline mode or gmapping's
+// slam_gmapping_replay: the same Slam as slam_node over every scan, at full speed, no roscore.
+//
+//   rosrun mybot_slam slam_replay --bag FILE --out DIR [--params slam.yaml]
+//        [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate] [--quiet]
+//
+// Odometry at a scan: `last` (default) takes the pose of the last odometry message before the
+// scan in bag order, which is what CARMEN logs embed in each FLASER (ACES, Intel); `interpolate`
+// interpolates between the odometry messages around the scan's stamp (FR079, whose CARMEN
+// odometry was interpolated). The laser's mounting comes from /tf_static (base -> the scan's frame).
+//
+// Writes, each file replaced atomically: DIR/map.pgm + map.yaml (map_server), DIR/map.png,
+// DIR/trajectory.tum (every scan's pose, after the last optimisation, in the map frame: "stamp x y
+// z qx qy qz qw" with the scan's own stamp; a scan between keyframes is placed by odometry from
+// its keyframe), DIR/timing.json (scans, keyframes, loop closures, log span, CPU and wall time,
+// peak memory).
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "mybot_common/atomic_file.h"
+#include "mybot_nav_common/map_io.h"
+#include "mybot_slam/ros/bag_replay.h"
+
+using namespace mybot_navigation;
+
+namespace
+{
+struct Options
+{
+  std::string bag, out, params, scan_topic = "/scan", odom_topic = "/odom", odom = "last";
+  bool quiet = false;
+};
+
+[[noreturn]] void usage(const std::string& error)
+{
+  std::fprintf(stderr,
+               "slam_replay: %s\nusage: slam_replay --bag FILE --out DIR [--params slam.yaml] [--scan-topic /scan] "
+               "[--odom-topic /odom] [--odom last|interpolate] [--quiet]\n",
+               error.c_str());
+  std::exit(2);
+}
+
+Options parseArgs(int argc, char** argv)
+{
+  Options o;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string
+    {
+      if (i + 1 >= argc)
+        usage(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--bag")
+      o.bag = value();
+    else if (a == "--out")
+      o.out = value();
+    else if (a == "--params")
+      o.params = value();
+    else if (a == "--scan-topic")
+      o.scan_topic = value();
+    else if (a == "--odom-topic")
+      o.odom_topic = value();
+    else if (a == "--odom")
+      o.odom = value();
+    else if (a == "--quiet")
+      o.quiet = true;
+    else
+      usage("unknown argument " + a);
+  }
+  if (o.bag.empty() || o.out.empty())
+    usage("--bag and --out are required");
+  if (o.odom != "last" && o.odom != "interpolate")
+    usage("--odom must be last or interpolate, got " + o.odom);
+  return o;
+}
+
+double cpuSeconds()
+{
+  rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  const Options opt = parseArgs(argc, argv);
+  SlamRunParams run;
+  try
+  {
+    run = loadSlamParams(opt.params);
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "slam_replay: %s\n", e.what());
+    return 2;
+  }
+  const auto wall0 = std::chrono::steady_clock::now();
+  const double cpu0 = cpuSeconds();
+  Slam slam(run.slam);
+  BagReplayOptions ro;
+  ro.bag = opt.bag;
+  ro.scan_topic = opt.scan_topic;
+  ro.odom_topic = opt.odom_topic;
+  ro.odom = opt.odom;
+  int percent = -1;
+  BagReplayResult r;
+  try
+  {
+    r = replayBag(ro, slam, run,
+                  [&](std::size_t done, std::size_t total)
+                  {
+                    const int p = static_cast<int>(100 * done / std::max<std::size_t>(total, 1));
+                    if (opt.quiet || p == percent)
+                      return;
+                    percent = p;
+                    std::fprintf(stderr, "\rslam_replay: [%-50s] %3d %% %zu keyframes", std::string(p / 2, '#').c_str(),
+                                 p, slam.keyframes().size());
+                  });
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "\nslam_replay: %s\n", e.what());
+    return 1;
+  }
+  if (!opt.quiet)
+    std::fprintf(stderr, "\n");
+  if (slam.keyframes().empty())
+  {
+    std::fprintf(stderr, "slam_replay: %s: no scans on %s with odometry on %s before them\n", opt.bag.c_str(),
+                 opt.scan_topic.c_str(), opt.odom_topic.c_str());
+    return 1;
+  }
+  std::ostringstream tum;
+  tum.precision(9);
+  for (const StampedPose& s : r.trajectory)
+    tum << std::fixed << s.stamp << " " << s.pose.x << " " << s.pose.y << " 0 0 0 " << std::sin(s.pose.theta / 2) << " "
+        << std::cos(s.pose.theta / 2) << "\n";
+  const double cpu = cpuSeconds() - cpu0;
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const double span = r.last_stamp - r.first_stamp;
+  rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  char timing[1024];
+  std::snprintf(timing, sizeof timing,
+                "{\n  \"bag\": \"%s\",\n  \"scans\": %zu,\n  \"keyframes\": %zu,\n  \"loop_closures\": %d,\n"
+                "  \"log_span_s\": %.3f,\n  \"cpu_s\": %.3f,\n  \"wall_s\": %.3f,\n  \"realtime_factor\": %.2f,\n"
+                "  \"peak_rss_mb\": %.1f\n}\n",
+                opt.bag.c_str(), r.scans, slam.keyframes().size(), slam.stats().loop_closures, span, cpu, wall,
+                cpu > 0 ? span / cpu : 0.0, u.ru_maxrss / 1024.0);
+  try
+  {
+    const GridMap map = slam.map();
+    saveMap(map, opt.out + "/map");
+    cv::Mat img(map.info.height, map.info.width, CV_8UC1);
+    for (int y = 0; y < map.info.height; ++y)
+      for (int x = 0; x < map.info.width; ++x)
+      {
+        const int v = map.at(x, map.info.height - 1 - y);
+        img.at<uint8_t>(y, x) = v < 0 ? 205 : (v >= 65 ? 0 : 254);
+      }
+    std::vector<uchar> png;
+    cv::imencode(".png", img, png);
+    mybot_common::writeFilesAtomically({{opt.out + "/map.png", std::string(png.begin(), png.end())},
+                                        {opt.out + "/trajectory.tum", tum.str()},
+                                        {opt.out + "/timing.json", timing}});
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "slam_replay: %s\n", e.what());
+    return 1;
+  }
+  if (!opt.quiet)
+    std::fprintf(stderr,
+                 "slam_replay: %zu scans, %zu keyframes, %d loop closures; %.1f s of log in %.1f s of CPU (%.0fx)\n",
+                 r.scans, slam.keyframes().size(), slam.stats().loop_closures, span, cpu, cpu > 0 ? span / cpu : 0.0);
+  return 0;
+}

@@ -1,0 +1,54 @@
+// slam_replay's core on a real log: the first 4 minutes of the Intel Research Lab log (Kuemmerle et
+// al. 2009's benchmark, ../shared/datasets), scored on the relations inside that window. The
+// replay is deterministic (one thread, bag order), so the figures are the same every run.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "mybot_slam/ros/bag_replay.h"
+
+using namespace mybot_navigation;
+
+namespace
+{
+const std::string kData = MYBOT_SHARED_DATASETS "/kuemmerle2009_ricoslam/";
+
+std::vector<Relation> within(const std::vector<Relation>& all, double t0, double t1)
+{
+  std::vector<Relation> out;
+  for (const Relation& r : all)
+    if (r.t1 >= t0 && r.t2 >= t0 && r.t1 <= t1 && r.t2 <= t1)
+      out.push_back(r);
+  return out;
+}
+}  // namespace
+
+TEST(BagReplay, IntelFirstMinutesOnTheirRelations)
+{
+  if (!std::ifstream(kData + "intel.orig.bag"))
+    GTEST_SKIP() << "no " << kData << "intel.orig.bag (the shared datasets sit beside the workspace)";
+  const SlamRunParams params = loadSlamParams(MYBOT_SLAM_SOURCE "/config/slam.yaml");
+  Slam slam(params.slam);
+  BagReplayOptions options;
+  options.bag = kData + "intel.orig.bag";
+  options.max_log_seconds = 240.0;  // the first minute holds only 6 relations
+  const BagReplayResult r = replayBag(options, slam, params);
+  ASSERT_GT(r.scans, 200u);
+  EXPECT_EQ(r.trajectory.size(), r.scans);  // every scan has a pose
+
+  const auto relations = within(readRelations(kData + "intel.relations"), r.first_stamp, r.last_stamp);
+  ASSERT_GT(relations.size(), 50u);
+  const RelationScore slam_score = scoreRelations(r.trajectory, relations);
+  const RelationScore odom_score = scoreRelations(r.odometry, relations);
+  EXPECT_EQ(slam_score.missing, 0);
+  std::printf("Intel, first 240 s: %d relations; SLAM %.4f +- %.4f m (max %.3f), %.2f deg; odometry %.4f m, %.2f deg\n",
+              slam_score.translation.count, slam_score.translation.mean, slam_score.translation.std,
+              slam_score.translation.max, slam_score.rotation_deg.mean, odom_score.translation.mean,
+              odom_score.rotation_deg.mean);
+  // The mapper corrects the odometry's heading (0.67 against 1.37 deg on 2026-11-26). Its
+  // translation is not yet better than the odometry's on these short relations (0.026 against
+  // 0.024 m): issue 24's work, in the README's known limits; not asserted until it is.
+  EXPECT_LT(slam_score.rotation_deg.mean, odom_score.rotation_deg.mean);
+  // Kuemmerle et al.'s published figure for the whole log, RBPF (gmapping class): 0.070 m.
+  EXPECT_LT(slam_score.translation.mean, 0.070);
+}
