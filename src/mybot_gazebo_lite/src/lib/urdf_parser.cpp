@@ -339,188 +339,170 @@ void applyGazeboTag(const Ctx& c, const GazeboTag& tag, const std::string& v, co
   if (tag.name == "kp" && d < kSoftContactKp)
     warnings.push_back(c.source + ": " + where + " = " + v + " N/m: soft contacts are simulated rigid by gazebo_lite");
 }
-}  // namespace
-
-RobotSpec parseUrdf(const std::string& xml, const std::string& source, const UriResolver& resolver)
+// One <link>: name (unique), inertial, collisions.
+LinkSpec parseLink(const Ctx& c, const XMLElement* l, std::set<std::string>& names, std::vector<std::string>& warnings)
 {
-  Ctx c{source, &resolver};
-  tinyxml2::XMLDocument doc;
-  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
-    c.fail("XML", std::string(doc.ErrorStr() ? doc.ErrorStr() : "parse error"));
-  const XMLElement* robot = doc.FirstChildElement("robot");
-  if (!robot)
-    c.fail("document", "no <robot> element");
-  RobotSpec spec;
-  spec.source = source;
-  spec.name = robot->Attribute("name") ? robot->Attribute("name") : "robot";
-
-  std::set<std::string> names;
-  for (const XMLElement* l = robot->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
+  LinkSpec link;
+  if (!l->Attribute("name"))
+    c.fail("<link>", "missing attribute 'name'");
+  link.name = l->Attribute("name");
+  std::string where = "link '" + link.name + "'";
+  if (!names.insert(link.name).second)
+    c.fail(where, "duplicate link name");
+  if (const XMLElement* in = l->FirstChildElement("inertial"))
   {
-    LinkSpec link;
-    if (!l->Attribute("name"))
-      c.fail("<link>", "missing attribute 'name'");
-    link.name = l->Attribute("name");
-    std::string where = "link '" + link.name + "'";
-    if (!names.insert(link.name).second)
-      c.fail(where, "duplicate link name");
-    if (const XMLElement* in = l->FirstChildElement("inertial"))
-    {
-      link.has_inertial = true;
-      link.inertial.origin = parseOrigin(c, in, where + " <inertial>");
-      const XMLElement* m = in->FirstChildElement("mass");
-      if (!m)
-        c.fail(where, "<inertial> without <mass>");
-      link.inertial.mass = attrDouble(c, m, "value", where + " <inertial>", true);
-      if (link.inertial.mass < 0)
-        c.fail(where + " <mass>", "negative mass");
-      const XMLElement* i = in->FirstChildElement("inertia");
-      if (!i)
-        c.fail(where, "<inertial> without <inertia>");
-      std::string w = where + " <inertia>";
-      link.inertial.ixx = attrDouble(c, i, "ixx", w, true);
-      link.inertial.ixy = attrDouble(c, i, "ixy", w, false);
-      link.inertial.ixz = attrDouble(c, i, "ixz", w, false);
-      link.inertial.iyy = attrDouble(c, i, "iyy", w, true);
-      link.inertial.iyz = attrDouble(c, i, "iyz", w, false);
-      link.inertial.izz = attrDouble(c, i, "izz", w, true);
-    }
-    int k = 0;
-    for (const XMLElement* col = l->FirstChildElement("collision"); col; col = col->NextSiblingElement("collision"))
-      link.collisions.push_back(parseGeometry(c, col, where + " <collision> #" + std::to_string(k++)));
-    if (link.has_inertial)
-      checkInertia(c, link, where, spec.warnings);
-    spec.links.push_back(std::move(link));
+    link.has_inertial = true;
+    link.inertial.origin = parseOrigin(c, in, where + " <inertial>");
+    const XMLElement* m = in->FirstChildElement("mass");
+    if (!m)
+      c.fail(where, "<inertial> without <mass>");
+    link.inertial.mass = attrDouble(c, m, "value", where + " <inertial>", true);
+    if (link.inertial.mass < 0)
+      c.fail(where + " <mass>", "negative mass");
+    const XMLElement* i = in->FirstChildElement("inertia");
+    if (!i)
+      c.fail(where, "<inertial> without <inertia>");
+    std::string w = where + " <inertia>";
+    link.inertial.ixx = attrDouble(c, i, "ixx", w, true);
+    link.inertial.ixy = attrDouble(c, i, "ixy", w, false);
+    link.inertial.ixz = attrDouble(c, i, "ixz", w, false);
+    link.inertial.iyy = attrDouble(c, i, "iyy", w, true);
+    link.inertial.iyz = attrDouble(c, i, "iyz", w, false);
+    link.inertial.izz = attrDouble(c, i, "izz", w, true);
   }
-  if (spec.links.empty())
-    c.fail("<robot>", "no <link> elements");
+  int k = 0;
+  for (const XMLElement* col = l->FirstChildElement("collision"); col; col = col->NextSiblingElement("collision"))
+    link.collisions.push_back(parseGeometry(c, col, where + " <collision> #" + std::to_string(k++)));
+  if (link.has_inertial)
+    checkInertia(c, link, where, warnings);
+  return link;
+}
 
-  std::set<std::string> children, jnames;
-  for (const XMLElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+// One <joint>: type, parent and child (links, one parent each), origin, axis, limits, dynamics.
+JointSpec parseJoint(const Ctx& c, const XMLElement* j, const std::set<std::string>& links,
+                     std::set<std::string>& children, std::set<std::string>& jnames)
+{
+  JointSpec js;
+  if (!j->Attribute("name"))
+    c.fail("<joint>", "missing attribute 'name'");
+  js.name = j->Attribute("name");
+  std::string where = "joint '" + js.name + "'";
+  if (!jnames.insert(js.name).second)
+    c.fail(where, "duplicate joint name");
+  if (!j->Attribute("type"))
+    c.fail(where, "missing attribute 'type'");
+  js.type = jointType(c, j->Attribute("type"), where);
+  const XMLElement* p = j->FirstChildElement("parent");
+  const XMLElement* ch = j->FirstChildElement("child");
+  if (!p || !p->Attribute("link"))
+    c.fail(where, "missing <parent link=...>");
+  if (!ch || !ch->Attribute("link"))
+    c.fail(where, "missing <child link=...>");
+  js.parent = p->Attribute("link");
+  js.child = ch->Attribute("link");
+  if (!links.count(js.parent))
+    c.fail(where, "<parent link='" + js.parent + "'> is not a link");
+  if (!links.count(js.child))
+    c.fail(where, "<child link='" + js.child + "'> is not a link");
+  if (!children.insert(js.child).second)
+    c.fail(where, "link '" + js.child + "' has two parents");
+  js.origin = parseOrigin(c, j, where);
+  if (const XMLElement* a = j->FirstChildElement("axis"))
   {
-    JointSpec js;
-    if (!j->Attribute("name"))
-      c.fail("<joint>", "missing attribute 'name'");
-    js.name = j->Attribute("name");
-    std::string where = "joint '" + js.name + "'";
-    if (!jnames.insert(js.name).second)
-      c.fail(where, "duplicate joint name");
-    if (!j->Attribute("type"))
-      c.fail(where, "missing attribute 'type'");
-    js.type = jointType(c, j->Attribute("type"), where);
-    const XMLElement* p = j->FirstChildElement("parent");
-    const XMLElement* ch = j->FirstChildElement("child");
-    if (!p || !p->Attribute("link"))
-      c.fail(where, "missing <parent link=...>");
-    if (!ch || !ch->Attribute("link"))
-      c.fail(where, "missing <child link=...>");
-    js.parent = p->Attribute("link");
-    js.child = ch->Attribute("link");
-    if (!names.count(js.parent))
-      c.fail(where, "<parent link='" + js.parent + "'> is not a link");
-    if (!names.count(js.child))
-      c.fail(where, "<child link='" + js.child + "'> is not a link");
-    if (!children.insert(js.child).second)
-      c.fail(where, "link '" + js.child + "' has two parents");
-    js.origin = parseOrigin(c, j, where);
-    if (const XMLElement* a = j->FirstChildElement("axis"))
+    if (a->Attribute("xyz"))
     {
-      if (a->Attribute("xyz"))
+      try
       {
-        try
-        {
-          js.axis = parseVec3(a->Attribute("xyz"), "<axis xyz>");
-        }
-        catch (const LoadError& e)
-        {
-          c.fail(where, e.what());
-        }
+        js.axis = parseVec3(a->Attribute("xyz"), "<axis xyz>");
       }
-      if (js.axis.length() < 1e-9)
-        c.fail(where + " <axis>", "zero axis");
-      js.axis.normalize();
-    }
-    if (const XMLElement* lim = j->FirstChildElement("limit"))
-    {
-      std::string w = where + " <limit>";
-      js.has_effort = lim->Attribute("effort") != nullptr;
-      js.has_velocity = lim->Attribute("velocity") != nullptr;
-      js.effort = attrDouble(c, lim, "effort", w, js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC);
-      js.velocity =
-          attrDouble(c, lim, "velocity", w, js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC);
-      if (js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC)
+      catch (const LoadError& e)
       {
-        js.lower = attrDouble(c, lim, "lower", w, false);
-        js.upper = attrDouble(c, lim, "upper", w, false);
-        js.has_limits = js.upper > js.lower;
+        c.fail(where, e.what());
       }
-      if (js.effort < 0)
-        c.fail(w, "negative effort");
     }
-    else if (js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC)
-    {
-      c.fail(where, "revolute/prismatic joint without <limit>");
-    }
-    if (const XMLElement* d = j->FirstChildElement("dynamics"))
-    {
-      js.damping = attrDouble(c, d, "damping", where + " <dynamics>", false);
-      js.friction = attrDouble(c, d, "friction", where + " <dynamics>", false);
-      if (js.damping < 0 || js.friction < 0)
-        c.fail(where + " <dynamics>", "negative damping/friction");
-    }
-    if (js.type == JointSpec::FLOATING || js.type == JointSpec::PLANAR)
-      c.fail(where, "floating/planar joints are not supported");
-    spec.joints.push_back(js);
+    if (js.axis.length() < 1e-9)
+      c.fail(where + " <axis>", "zero axis");
+    js.axis.normalize();
   }
-  for (const XMLElement* t = robot->FirstChildElement("transmission"); t; t = t->NextSiblingElement("transmission"))
+  if (const XMLElement* lim = j->FirstChildElement("limit"))
   {
-    TransmissionSpec ts;
-    ts.name = t->Attribute("name") ? t->Attribute("name") : "";
-    const std::string where = "<transmission name='" + ts.name + "'>";
-    // <type> element (ROS Indigo on) or type="..." attribute (the older pr2 form).
-    if (const XMLElement* ty = t->FirstChildElement("type"))
-      ts.type = ty->GetText() ? ty->GetText() : "";
-    else if (t->Attribute("type"))
-      ts.type = t->Attribute("type");
-    const XMLElement* j = t->FirstChildElement("joint");
-    if (!j || !j->Attribute("name"))
-      c.fail(where, "missing <joint name=...>");
-    ts.joint = j->Attribute("name");
-    if (!jnames.count(ts.joint))
-      c.fail(where + " <joint name='" + ts.joint + "'>", "no such joint");
-    for (const XMLElement* hi = j->FirstChildElement("hardwareInterface"); hi;
+    std::string w = where + " <limit>";
+    js.has_effort = lim->Attribute("effort") != nullptr;
+    js.has_velocity = lim->Attribute("velocity") != nullptr;
+    js.effort = attrDouble(c, lim, "effort", w, js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC);
+    js.velocity = attrDouble(c, lim, "velocity", w, js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC);
+    if (js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC)
+    {
+      js.lower = attrDouble(c, lim, "lower", w, false);
+      js.upper = attrDouble(c, lim, "upper", w, false);
+      js.has_limits = js.upper > js.lower;
+    }
+    if (js.effort < 0)
+      c.fail(w, "negative effort");
+  }
+  else if (js.type == JointSpec::REVOLUTE || js.type == JointSpec::PRISMATIC)
+  {
+    c.fail(where, "revolute/prismatic joint without <limit>");
+  }
+  if (const XMLElement* d = j->FirstChildElement("dynamics"))
+  {
+    js.damping = attrDouble(c, d, "damping", where + " <dynamics>", false);
+    js.friction = attrDouble(c, d, "friction", where + " <dynamics>", false);
+    if (js.damping < 0 || js.friction < 0)
+      c.fail(where + " <dynamics>", "negative damping/friction");
+  }
+  if (js.type == JointSpec::FLOATING || js.type == JointSpec::PLANAR)
+    c.fail(where, "floating/planar joints are not supported");
+  return js;
+}
+
+// One <transmission>: type, joint, hardware interfaces (also the pre-Indigo place), reduction.
+TransmissionSpec parseTransmission(const Ctx& c, const XMLElement* t, const std::set<std::string>& jnames)
+{
+  TransmissionSpec ts;
+  ts.name = t->Attribute("name") ? t->Attribute("name") : "";
+  const std::string where = "<transmission name='" + ts.name + "'>";
+  // <type> element (ROS Indigo on) or type="..." attribute (the older pr2 form).
+  if (const XMLElement* ty = t->FirstChildElement("type"))
+    ts.type = ty->GetText() ? ty->GetText() : "";
+  else if (t->Attribute("type"))
+    ts.type = t->Attribute("type");
+  const XMLElement* j = t->FirstChildElement("joint");
+  if (!j || !j->Attribute("name"))
+    c.fail(where, "missing <joint name=...>");
+  ts.joint = j->Attribute("name");
+  if (!jnames.count(ts.joint))
+    c.fail(where + " <joint name='" + ts.joint + "'>", "no such joint");
+  for (const XMLElement* hi = j->FirstChildElement("hardwareInterface"); hi;
+       hi = hi->NextSiblingElement("hardwareInterface"))
+    if (hi->GetText())
+      ts.interfaces.push_back(toXmlNode(hi).text);
+  const XMLElement* a = t->FirstChildElement("actuator");
+  if (a && a->Attribute("name"))
+    ts.actuator = a->Attribute("name");
+  // Before ROS Indigo the interface sat in <actuator>; gazebo_ros_control still reads it there.
+  if (ts.interfaces.empty() && a)
+    for (const XMLElement* hi = a->FirstChildElement("hardwareInterface"); hi;
          hi = hi->NextSiblingElement("hardwareInterface"))
       if (hi->GetText())
         ts.interfaces.push_back(toXmlNode(hi).text);
-    const XMLElement* a = t->FirstChildElement("actuator");
-    if (a && a->Attribute("name"))
-      ts.actuator = a->Attribute("name");
-    // Before ROS Indigo the interface sat in <actuator>; gazebo_ros_control still reads it there.
-    if (ts.interfaces.empty() && a)
-      for (const XMLElement* hi = a->FirstChildElement("hardwareInterface"); hi;
-           hi = hi->NextSiblingElement("hardwareInterface"))
-        if (hi->GetText())
-          ts.interfaces.push_back(toXmlNode(hi).text);
-    const XMLElement* mr = a ? a->FirstChildElement("mechanicalReduction") : nullptr;
-    if (!mr)
-      mr = t->FirstChildElement("mechanicalReduction");
-    if (mr)
-    {
-      XmlNode n = toXmlNode(mr);
-      if (!textDouble(n, ts.reduction) || ts.reduction == 0)
-        c.fail(where + " <mechanicalReduction>", "expected a non-zero number, got '" + n.text + "'");
-    }
-    spec.transmissions.push_back(std::move(ts));
+  const XMLElement* mr = a ? a->FirstChildElement("mechanicalReduction") : nullptr;
+  if (!mr)
+    mr = t->FirstChildElement("mechanicalReduction");
+  if (mr)
+  {
+    XmlNode n = toXmlNode(mr);
+    if (!textDouble(n, ts.reduction) || ts.reduction == 0)
+      c.fail(where + " <mechanicalReduction>", "expected a non-zero number, got '" + n.text + "'");
   }
-  std::vector<std::string> roots;
-  for (const auto& l : spec.links)
-    if (!children.count(l.name))
-      roots.push_back(l.name);
-  if (roots.size() != 1)
-    c.fail("<robot>", "expected exactly one root link, found " + std::to_string(roots.size()));
-  spec.root = roots[0];
+  return ts;
+}
 
-  // <gazebo> extensions.
+// The <gazebo> extensions: plugins, sensors and the tags of links, joints and the model; then the
+// sensor plugins, each with a copy of its <sensor> block.
+void parseGazeboExtensions(const Ctx& c, const XMLElement* robot, const std::set<std::string>& jnames, RobotSpec& spec)
+{
+  const std::string& source = c.source;
   for (const XMLElement* g = robot->FirstChildElement("gazebo"); g; g = g->NextSiblingElement("gazebo"))
   {
     std::string ref = g->Attribute("reference") ? g->Attribute("reference") : "";
@@ -584,6 +566,45 @@ RobotSpec parseUrdf(const std::string& xml, const std::string& source, const Uri
                    "missing attribute 'filename'");
           spec.plugins.push_back(std::move(ps));
         }
+}
+
+// The one link that is no joint's child.
+std::string findRoot(const Ctx& c, const RobotSpec& spec, const std::set<std::string>& children)
+{
+  std::vector<std::string> roots;
+  for (const auto& l : spec.links)
+    if (!children.count(l.name))
+      roots.push_back(l.name);
+  if (roots.size() != 1)
+    c.fail("<robot>", "expected exactly one root link, found " + std::to_string(roots.size()));
+  return roots[0];
+}
+}  // namespace
+
+RobotSpec parseUrdf(const std::string& xml, const std::string& source, const UriResolver& resolver)
+{
+  Ctx c{source, &resolver};
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
+    c.fail("XML", std::string(doc.ErrorStr() ? doc.ErrorStr() : "parse error"));
+  const XMLElement* robot = doc.FirstChildElement("robot");
+  if (!robot)
+    c.fail("document", "no <robot> element");
+  RobotSpec spec;
+  spec.source = source;
+  spec.name = robot->Attribute("name") ? robot->Attribute("name") : "robot";
+
+  std::set<std::string> links, children, joints;
+  for (const XMLElement* l = robot->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
+    spec.links.push_back(parseLink(c, l, links, spec.warnings));
+  if (spec.links.empty())
+    c.fail("<robot>", "no <link> elements");
+  for (const XMLElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+    spec.joints.push_back(parseJoint(c, j, links, children, joints));
+  for (const XMLElement* t = robot->FirstChildElement("transmission"); t; t = t->NextSiblingElement("transmission"))
+    spec.transmissions.push_back(parseTransmission(c, t, joints));
+  spec.root = findRoot(c, spec, children);
+  parseGazeboExtensions(c, robot, joints, spec);
   return spec;
 }
 

@@ -72,6 +72,8 @@ struct LocalResult
   int samples = 0;
 };
 
+struct LocalWindow;  // local_planner.cpp: the part of the costmap one control step can reach
+
 class LocalPlanner
 {
 public:
@@ -97,6 +99,21 @@ private:
                             LocalStatus status) const;
   LocalResult stopWithAccLimits(const Costmap& cm, const Pose2D& pose, const Velocity2D& vel, LocalStatus status) const;
   void prunePlan(const Pose2D& pose);
+
+  // The stages of computeVelocity, in order.
+  // 1. Within xy_goal_tolerance: stop, then turn to the goal's heading.
+  LocalResult arriveAtGoal(const Costmap& cm, const Pose2D& pose, const Velocity2D& vel, const Pose2D& goal);
+  // 2. The window every trajectory can reach, with the distance maps to the local plan and goal.
+  bool makeLocalWindow(const Costmap& cm, const Pose2D& pose, LocalWindow& window) const;
+  // 3. A non-holonomic robot facing well away from the path turns in place first (true: `out` is set).
+  bool turnTowardsPath(const Costmap& cm, const Pose2D& pose, const Velocity2D& vel, LocalResult& out) const;
+  // 4. The oscillation flags are cleared once the robot has moved or turned enough.
+  void resetOscillationFlags(const Pose2D& pose);
+  // 5. DWA: sample the dynamic window, roll each velocity out, keep the cheapest admissible one.
+  LocalResult sampleTrajectories(const Costmap& cm, const Pose2D& pose, const Velocity2D& vel,
+                                 const LocalWindow& window, bool near_goal) const;
+  // 6. Remember the chosen rotation and strafe directions (the oscillation flags).
+  void rememberDirection(const Velocity2D& cmd);
 
   LocalPlannerParams params_;
   std::vector<Pose2D> plan_;

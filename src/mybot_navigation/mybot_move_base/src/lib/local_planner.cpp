@@ -172,68 +172,105 @@ LocalResult LocalPlanner::rotateInPlace(const Costmap& cm, const Pose2D& pose, c
   return r;
 }
 
+// The square window around the robot that every trajectory end point (and the point ahead of it)
+// can reach, with the distance (m) of each cell to the local plan and to the local goal: DWA's
+// MapGridCostFunction without and with is_local_goal_function.
+struct LocalWindow
+{
+  const Costmap* cm = nullptr;
+  double res = 0.0;
+  double reach = 0.0;  // m from the robot a trajectory's forward point can get
+  int x0 = 0, y0 = 0, size = 0;
+  std::vector<float> path_dist, goal_dist;
+
+  bool index(double x, double y, size_t& k) const
+  {
+    int cx, cy;
+    cm->worldToMap(x, y, cx, cy);
+    const int lx = cx - x0, ly = cy - y0;
+    if (lx < 0 || ly < 0 || lx >= size || ly >= size)
+      return false;
+    k = static_cast<size_t>(ly) * size + lx;
+    return true;
+  }
+  bool lookup(const std::vector<float>& m, double x, double y, double& out) const
+  {
+    size_t k = 0;
+    if (!index(x, y, k))
+      return false;
+    out = m[k] * res;
+    return true;
+  }
+};
+
 LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose, const Velocity2D& vel)
 {
-  LocalResult none;
   if (plan_.empty())
-    return none;
+    return LocalResult();
   prunePlan(pose);
   const Pose2D& goal = plan_.back();
   const double goal_dist = std::hypot(goal.x - pose.x, goal.y - pose.y);
-
-  // Goal: stop, then turn to the goal heading (latched stop-and-rotate, no oscillation).
   if (goal_dist <= params_.xy_goal_tolerance || (params_.latch_xy_goal_tolerance && xy_latched_))
-  {
-    if (params_.latch_xy_goal_tolerance)
-      xy_latched_ = true;
-    const double yaw_err = wrapAngle(goal.theta - pose.theta);
-    const bool stopped =
-        std::hypot(vel.vx, vel.vy) <= params_.trans_stopped_vel && std::abs(vel.wz) <= params_.rot_stopped_vel;
-    if (std::abs(yaw_err) <= params_.yaw_goal_tolerance)
-    {
-      if (stopped)
-      {
-        LocalResult r;
-        r.status = LocalStatus::GoalReached;
-        return r;
-      }
-      return stopWithAccLimits(cm, pose, vel, LocalStatus::RotatingToGoal);
-    }
-    if (std::hypot(vel.vx, vel.vy) > params_.trans_stopped_vel)
-      return stopWithAccLimits(cm, pose, vel, LocalStatus::RotatingToGoal);
-    return rotateInPlace(cm, pose, vel, yaw_err, LocalStatus::RotatingToGoal);
-  }
+    return arriveAtGoal(cm, pose, vel, goal);
 
-  // Window for the path and goal distance maps: everything a trajectory end point (plus the
-  // forward point) can reach.
-  const double res = cm.resolution();
-  const double reach =
-      std::max(params_.max_vel_trans, std::hypot(params_.max_vel_x, params_.max_vel_y)) * params_.sim_time +
-      params_.forward_point_distance + 0.5;
-  const int half = static_cast<int>(std::ceil(reach / res));
+  LocalWindow window;
+  if (!makeLocalWindow(cm, pose, window))
+    return LocalResult();
+  LocalResult turn;
+  if (turnTowardsPath(cm, pose, vel, turn))
+    return turn;
+  resetOscillationFlags(pose);
+  LocalResult best = sampleTrajectories(cm, pose, vel, window, goal_dist <= params_.forward_point_distance);
+  if (best.status == LocalStatus::Moving)
+    rememberDirection(best.cmd);
+  return best;
+}
+
+// Stop, then turn to the goal heading (latched stop-and-rotate, no oscillation).
+LocalResult LocalPlanner::arriveAtGoal(const Costmap& cm, const Pose2D& pose, const Velocity2D& vel, const Pose2D& goal)
+{
+  if (params_.latch_xy_goal_tolerance)
+    xy_latched_ = true;
+  const double yaw_err = wrapAngle(goal.theta - pose.theta);
+  const bool stopped =
+      std::hypot(vel.vx, vel.vy) <= params_.trans_stopped_vel && std::abs(vel.wz) <= params_.rot_stopped_vel;
+  if (std::abs(yaw_err) <= params_.yaw_goal_tolerance)
+  {
+    if (stopped)
+    {
+      LocalResult r;
+      r.status = LocalStatus::GoalReached;
+      return r;
+    }
+    return stopWithAccLimits(cm, pose, vel, LocalStatus::RotatingToGoal);
+  }
+  if (std::hypot(vel.vx, vel.vy) > params_.trans_stopped_vel)
+    return stopWithAccLimits(cm, pose, vel, LocalStatus::RotatingToGoal);
+  return rotateInPlace(cm, pose, vel, yaw_err, LocalStatus::RotatingToGoal);
+}
+
+bool LocalPlanner::makeLocalWindow(const Costmap& cm, const Pose2D& pose, LocalWindow& w) const
+{
+  w.cm = &cm;
+  w.res = cm.resolution();
+  w.reach = std::max(params_.max_vel_trans, std::hypot(params_.max_vel_x, params_.max_vel_y)) * params_.sim_time +
+            params_.forward_point_distance + 0.5;
+  const int half = static_cast<int>(std::ceil(w.reach / w.res));
   int rx, ry;
   if (!cm.worldToMap(pose.x, pose.y, rx, ry))
-    return none;
-  const int wx0 = rx - half, wy0 = ry - half, ww = 2 * half + 1;
-  std::vector<uint8_t> path_seed(static_cast<size_t>(ww) * ww, 0), goal_seed(path_seed.size(), 0);
-  auto windowIndex = [&](double x, double y, size_t& k)
-  {
-    int cx, cy;
-    cm.worldToMap(x, y, cx, cy);
-    const int lx = cx - wx0, ly = cy - wy0;
-    if (lx < 0 || ly < 0 || lx >= ww || ly >= ww)
-      return false;
-    k = static_cast<size_t>(ly) * ww + lx;
-    return true;
-  };
+    return false;
+  w.x0 = rx - half;
+  w.y0 = ry - half;
+  w.size = 2 * half + 1;
+  std::vector<uint8_t> path_seed(static_cast<size_t>(w.size) * w.size, 0), goal_seed(path_seed.size(), 0);
   // The local plan: the contiguous part of the plan inside the window; its last pose is the
-  // local goal (DWA's MapGridCostFunction with is_local_goal_function).
+  // local goal.
   size_t local_goal_i = plan_start_;
   bool any = false;
   for (size_t i = plan_start_; i < plan_.size(); ++i)
   {
     size_t k = 0;
-    if (!windowIndex(plan_[i].x, plan_[i].y, k))
+    if (!w.index(plan_[i].x, plan_[i].y, k))
     {
       if (any)
         break;
@@ -244,55 +281,52 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
     any = true;
   }
   if (!any)
-    return none;
+    return false;
+  size_t k = 0;
+  w.index(plan_[local_goal_i].x, plan_[local_goal_i].y, k);
+  goal_seed[k] = 1;
+  w.path_dist = distanceTransform(path_seed, w.size, w.size);
+  w.goal_dist = distanceTransform(goal_seed, w.size, w.size);
+  return true;
+}
+
+bool LocalPlanner::turnTowardsPath(const Costmap& cm, const Pose2D& pose, const Velocity2D& vel, LocalResult& out) const
+{
+  if (params_.holonomic_robot)
+    return false;
+  size_t look = plan_start_;
+  while (look + 1 < plan_.size() &&
+         std::hypot(plan_[look].x - pose.x, plan_[look].y - pose.y) < 2.0 * params_.forward_point_distance)
+    ++look;
+  const double dx = plan_[look].x - pose.x, dy = plan_[look].y - pose.y;
+  if (std::hypot(dx, dy) <= 1e-3)
+    return false;
+  const double err = wrapAngle(std::atan2(dy, dx) - pose.theta);
+  if (std::abs(err) <= params_.rotate_to_path_angle)
+    return false;
+  if (std::hypot(vel.vx, vel.vy) > params_.trans_stopped_vel)
   {
-    size_t k = 0;
-    windowIndex(plan_[local_goal_i].x, plan_[local_goal_i].y, k);
-    goal_seed[k] = 1;
-  }
-  const std::vector<float> path_dist = distanceTransform(path_seed, ww, ww);
-  const std::vector<float> goal_dist_map = distanceTransform(goal_seed, ww, ww);
-  auto lookup = [&](const std::vector<float>& m, double x, double y, double& out)
-  {
-    size_t k = 0;
-    if (!windowIndex(x, y, k))
-      return false;
-    out = m[k] * res;
+    out = stopWithAccLimits(cm, pose, vel, LocalStatus::Moving);
     return true;
-  };
-
-  // Rotate in place towards the path when it points well away from the heading.
-  if (!params_.holonomic_robot)
-  {
-    size_t look = plan_start_;
-    while (look + 1 < plan_.size() &&
-           std::hypot(plan_[look].x - pose.x, plan_[look].y - pose.y) < 2.0 * params_.forward_point_distance)
-      ++look;
-    const double dx = plan_[look].x - pose.x, dy = plan_[look].y - pose.y;
-    if (std::hypot(dx, dy) > 1e-3)
-    {
-      const double err = wrapAngle(std::atan2(dy, dx) - pose.theta);
-      if (std::abs(err) > params_.rotate_to_path_angle)
-      {
-        if (std::hypot(vel.vx, vel.vy) > params_.trans_stopped_vel)
-          return stopWithAccLimits(cm, pose, vel, LocalStatus::Moving);
-        LocalResult r = rotateInPlace(cm, pose, vel, err, LocalStatus::Moving);
-        if (r.status == LocalStatus::Moving)
-          return r;  // else fall through to sampling
-      }
-    }
   }
+  out = rotateInPlace(cm, pose, vel, err, LocalStatus::Moving);
+  return out.status == LocalStatus::Moving;  // else fall through to sampling
+}
 
-  // Oscillation flags reset once the robot has moved or turned enough.
+void LocalPlanner::resetOscillationFlags(const Pose2D& pose)
+{
   if (std::hypot(pose.x - osc_reference_.x, pose.y - osc_reference_.y) > params_.oscillation_reset_dist ||
       std::abs(wrapAngle(pose.theta - osc_reference_.theta)) > params_.oscillation_reset_angle)
   {
     forbid_rot_sign_ = forbid_strafe_sign_ = 0;
     osc_reference_ = pose;
   }
+}
 
+LocalResult LocalPlanner::sampleTrajectories(const Costmap& cm, const Pose2D& pose, const Velocity2D& vel,
+                                             const LocalWindow& window, bool near_goal) const
+{
   const double dt = simPeriod();
-  const bool near_goal = goal_dist <= params_.forward_point_distance;
   // Starting in collision (localization error, or an obstacle marked at the footprint's edge)
   // every trajectory would be rejected and the robot would sit until the recoveries, blocked
   // the same way, abort the goal. Accept the trajectories that get out: collisions are
@@ -372,7 +406,7 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
             continue;
           const Pose2D& end = traj.back();
           double pd, gd;
-          if (!lookup(path_dist, end.x, end.y, pd) || !lookup(goal_dist_map, end.x, end.y, gd))
+          if (!window.lookup(window.path_dist, end.x, end.y, pd) || !window.lookup(window.goal_dist, end.x, end.y, gd))
             continue;
           double cost = params_.path_distance_bias * pd + params_.goal_distance_bias * gd + params_.occdist_scale * occ;
           // DWA's alignment and goal-front costs at a point ahead of the trajectory's end: they make
@@ -383,10 +417,10 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
             const double fx = end.x + params_.forward_point_distance * std::cos(end.theta);
             const double fy = end.y + params_.forward_point_distance * std::sin(end.theta);
             double fpd, fgd;
-            if (lookup(path_dist, fx, fy, fpd) && lookup(goal_dist_map, fx, fy, fgd))
+            if (window.lookup(window.path_dist, fx, fy, fpd) && window.lookup(window.goal_dist, fx, fy, fgd))
               cost += align * (params_.path_distance_bias * fpd + params_.goal_distance_bias * fgd);
             else
-              cost += align * (params_.path_distance_bias + params_.goal_distance_bias) * reach;
+              cost += align * (params_.path_distance_bias + params_.goal_distance_bias) * window.reach;
           }
           if (!free)
             cost += kStillGrazingCost;  // any trajectory that comes free is better
@@ -409,9 +443,15 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
     return best;
   }
   best.status = LocalStatus::Moving;
-  // Remember the chosen rotation / strafe direction while nearly stationary.
-  const int rot_sign = best.cmd.wz > 1e-3 ? 1 : best.cmd.wz < -1e-3 ? -1 : 0;
-  const int strafe_sign = best.cmd.vy > 1e-3 ? 1 : best.cmd.vy < -1e-3 ? -1 : 0;
+  return best;
+}
+
+// Remember the chosen rotation / strafe direction: reversing it while nearly stationary is
+// forbidden until the robot has moved (resetOscillationFlags).
+void LocalPlanner::rememberDirection(const Velocity2D& cmd)
+{
+  const int rot_sign = cmd.wz > 1e-3 ? 1 : cmd.wz < -1e-3 ? -1 : 0;
+  const int strafe_sign = cmd.vy > 1e-3 ? 1 : cmd.vy < -1e-3 ? -1 : 0;
   if (rot_sign != 0 && last_rot_sign_ != 0 && rot_sign != last_rot_sign_)
     forbid_rot_sign_ = last_rot_sign_;
   if (strafe_sign != 0 && last_strafe_sign_ != 0 && strafe_sign != last_strafe_sign_)
@@ -420,7 +460,6 @@ LocalResult LocalPlanner::computeVelocity(const Costmap& cm, const Pose2D& pose,
     last_rot_sign_ = rot_sign;
   if (strafe_sign != 0)
     last_strafe_sign_ = strafe_sign;
-  return best;
 }
 
 }  // namespace mybot_navigation

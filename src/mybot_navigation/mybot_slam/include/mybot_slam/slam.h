@@ -162,6 +162,15 @@ private:
   void insertIntoLocalMaps(int index);
   void rebuildLocalMaps();
   bool tryLoopClosure(int current);
+  // The stages of tryLoopClosure, in order.
+  struct LoopMatch;
+  int findLoopCandidate(int current) const;  // the nearest keyframe far enough back, or -1
+  void expireHeldClosure();                  // a held closure not seen again in time is dropped
+  bool matchCandidateSubmap(int current, int candidate, LoopMatch& match) const;
+  const char* implausibleClosure(int current, int candidate, const LoopMatch& match) const;  // why, or null
+  bool confirmClosure(int current, int candidate, const LoopMatch& match, std::vector<PoseGraphEdge>& added);
+  bool applyClosure(const std::vector<PoseGraphEdge>& added, const Pose2D& correction);
+  bool rejectClosure(const char* reason);
 
   struct LocalMap
   {

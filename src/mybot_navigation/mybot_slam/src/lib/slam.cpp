@@ -229,7 +229,38 @@ void Slam::renderGlobalMap()
   ++map_version_;
 }
 
+// A scan match of the current keyframe against the submap around a loop candidate.
+struct Slam::LoopMatch
+{
+  MatchResult result;
+  double score_at_estimate = 0.0;  // the submap's score of the current estimate
+  double constraint_ratio = 0.0;   // translationConstraintRatio: low along a corridor
+  Pose2D correction;               // the matched pose in the estimate's frame
+};
+
 bool Slam::tryLoopClosure(int current)
+{
+  const int candidate = findLoopCandidate(current);
+  if (candidate < 0)
+    return false;
+  last_loop_attempt_ = current;
+  ++stats_.loop_attempts;
+  expireHeldClosure();
+  LoopMatch match;
+  if (!matchCandidateSubmap(current, candidate, match))
+    return false;
+  stats_.last_closure = {
+      candidate, current, match.result.score, match.score_at_estimate, match.constraint_ratio, match.correction,
+      false,     ""};
+  if (const char* why = implausibleClosure(current, candidate, match))
+    return rejectClosure(why);
+  std::vector<PoseGraphEdge> added;
+  if (!confirmClosure(current, candidate, match, added))
+    return false;
+  return applyClosure(added, match.correction);
+}
+
+int Slam::findLoopCandidate(int current) const
 {
   const Keyframe& kf = keyframes_[static_cast<size_t>(current)];
   int best = -1;
@@ -246,21 +277,26 @@ bool Slam::tryLoopClosure(int current)
       best = i;
     }
   }
-  if (best < 0)
-    return false;
-  last_loop_attempt_ = current;
-  ++stats_.loop_attempts;
+  return best;
+}
+
+void Slam::expireHeldClosure()
+{
   if (held_.active && held_.attempts_left-- <= 0)
   {
     held_.active = false;
     ++stats_.loop_unconfirmed;
     stats_.last_unconfirmed = held_.record;
   }
+}
 
+bool Slam::matchCandidateSubmap(int current, int candidate, LoopMatch& match) const
+{
+  const Keyframe& kf = keyframes_[static_cast<size_t>(current)];
   // Render the candidate's neighbourhood (only keyframes well separated from the current one).
   OccupancyGrid sub(params_.grid);
-  const int lo = std::max(0, best - params_.loop_submap_scans);
-  const int hi = std::min(current - 1, best + params_.loop_submap_scans);
+  const int lo = std::max(0, candidate - params_.loop_submap_scans);
+  const int hi = std::min(current - 1, candidate + params_.loop_submap_scans);
   for (int j = lo; j <= hi; ++j)
   {
     const Keyframe& k = keyframes_[static_cast<size_t>(j)];
@@ -275,51 +311,57 @@ bool Slam::tryLoopClosure(int current)
   req.linear_window = params_.loop_window_linear;
   req.angular_window = params_.loop_window_angular;
   req.min_score = params_.loop_min_score;
-  const MatchResult res = matchScan(field, kf.match_points, req);
-  if (!res.ok)
+  match.result = matchScan(field, kf.match_points, req);
+  if (!match.result.ok)
     return false;
   // A corridor matches equally well anywhere along it: such a closure would pull the graph by
   // an arbitrary amount in that direction.
-  const double ratio = translationConstraintRatio(field, kf.match_points, res.pose);
-  if (ratio < params_.loop_min_constraint_ratio)
+  match.constraint_ratio = translationConstraintRatio(field, kf.match_points, match.result.pose);
+  if (match.constraint_ratio < params_.loop_min_constraint_ratio)
     return false;
+  match.correction = between(kf.pose, match.result.pose);
+  match.score_at_estimate = scorePose(field, kf.match_points, kf.pose);
+  return true;
+}
 
-  const Keyframe& candidate = keyframes_[static_cast<size_t>(best)];
-  const Pose2D correction = between(kf.pose, res.pose);
-  const double score_at_estimate = scorePose(field, kf.match_points, kf.pose);
-  stats_.last_closure = {best, current, res.score, score_at_estimate, ratio, correction, false, ""};
-  auto reject = [this](const char* reason)
-  {
-    ++stats_.loop_rejected;
-    stats_.last_closure.reason = reason;
-    return false;
-  };
+const char* Slam::implausibleClosure(int current, int candidate, const LoopMatch& match) const
+{
+  const Keyframe& kf = keyframes_[static_cast<size_t>(current)];
+  const double moved = translationNorm(match.correction);
   // A closure that merely confirms the estimate is harmless however weak. One that moves the
   // pose must fit clearly better there than at the estimate: in a well-structured place a
   // few centimetres off costs most of the score, while along an aisle of identical shelves
   // (or seen from the opposite side) both poses fit about equally.
-  if (translationNorm(correction) > 2.0 * params_.grid.resolution &&
-      res.score < params_.loop_min_score_gain * score_at_estimate)
-    return reject("rejected: it fits hardly better than the current estimate (ambiguous place)");
+  if (moved > 2.0 * params_.grid.resolution &&
+      match.result.score < params_.loop_min_score_gain * match.score_at_estimate)
+    return "rejected: it fits hardly better than the current estimate (ambiguous place)";
   const double max_correction =
-      params_.loop_max_correction + params_.loop_max_correction_per_m * (kf.travelled - candidate.travelled);
-  if (translationNorm(correction) > max_correction)
-    return reject("rejected: correction larger than the drift possible since the candidate");
+      params_.loop_max_correction +
+      params_.loop_max_correction_per_m * (kf.travelled - keyframes_[static_cast<size_t>(candidate)].travelled);
+  if (moved > max_correction)
+    return "rejected: correction larger than the drift possible since the candidate";
+  return nullptr;
+}
 
+// A large correction is held until a later attempt finds the same one (a one-off match in a
+// repetitive place is not seen again); then both edges go in. False while held or rejected.
+bool Slam::confirmClosure(int current, int candidate, const LoopMatch& match, std::vector<PoseGraphEdge>& added)
+{
+  const Keyframe& kf = keyframes_[static_cast<size_t>(current)];
   PoseGraphEdge edge;
-  edge.from = best;
+  edge.from = candidate;
   edge.to = current;
-  edge.measurement = between(candidate.pose, res.pose);
+  edge.measurement = between(keyframes_[static_cast<size_t>(candidate)].pose, match.result.pose);
   edge.sigma_xy = params_.loop_sigma_xy;
   edge.sigma_theta = params_.loop_sigma_theta;
   edge.robust = true;
 
-  std::vector<PoseGraphEdge> added;
-  const Pose2D map_correction = compose(res.pose, inverse(kf.pose));
-  if (params_.loop_confirm_correction > 0.0 && translationNorm(correction) > params_.loop_confirm_correction)
+  const double moved = translationNorm(match.correction);
+  const Pose2D map_correction = compose(match.result.pose, inverse(kf.pose));
+  if (params_.loop_confirm_correction > 0.0 && moved > params_.loop_confirm_correction)
   {
-    if (translationNorm(correction) > params_.loop_large_correction && res.score < params_.loop_min_score_large)
-      return reject("rejected: a large correction from a weak match");
+    if (moved > params_.loop_large_correction && match.result.score < params_.loop_min_score_large)
+      return rejectClosure("rejected: a large correction from a weak match");
     // Both corrections applied to the current pose must land in the same place.
     const Pose2D a = compose(map_correction, kf.pose);
     const Pose2D b = held_.active ? compose(held_.map_correction, kf.pose) : Pose2D{};
@@ -345,6 +387,13 @@ bool Slam::tryLoopClosure(int current)
     held_.active = false;
   }
   added.push_back(edge);
+  return true;
+}
+
+// The edges go into the graph, which is optimised and the map re-rendered; a closure the
+// optimised graph cannot honour is undone.
+bool Slam::applyClosure(const std::vector<PoseGraphEdge>& added, const Pose2D& correction)
+{
   for (const PoseGraphEdge& e : added)
     graph_.addEdge(e);
   if (translationNorm(correction) < params_.grid.resolution && std::abs(correction.theta) < 0.01)
@@ -355,7 +404,7 @@ bool Slam::tryLoopClosure(int current)
   }
   graph_.optimize();
   // The robust loss lets a wrong closure sit in the graph half-satisfied while it bends the
-  // rest: a closure the optimised graph cannot honour is undone.
+  // rest.
   for (const PoseGraphEdge& e : added)
   {
     const Pose2D r = graph_.residual(e);
@@ -366,7 +415,7 @@ bool Slam::tryLoopClosure(int current)
         graph_.popEdge();
       for (size_t i = 0; i < keyframes_.size(); ++i)
         graph_.setNode(static_cast<int>(i), keyframes_[i].pose);
-      return reject("rejected: the optimised graph disagrees with it");
+      return rejectClosure("rejected: the optimised graph disagrees with it");
     }
   }
   ++stats_.loop_closures;
@@ -376,6 +425,13 @@ bool Slam::tryLoopClosure(int current)
   renderGlobalMap();
   rebuildLocalMaps();
   return true;
+}
+
+bool Slam::rejectClosure(const char* reason)
+{
+  ++stats_.loop_rejected;
+  stats_.last_closure.reason = reason;
+  return false;
 }
 
 }  // namespace mybot_navigation
