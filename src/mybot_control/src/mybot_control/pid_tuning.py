@@ -31,7 +31,7 @@ from dataclasses import dataclass, field, asdict
 
 import numpy as np
 
-from mybot_control.params import ParamError, number
+from mybot_common.params import ParamError, number
 
 
 @dataclass

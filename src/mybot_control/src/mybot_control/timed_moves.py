@@ -6,7 +6,7 @@ distance/speed seconds, turn for angle/rate seconds, or both four times for a sq
 import math
 from collections import namedtuple
 
-from mybot_control.params import ParamError, number
+from mybot_common.params import ParamError, number
 
 # twist = (linear x, linear y, angular z); duration in s (math.inf: until stopped)
 Segment = namedtuple("Segment", "name twist duration")

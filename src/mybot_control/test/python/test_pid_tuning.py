@@ -6,7 +6,7 @@ import yaml
 
 from mybot_control import pid_tuning as pt
 from mybot_control.nodes import pid_tuner
-from mybot_control.params import ParamError
+from mybot_common.params import ParamError
 
 PLANT = pt.Plant()
 COST = pt.Cost()

@@ -3,7 +3,7 @@ import math
 import pytest
 
 from mybot_control import timed_moves as tm
-from mybot_control.params import ParamError
+from mybot_common.params import ParamError
 
 
 def test_forward_duration_and_direction():

@@ -4,7 +4,7 @@ import time
 
 import rospy
 
-from mybot_control import params
+from mybot_common import params
 
 
 def get(name, default, check, **kwargs):

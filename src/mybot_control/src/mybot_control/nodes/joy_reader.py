@@ -14,7 +14,8 @@ import sys
 import rospy
 from sensor_msgs.msg import Joy
 
-from mybot_control import joy, params
+from mybot_common import params
+from mybot_control import joy
 from mybot_control.nodes import common
 
 POLL = 0.02  # s (wall) between device polls; timing logic runs on ROS time

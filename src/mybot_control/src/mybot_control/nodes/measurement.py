@@ -9,7 +9,7 @@ from std_msgs.msg import Float32, Float64
 
 from mybot_common.atomic_file import write_file_atomically
 from mybot_control import measurement as meas
-from mybot_control import params
+from mybot_common import params
 from mybot_control.nodes import common
 
 

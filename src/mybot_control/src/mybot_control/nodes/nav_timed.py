@@ -8,7 +8,8 @@ import signal
 import rospy
 from geometry_msgs.msg import Twist
 
-from mybot_control import params, timed_moves
+from mybot_common import params
+from mybot_control import timed_moves
 from mybot_control.nodes import common
 
 

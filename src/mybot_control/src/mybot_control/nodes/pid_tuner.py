@@ -14,7 +14,7 @@ import yaml
 
 from mybot_common.atomic_file import write_file_atomically
 from mybot_control import pid_tuning as pt
-from mybot_control.params import ParamError
+from mybot_common.params import ParamError
 
 METHODS = ("zn", "grid", "gd", "schedule")
 

@@ -3,7 +3,8 @@ import rospy
 from geometry_msgs.msg import Twist, TwistStamped
 from sensor_msgs.msg import Joy
 
-from mybot_control import joy, params
+from mybot_common import params
+from mybot_control import joy
 from mybot_control.nodes import common
 
 

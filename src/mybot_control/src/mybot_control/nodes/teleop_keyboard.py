@@ -8,7 +8,7 @@ import termios
 import rospy
 from geometry_msgs.msg import Twist, TwistStamped
 
-from mybot_control import params
+from mybot_common import params
 from mybot_control import teleop_keyboard as tk
 from mybot_control.nodes import common
 

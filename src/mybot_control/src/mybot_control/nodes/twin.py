@@ -16,7 +16,7 @@ from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Imu, JointState
 from std_msgs.msg import Float32, Int32
 
-from mybot_control import params
+from mybot_common import params
 from mybot_control.nodes import common
 from mybot_control.twin import TwinMapper, propose_deadband
 from mybot_lockstep import participant
