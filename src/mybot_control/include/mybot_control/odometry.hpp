@@ -1,6 +1,7 @@
 // Dead-reckoning odometry for a differential drive from wheel joint positions.
 #pragma once
 
+#include <cmath>
 #include <deque>
 
 #include "mybot_control/kinematics.hpp"
@@ -51,6 +52,47 @@ private:
   double velocity_ = 0.0;
 };
 
+// What every wheeled odometry shares under its own kinematics, as wpimath's Odometry does under
+// DifferentialDriveOdometry and SwerveDriveOdometry: the kinematics turns a step's wheel motion
+// into a body displacement (dx, dy, dtheta); this integrates it along the constant-twist path
+// (poseExp: exact for a constant twist over the step, where adding it in the start heading
+// drifts outwards on every turn), adds it to the path length and, divided by the step's
+// duration, to a rolling mean of the body twist.
+class PoseIntegrator
+{
+public:
+  explicit PoseIntegrator(std::size_t velocity_window)
+      : vx_(velocity_window), vy_(velocity_window), wz_(velocity_window)
+  {
+  }
+  // One step's body displacement over dt > 0 seconds.
+  void integrate(const Twist2D& delta, double dt)
+  {
+    pose_ = poseExp(pose_, delta);
+    distance_ += std::hypot(delta.vx, delta.vy);
+    vx_.push(delta.vx / dt);
+    vy_.push(delta.vy / dt);
+    wz_.push(delta.wz / dt);
+  }
+  void setPose(const Pose2D& pose) { pose_ = {pose.x, pose.y, wrapAngle(pose.theta)}; }
+  void resetTwist()
+  {
+    vx_.reset();
+    vy_.reset();
+    wz_.reset();
+  }
+  void resetDistance() { distance_ = 0.0; }
+
+  const Pose2D& pose() const { return pose_; }
+  Twist2D twist() const { return {vx_.mean(), vy_.mean(), wz_.mean()}; }
+  double distance() const { return distance_; }
+
+private:
+  Pose2D pose_;
+  RollingMean vx_, vy_, wz_;
+  double distance_ = 0.0;
+};
+
 class DiffDriveOdometry
 {
 public:
@@ -79,12 +121,12 @@ public:
     resetEncoders();
   }
 
-  const Pose2D& pose() const { return pose_; }
+  const Pose2D& pose() const { return integrator_.pose(); }
   // Rolling mean of the body twist over the last `velocity_window` updates.
-  Twist2D twist() const { return {vx_.mean(), 0.0, wz_.mean()}; }
+  Twist2D twist() const { return integrator_.twist(); }
   // Most recent per-update wheel rim speeds (m/s) and the angular ones (rad/s).
   const WheelVelocities& wheelTangent() const { return wheel_tangent_; }
-  double distance() const { return distance_; }  // total |path| length, m
+  double distance() const { return integrator_.distance(); }  // total |path| length, m
   const DiffDriveKinematics& kinematics() const { return kin_; }
 
 private:
@@ -92,10 +134,8 @@ private:
   DiffDriveKinematics kin_;
   bool have_reference_ = false;
   double left_prev_ = 0.0, right_prev_ = 0.0, t_prev_ = 0.0;
-  Pose2D pose_;
-  RollingMean vx_, wz_;
+  PoseIntegrator integrator_;
   WheelVelocities wheel_tangent_;
-  double distance_ = 0.0;
 };
 
 }  // namespace mybot_control

@@ -40,10 +40,10 @@ public:
   // Back to the origin with a fresh encoder reference and zero distance.
   void reset();
 
-  const Pose2D& pose() const { return pose_; }
+  const Pose2D& pose() const { return integrator_.pose(); }
   // Rolling mean of the body twist over the last velocity_window updates.
-  Twist2D twist() const { return {vx_.mean(), vy_.mean(), wz_.mean()}; }
-  double distance() const { return distance_; }  // total path length, m
+  Twist2D twist() const { return integrator_.twist(); }
+  double distance() const { return integrator_.distance(); }  // total path length, m
   const SwerveKinematics& kinematics() const { return kin_; }
 
 private:
@@ -53,9 +53,7 @@ private:
   std::vector<double> wheel_prev_, pivot_prev_;
   std::optional<double> imu_prev_;
   double t_prev_ = 0.0;
-  Pose2D pose_;
-  RollingMean vx_, vy_, wz_;
-  double distance_ = 0.0;
+  PoseIntegrator integrator_;
   std::vector<SwerveModulePosition> deltas_;  // scratch, avoids allocating per update
 };
 

@@ -74,8 +74,7 @@ void WheelEncoder::reset()
 DiffDriveOdometry::DiffDriveOdometry(const Params& params)
     : params_(params),
       kin_(params.wheel_separation, params.left_radius, params.right_radius),
-      vx_(params.velocity_window),
-      wz_(params.velocity_window)
+      integrator_(params.velocity_window)
 {
 }
 
@@ -102,26 +101,21 @@ bool DiffDriveOdometry::update(double left_position, double right_position, doub
   t_prev_ = t;
 
   const Twist2D delta = kin_.fromWheelTangent({dl, dr});
-  pose_ = poseExp(pose_, delta);
-  distance_ += std::abs(delta.vx);
+  integrator_.integrate(delta, dt);
   wheel_tangent_ = {dl / dt, dr / dt};
-  vx_.push(delta.vx / dt);
-  wz_.push(delta.wz / dt);
   return true;
 }
 
 void DiffDriveOdometry::resetEncoders()
 {
   have_reference_ = false;
-  vx_.reset();
-  wz_.reset();
+  integrator_.resetTwist();
   wheel_tangent_ = {};
 }
 
 void DiffDriveOdometry::setPose(const Pose2D& pose)
 {
-  pose_ = pose;
-  pose_.theta = wrapAngle(pose.theta);
+  integrator_.setPose(pose);
 }
 
 }  // namespace mybot_control

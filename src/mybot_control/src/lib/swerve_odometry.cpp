@@ -23,9 +23,7 @@ const SwerveOdometry::Params& checked(const SwerveOdometry::Params& p)
 SwerveOdometry::SwerveOdometry(const Params& params)
     : params_(checked(params)),
       kin_(params.offsets),
-      vx_(params.velocity_window),
-      vy_(params.velocity_window),
-      wz_(params.velocity_window),
+      integrator_(params.velocity_window),
       deltas_(params.offsets.size())
 {
 }
@@ -68,13 +66,7 @@ bool SwerveOdometry::update(const std::vector<double>& wheels, const std::vector
     const double imu_d = wrapAngle(*imu_yaw - *imu_prev_);
     d.wz = (1.0 - params_.imu_weight) * d.wz + params_.imu_weight * imu_d;
   }
-  pose_ = poseExp(pose_, d);
-  distance_ += std::hypot(d.vx, d.vy);
-
-  const double dt = t - t_prev_;
-  vx_.push(d.vx / dt);
-  vy_.push(d.vy / dt);
-  wz_.push(d.wz / dt);
+  integrator_.integrate(d, t - t_prev_);
 
   wheel_prev_ = wheels;
   pivot_prev_ = pivots;
@@ -87,21 +79,19 @@ void SwerveOdometry::resetEncoders()
 {
   have_reference_ = false;
   imu_prev_.reset();
-  vx_.reset();
-  vy_.reset();
-  wz_.reset();
+  integrator_.resetTwist();
 }
 
 void SwerveOdometry::reset()
 {
   setPose(Pose2D{});
   resetEncoders();
-  distance_ = 0.0;
+  integrator_.resetDistance();
 }
 
 void SwerveOdometry::setPose(const Pose2D& pose)
 {
-  pose_ = {pose.x, pose.y, wrapAngle(pose.theta)};
+  integrator_.setPose(pose);
 }
 
 }  // namespace mybot_control

@@ -261,3 +261,23 @@ TEST(WheelEncoder, VelocityOverWindowWithWrapAndNaN)
   EXPECT_FALSE(enc.valid());
   EXPECT_EQ(enc.velocity(), 0.0);
 }
+
+TEST(PoseIntegrator, IntegratesAlongTheArcAndAveragesTheTwist)
+{
+  // A quarter circle of 1 m arc length in one step: the arc's end, not the chord's
+  // heading-at-start guess (1, 0).
+  PoseIntegrator integrator(2);
+  integrator.integrate({1.0, 0.0, M_PI / 2}, 1.0);
+  EXPECT_NEAR(integrator.pose().x, 2.0 / M_PI, 1e-9);
+  EXPECT_NEAR(integrator.pose().y, 2.0 / M_PI, 1e-9);
+  EXPECT_NEAR(integrator.pose().theta, M_PI / 2, 1e-12);
+  integrator.integrate({0.0, 0.5, 0.0}, 0.5);  // then 0.5 m sideways (a holonomic base) in 0.5 s
+  EXPECT_NEAR(integrator.distance(), 1.5, 1e-12);
+  EXPECT_NEAR(integrator.twist().vx, 0.5, 1e-12);  // mean of 1.0 and 0.0 m/s
+  EXPECT_NEAR(integrator.twist().vy, 0.5, 1e-12);  // mean of 0.0 and 1.0 m/s
+  EXPECT_NEAR(integrator.twist().wz, M_PI / 4, 1e-12);
+  integrator.resetTwist();
+  integrator.resetDistance();
+  EXPECT_EQ(integrator.twist().vx, 0.0);
+  EXPECT_EQ(integrator.distance(), 0.0);
+}
