@@ -45,7 +45,8 @@ target_link_libraries(bench_control_lib mybot_control_lib)
 if(CATKIN_ENABLE_TESTING)
   find_package(rostest REQUIRED)
   catkin_add_gtest(test_control_lib
-    test/gtest/test_kinematics_odometry.cpp
+    test/gtest/test_kinematics.cpp
+    test/gtest/test_odometry.cpp
     test/gtest/test_speed_limiter.cpp
     test/gtest/test_pid.cpp
     test/gtest/test_twist_mux.cpp
