@@ -69,9 +69,11 @@ class FramesTest(unittest.TestCase):
                             5.0, 'lwheel_angular_vel_target = 0.1 / 0.1')
         msg.linear.x = 0.0
         msg.angular.z = 1.0
-        self.chain.wait_for(lambda: (self.chain.pub.publish(msg), got('lwheel_tangent_vel_target', -0.15))[1],
-                            5.0, 'lwheel_tangent_vel_target = -1.0 * 0.30 / 2')
-        self.assertTrue(got('rwheel_tangent_vel_target', 0.15))
+        # The two wheels' targets come on two topics: wait for both, not for the left one alone
+        # (the right one's message may still be on its way when the left one arrives).
+        self.chain.wait_for(lambda: (self.chain.pub.publish(msg), got('lwheel_tangent_vel_target', -0.15)
+                                     and got('rwheel_tangent_vel_target', 0.15))[1],
+                            5.0, 'lwheel_tangent_vel_target = -1.0 * 0.30 / 2 and rwheel_tangent_vel_target = +0.15')
         self.chain.pub.publish(Twist())
 
     def test_set_pose(self):
