@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "mybot_common/node_main.h"
-#include "mybot_common/param_reader.h"
+#include "mybot_common/params.h"
 #include "mybot_common/params.h"
 #include "mybot_control/pid.hpp"
 #include "mybot_control/speed_limiter.hpp"

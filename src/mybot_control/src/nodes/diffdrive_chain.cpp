@@ -16,9 +16,10 @@ int main(int argc, char** argv)
       []
       {
         using namespace mybot_control_nodes;
-        ros::NodeHandle nh, pnh("~");
-        const bool mux = pnh.param("twist_mux", true), wheels = pnh.param("wheel_controller", true),
-                   odom = pnh.param("odom", true);
+        ros::NodeHandle nh;
+        const mybot_common::ParamReader p(ros::NodeHandle("~"));
+        const bool mux = p.boolean("twist_mux", true), wheels = p.boolean("wheel_controller", true),
+                   odom = p.boolean("odom", true);
         const auto n1 = mux ? makeTwistMux(nh, ros::NodeHandle("twist_mux")) : nullptr;
         const auto n2 = makeDiffDriveController(nh, ros::NodeHandle("diffdrive_controller"));
         const auto n3 = wheels ? makeWheelController(nh, ros::NodeHandle("wheel_controller")) : nullptr;

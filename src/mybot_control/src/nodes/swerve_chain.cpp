@@ -14,7 +14,7 @@ int main(int argc, char** argv)
       []
       {
         ros::NodeHandle nh;
-        const bool odom = ros::NodeHandle("~").param("odom", true);
+        const bool odom = mybot_common::ParamReader(ros::NodeHandle("~")).boolean("odom", true);
         const auto controller = mybot_control_nodes::makeSwerveController(nh, ros::NodeHandle("swerve_controller"));
         const auto module = mybot_control_nodes::makeSwerveModule(nh, ros::NodeHandle("swerve_module"));
         const auto odometry = odom ? mybot_control_nodes::makeSwerveOdom(nh, ros::NodeHandle("swerve_odom")) : nullptr;

@@ -9,21 +9,20 @@ namespace mybot_perception
 
 DepthToScanRos::DepthToScanRos(ros::NodeHandle nh, ros::NodeHandle pnh, bool lockstep) : nh_(nh)
 {
-  using mybot_common::readParamOrThrow;
-  params_.scan_height = readParamOrThrow<int>(pnh, "scan_height", 1);
-  scan_time_ = readParamOrThrow<double>(pnh, "scan_time", 0.033);
-  params_.range_min = readParamOrThrow<double>(pnh, "range_min", 0.45);
-  params_.range_max = readParamOrThrow<double>(pnh, "range_max", 10.0);
-  frame_ = readParamOrThrow<std::string>(pnh, "output_frame_id", "camera_depth_frame");
+  const mybot_common::ParamReader p(pnh);
+  params_.scan_height = p.integer("scan_height", 1);
+  scan_time_ = p.number("scan_time", 0.033);
+  params_.range_min = p.number("range_min", 0.45);
+  params_.range_max = p.number("range_max", 10.0);
+  frame_ = p.string("output_frame_id", "camera_depth_frame");
   if (params_.scan_height < 1)
-    throw mybot_common::ParamError(pnh, "scan_height", "must be at least 1 row");
+    p.fail("scan_height", "must be at least 1 row");
   if (!(scan_time_ >= 0.0))
-    throw mybot_common::ParamError(pnh, "scan_time", "must be >= 0 s");
+    p.fail("scan_time", "must be >= 0 s");
   if (!(params_.range_min >= 0.0 && params_.range_max > params_.range_min && std::isfinite(params_.range_max)))
-    throw mybot_common::ParamError(pnh, "range_max",
-                                   "must be finite and above ~range_min (" + std::to_string(params_.range_min) + ")");
+    p.fail("range_max", "must be finite and above ~range_min (" + std::to_string(params_.range_min) + ")");
   if (frame_.empty())
-    throw mybot_common::ParamError(pnh, "output_frame_id", "must not be empty");
+    p.fail("output_frame_id", "must not be empty");
 
   scan_pub_ = nh_.advertise<sensor_msgs::LaserScan>("scan", 10);
   auto on_info = [this](const sensor_msgs::CameraInfo::ConstPtr& m) { info_ = m; };

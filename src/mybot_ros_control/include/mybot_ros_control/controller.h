@@ -40,6 +40,7 @@ struct ControllerContext
   std::vector<std::string> stringList(const std::string& param, bool required) const;
   double number(const std::string& param, double def) const;
   bool boolean(const std::string& param, bool def) const;
+  std::string string(const std::string& param, const std::string& def) const;
 };
 
 class Controller

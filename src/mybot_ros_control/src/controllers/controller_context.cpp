@@ -36,14 +36,7 @@ std::string ControllerContext::requiredString(const std::string& param) const
 {
   if (!nh.hasParam(param))
     fail(param, "required parameter missing");
-  try
-  {
-    return mybot_common::readParamOrThrow<std::string>(nh, param, "");
-  }
-  catch (const mybot_common::ParamError& e)
-  {
-    fail("", e.what());
-  }
+  return string(param, "");
 }
 
 std::vector<std::string> ControllerContext::stringList(const std::string& param, bool required) const
@@ -71,28 +64,33 @@ std::vector<std::string> ControllerContext::stringList(const std::string& param,
   return out;
 }
 
-double ControllerContext::number(const std::string& param, double def) const
+// The typed reads: mybot_common's reader, its message in this controller's error.
+template <typename T>
+static T readOrFail(const ControllerContext& c, const std::string& param, const T& def)
 {
   try
   {
-    return mybot_common::readParamOrThrow<double>(nh, param, def);
+    return mybot_common::readParamOrThrow<T>(c.nh, param, def);
   }
   catch (const mybot_common::ParamError& e)
   {
-    fail("", e.what());
+    c.fail("", e.what());
   }
+}
+
+double ControllerContext::number(const std::string& param, double def) const
+{
+  return readOrFail(*this, param, def);
 }
 
 bool ControllerContext::boolean(const std::string& param, bool def) const
 {
-  try
-  {
-    return mybot_common::readParamOrThrow<bool>(nh, param, def);
-  }
-  catch (const mybot_common::ParamError& e)
-  {
-    fail("", e.what());
-  }
+  return readOrFail(*this, param, def);
+}
+
+std::string ControllerContext::string(const std::string& param, const std::string& def) const
+{
+  return readOrFail(*this, param, def);
 }
 
 const std::map<std::string, ControllerFactory>& controllerTypes()

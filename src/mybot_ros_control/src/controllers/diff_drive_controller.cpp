@@ -57,8 +57,8 @@ public:
     timeout_ = c.number("cmd_vel_timeout", 0.5);
     if (!(timeout_ > 0))
       c.fail("cmd_vel_timeout", "must be positive");
-    base_frame_ = c.nh.param<std::string>("base_frame_id", "base_link");
-    odom_frame_ = c.nh.param<std::string>("odom_frame_id", "odom");
+    base_frame_ = c.string("base_frame_id", "base_link");
+    odom_frame_ = c.string("odom_frame_id", "odom");
     enable_tf_ = c.boolean("enable_odom_tf", true);
     publish_cmd_ = c.boolean("publish_cmd", false);
     allow_multiple_ = c.boolean("allow_multiple_cmd_vel_publishers", true);
