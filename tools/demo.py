@@ -34,9 +34,6 @@ WORLDS = {
     "mybot": {"file": "mybot.world", "map_start": (0.0, 0.0, 0.0), "nav_start": (1.0, 1.0, 1.5708)},
 }
 ROBOT_RADIUS = {"mybot": 0.25, "swerve": 0.33}
-# Simulator pace (mapping, navigation) the whole stack keeps up with on 2 cores; the
-# swerve robot runs a controller, four module loops and odometry on top.
-ROBOT_PACE = {"mybot": (8.0, 4.0), "swerve": (4.0, 3.0)}
 
 
 def log(msg):
@@ -481,9 +478,8 @@ def run_robot(robot, args, world, truth_yaml, out):
     wfile = os.path.join(args.worlds_dir, world["file"])
     mx, my, myaw = world["map_start"]
     nx, ny, nyaw = world["nav_start"]
-    map_rtf, nav_rtf = ROBOT_PACE[robot]
     common = {"robot": robot, "world": wfile, "rviz": str(args.gui).lower(),
-              "real_time_factor": args.real_time_factor or map_rtf,
+              "real_time_factor": args.real_time_factor,
               "sensor": args.sensor if robot == "swerve" else "laser"}
     summary["sensor"] = common["sensor"]
 
@@ -512,7 +508,7 @@ def run_robot(robot, args, world, truth_yaml, out):
     log("%s: navigation: respawn at (%.1f, %.1f), map_server + AMCL + navigation, %d goals" % (robot, nx, ny, len(goals_map)))
     stage = Stage(robot + "_navigation", os.path.join(TOOLS, "launch", "mission_navigation.launch"),
                   dict(common, x=nx, y=ny, yaw=nyaw, map_file=map_prefix + ".yaml",
-                       real_time_factor=args.nav_real_time_factor or nav_rtf), out)
+                       real_time_factor=args.nav_real_time_factor), out)
     try:
         stage.run("navigation", "--initial-pose", *numbers(init), "--goals", json.dumps(goals_map),
                   "--map-origin", *numbers(frame), "--goal-timeout", str(args.goal_timeout),
@@ -606,11 +602,11 @@ def main():
     ap.add_argument("--output", default=os.path.join(WS, "output", time.strftime("demo-%Y%m%d-%H%M%S")),
                     help="output folder for the report, pictures, maps and logs")
     ap.add_argument("--gui", action="store_true", help="also start rviz (needs a display)")
-    ap.add_argument("--real-time-factor", type=float, default=None,
-                    help="simulator pace of the mapping stage (default 8 for mybot, 4 for swerve: what the "
-                         "whole stack keeps up with on 2 cores)")
-    ap.add_argument("--nav-real-time-factor", type=float, default=None,
-                    help="simulator pace of the navigation stage (default 4 for mybot, 3 for swerve)")
+    ap.add_argument("--real-time-factor", type=float, default=0.0,
+                    help="upper bound on the simulator's pace in the mapping stage (default 0: as fast as the "
+                         "slowest lockstep participant, the simulator, SLAM, AMCL or move_base, allows)")
+    ap.add_argument("--nav-real-time-factor", type=float, default=0.0,
+                    help="the same for the navigation stage (default 0)")
     ap.add_argument("--sensor", choices=("laser", "depth"), default="laser",
                     help="the swerve robot's sensor: its laser, or the thesis's depth camera through depth_to_scan")
     ap.add_argument("--map", help="navigate on this saved map (map_server YAML) instead of exploring first")

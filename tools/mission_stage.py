@@ -33,6 +33,7 @@ from mybot_gazebo_lite.msg import ModelContacts
 from mybot_move_base.action_client import SimpleActionClient
 from mybot_move_base.trajectory import sideways_distance
 from mybot_common.geometry import wrap, yaw_of
+from mybot_lockstep import participant
 
 
 def log(msg):
@@ -59,13 +60,16 @@ class Recorder:
         self.tf_error = ""
         self.tf = tf2_ros.Buffer(rospy.Duration(30))
         tf2_ros.TransformListener(self.tf)
-        rospy.Subscriber("ground_truth/odom", Odometry, self._on_gt, queue_size=5)
-        rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=20)
+        # A lockstep participant (mybot_lockstep): the simulator waits until every ground-truth,
+        # odometry and command message of a period is recorded, however fast it may run.
+        ls = participant()
+        ls.Subscriber("ground_truth/odom", Odometry, self._on_gt, queue_size=50)
+        ls.Subscriber("odom", Odometry, self._on_odom, queue_size=50)
         self.max_vy = 0.0  # sideways command: a holonomic robot should use it
-        rospy.Subscriber("cmd_vel", Twist, self._on_cmd, queue_size=20)
+        ls.Subscriber("cmd_vel", Twist, self._on_cmd, queue_size=50)
         self.contacts = None  # the simulator's count for the (only) robot
-        rospy.Subscriber("/gazebo/model_contacts", ModelContacts, self._on_contacts, queue_size=10)
-        rospy.Timer(rospy.Duration(1.0 / rate), self._sample)
+        ls.Subscriber("/gazebo/model_contacts", ModelContacts, self._on_contacts, queue_size=10)
+        ls.Timer(1.0 / rate, self._sample)
 
     def world_to_map(self, x, y, yaw):
         wx, wy, wyaw = self.T

@@ -7,23 +7,22 @@
 
 #include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
-#include <message_filters/subscriber.h>
 #include <nav_msgs/GetMap.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_srvs/Empty.h>
 #include <tf2_ros/buffer.h>
-#include <tf2_ros/message_filter.h>
 #include <tf2_ros/transform_broadcaster.h>
-#include <tf2_ros/transform_listener.h>
 
 #include "mybot_common/checks.h"
 #include "mybot_common/node_main.h"
 #include "mybot_amcl/amcl.h"
+#include "mybot_lockstep/participant.h"
+#include "mybot_lockstep/transform_listener.h"
 #include "mybot_nav_common/ros/node_params.h"
 #include "mybot_nav_common/ros/conversions.h"
-#include "mybot_nav_common/ros/tf_wait.h"
+#include "mybot_nav_common/ros/tf_gate.h"
 
 using namespace mybot_navigation;
 
@@ -79,7 +78,8 @@ class AmclNode
   static constexpr double kMaxCoordinate = 1e6;
 
 public:
-  AmclNode() : pnh_("~"), listener_(tf_buffer_), params_(readAmclParams(pnh_)), amcl_(params_)
+  AmclNode()
+      : pnh_("~"), listener_(tf_buffer_, [this] { releaseScans(); }), params_(readAmclParams(pnh_)), amcl_(params_)
   {
     odom_frame_ = readParam<std::string>(kNode, pnh_, "odom_frame_id", "odom");
     base_frame_ = readParam<std::string>(kNode, pnh_, "base_frame_id", "base_link");
@@ -105,16 +105,23 @@ public:
     cloud_pub_ = nh_.advertise<geometry_msgs::PoseArray>("particlecloud", 2, true);
     global_loc_srv_ = nh_.advertiseService("global_localization", &AmclNode::globalLocalization, this);
     nomotion_srv_ = nh_.advertiseService("request_nomotion_update", &AmclNode::nomotionUpdate, this);
-    initial_pose_sub_ = nh_.subscribe("initialpose", 2, &AmclNode::initialPose, this);
-
-    scan_sub_.subscribe(nh_, "scan", 100);
-    scan_filter_ =
-        std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(scan_sub_, tf_buffer_, odom_frame_, 100, nh_);
-    scan_filter_->registerCallback(&AmclNode::scanReceived, this);
+    // In lockstep when the simulator runs it (mybot_lockstep): scans, tf, poses and the map are
+    // handled period by period, so the filter sees the same inputs on a busy machine.
+    auto& ls = mybot_lockstep::Participant::instance();
+    initial_pose_sub_ = ls.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
+        nh_, "initialpose", 2, [this](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) { initialPose(m); });
+    // A scan waits (up to 100, as amcl's message filter) until odom -> base is known at its stamp.
+    scan_sub_ = ls.subscribe<sensor_msgs::LaserScan>(nh_, "scan", 100,
+                                                     [this](const sensor_msgs::LaserScan::ConstPtr& m)
+                                                     {
+                                                       scans_.add(m);
+                                                       releaseScans();
+                                                     });
 
     if (use_map_topic_)
     {
-      map_sub_ = nh_.subscribe("map", 1, &AmclNode::mapReceived, this);
+      map_sub_ = ls.subscribe<nav_msgs::OccupancyGrid>(
+          nh_, "map", 1, [this](const nav_msgs::OccupancyGrid::ConstPtr& m) { mapReceived(m); });
       ROS_INFO("amcl: subscribed to map topic %s", nh_.resolveName("map").c_str());
     }
     else
@@ -122,10 +129,20 @@ public:
       requestMap();
     }
     if (save_pose_rate_ > 0.0)
-      save_timer_ = nh_.createTimer(ros::Duration(1.0 / save_pose_rate_), &AmclNode::savePose, this);
+      save_timer_ = ls.createTimer(1.0 / save_pose_rate_, [this](const ros::TimerEvent& e) { savePose(e); });
   }
 
 private:
+  void releaseScans()
+  {
+    scans_.release(
+        ros::Time::now(),
+        [this](const sensor_msgs::LaserScan& s) {
+          return s.header.frame_id.empty() || tf_buffer_.canTransform(odom_frame_, s.header.frame_id, s.header.stamp);
+        },
+        [this](const sensor_msgs::LaserScan::ConstPtr& s) { scanReceived(s); });
+  }
+
   void requestMap()
   {
     nav_msgs::GetMap srv;
@@ -223,7 +240,6 @@ private:
     // The robot kept moving since the pose was stamped: apply the odometry motion since then.
     try
     {
-      mybot_navigation::waitForTransform(tf_buffer_, odom_frame_, base_frame_, msg->header.stamp, ros::Duration(0.1));
       const Pose2D then =
           mybot_navigation::toPose2D(tf_buffer_.lookupTransform(odom_frame_, base_frame_, msg->header.stamp));
       const Pose2D now = mybot_navigation::toPose2D(tf_buffer_.lookupTransform(odom_frame_, base_frame_, ros::Time(0)));
@@ -259,7 +275,7 @@ private:
 
   void scanReceived(const sensor_msgs::LaserScan::ConstPtr& scan)
   {
-    if (!amcl_.hasMap() || !scanGeometryOk("amcl", scan_sub_.getTopic(), *scan))
+    if (!amcl_.hasMap() || !scanGeometryOk("amcl", scans_.topic(), *scan))
       return;
     // ROS time itself going back, not a scan older than the last (a tf message filter can release
     // scans a few milliseconds out of order; that is no reset).
@@ -367,7 +383,7 @@ private:
 
   ros::NodeHandle nh_, pnh_;
   tf2_ros::Buffer tf_buffer_;
-  tf2_ros::TransformListener listener_;
+  mybot_lockstep::TransformListener listener_;
   tf2_ros::TransformBroadcaster broadcaster_;
   AmclParams params_;
   Amcl amcl_;
@@ -378,9 +394,9 @@ private:
   ros::Publisher pose_pub_, cloud_pub_;
   ros::ServiceServer global_loc_srv_, nomotion_srv_;
   ros::Subscriber initial_pose_sub_, map_sub_;
-  message_filters::Subscriber<sensor_msgs::LaserScan> scan_sub_;
-  std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
-  ros::Timer save_timer_;
+  ros::Subscriber scan_sub_;
+  TfGate<sensor_msgs::LaserScan> scans_{"amcl", ros::NodeHandle().resolveName("scan"), 100};
+  mybot_lockstep::Timer save_timer_;
   Pose2D last_pose_;
   bool lost_ = false;
   bool have_pose_ = false;

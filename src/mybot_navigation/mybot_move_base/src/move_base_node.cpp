@@ -3,6 +3,7 @@
 // clear_costmaps services, cmd_vel out; global and local costmaps, global and local plans
 // published for rviz. Parameter names follow move_base, costmap_2d, global_planner and
 // dwa_local_planner (namespaces ~global_costmap, ~local_costmap, ~GlobalPlanner, ~DWAPlannerROS).
+#include <list>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -23,13 +24,14 @@
 #include <std_srvs/Empty.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
-#include <tf2_ros/transform_listener.h>
 
 #include "mybot_common/node_main.h"
+#include "mybot_lockstep/participant.h"
+#include "mybot_lockstep/transform_listener.h"
 #include "mybot_move_base/navigator.h"
 #include "mybot_nav_common/ros/node_params.h"
 #include "mybot_nav_common/ros/conversions.h"
-#include "mybot_nav_common/ros/tf_wait.h"
+#include "mybot_nav_common/ros/tf_gate.h"
 
 using namespace mybot_navigation;
 
@@ -201,7 +203,7 @@ class MoveBaseNode
 public:
   MoveBaseNode()
       : pnh_("~"),
-        listener_(tf_buffer_),
+        listener_(tf_buffer_, [this] { releaseScans(); }),
         global_cfg_(readCostmap(ros::NodeHandle(pnh_, "global_costmap"), false)),
         local_cfg_(readCostmap(ros::NodeHandle(pnh_, "local_costmap"), true)),
         global_(global_cfg_.params),
@@ -258,32 +260,55 @@ public:
     goal_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("current_goal", 1, true);
     global_costmap_pub_ = pnh_.advertise<nav_msgs::OccupancyGrid>("global_costmap/costmap", 1, true);
     local_costmap_pub_ = pnh_.advertise<nav_msgs::OccupancyGrid>("local_costmap/costmap", 1, true);
-    simple_goal_sub_ = nh_.subscribe("move_base_simple/goal", 1, &MoveBaseNode::simpleGoal, this);
+    // In lockstep when the simulator runs it (mybot_lockstep): odometry, scans, tf, the map and
+    // the timers are handled period by period. The action's goals come through actionlib's own
+    // subscriptions, whenever they arrive.
+    auto& ls = mybot_lockstep::Participant::instance();
+    simple_goal_sub_ = ls.subscribe<geometry_msgs::PoseStamped>(
+        nh_, "move_base_simple/goal", 1, [this](const geometry_msgs::PoseStamped::ConstPtr& m) { simpleGoal(m); });
     action_goal_pub_ = nh_.advertise<move_base_msgs::MoveBaseActionGoal>("move_base/goal", 1);
-    odom_sub_ = nh_.subscribe("odom", 1, &MoveBaseNode::odomReceived, this);
+    // Only the newest odometry is used, but under lockstep every message of a period must be
+    // received (a queue of 1 drops the rest, and the period waits for them): room for a period.
+    odom_sub_ = ls.subscribe<nav_msgs::Odometry>(nh_, "odom", 20,
+                                                 [this](const nav_msgs::Odometry::ConstPtr& m) { odomReceived(m); });
     make_plan_srv_ = pnh_.advertiseService("make_plan", &MoveBaseNode::makePlan, this);
     clear_srv_ = pnh_.advertiseService("clear_costmaps", &MoveBaseNode::clearCostmaps, this);
     for (const CostmapConfig* cfg : {&global_cfg_, &local_cfg_})
       for (const auto& s : cfg->sources)
         if (scan_topics_.insert(s.topic).second)
-          scan_subs_.push_back(nh_.subscribe<sensor_msgs::LaserScan>(
-              s.topic, 5, [this, s](const sensor_msgs::LaserScan::ConstPtr& m) { scanReceived(m, s); }));
+        {
+          // A scan waits until the global frame -> its sensor is known at its stamp (AMCL's map ->
+          // odom comes after the scan it was computed from).
+          ScanSource& src = sources_.emplace_back(s, nh_.resolveName(s.topic));
+          src.sub = ls.subscribe<sensor_msgs::LaserScan>(
+              nh_, s.topic, 5,
+              [this, &src](const sensor_msgs::LaserScan::ConstPtr& m)
+              {
+                // A scan that contradicts itself is refused
+                // on arrival, not after its wait for tf.
+                if (!have_map_ || !scanGeometryOk("move_base", src.gate.topic(), *m))
+                  return;
+                src.gate.add(m);
+                releaseScans();
+              });
+        }
 
     if (!global_cfg_.params.use_static_map)
       fatalParam(kNode, pnh_, "global_costmap/static_map", "must be true: this implementation needs a map");
-    map_sub_ = nh_.subscribe(global_cfg_.map_topic, 1, &MoveBaseNode::mapReceived, this);
+    map_sub_ = ls.subscribe<nav_msgs::OccupancyGrid>(
+        nh_, global_cfg_.map_topic, 1, [this](const nav_msgs::OccupancyGrid::ConstPtr& m) { mapReceived(m); });
 
     server_ = std::make_unique<Server>(nh_, "move_base", false);
     server_->registerGoalCallback([this] { goalCallback(); });
     server_->registerPreemptCallback([this] { preemptCallback(); });
     server_->start();
 
-    control_timer_ = nh_.createTimer(ros::Duration(1.0 / controller_frequency_), &MoveBaseNode::controlLoop, this);
+    control_timer_ = ls.createTimer(1.0 / controller_frequency_, [this](const ros::TimerEvent& e) { controlLoop(e); });
     update_timer_ =
-        nh_.createTimer(ros::Duration(1.0 / global_cfg_.update_frequency), &MoveBaseNode::updateCostmaps, this);
+        ls.createTimer(1.0 / global_cfg_.update_frequency, [this](const ros::TimerEvent& e) { updateCostmaps(e); });
     const double pub_rate = std::max(global_cfg_.publish_frequency, local_cfg_.publish_frequency);
     if (pub_rate > 0.0)
-      publish_timer_ = nh_.createTimer(ros::Duration(1.0 / pub_rate), &MoveBaseNode::publishCostmaps, this);
+      publish_timer_ = ls.createTimer(1.0 / pub_rate, [this](const ros::TimerEvent& e) { publishCostmaps(e); });
     ROS_INFO("move_base: waiting for the map on %s", nh_.resolveName(global_cfg_.map_topic).c_str());
   }
 
@@ -321,21 +346,27 @@ private:
     last_control_ = now;
   }
 
-  void scanReceived(const sensor_msgs::LaserScan::ConstPtr& scan, const CostmapConfig::Source& source)
+  // Hands each waiting scan to the costmaps once its sensor's pose is known at its stamp.
+  void releaseScans()
   {
     checkTimeJump();
-    if (!have_map_ || !scanGeometryOk("move_base", nh_.resolveName(source.topic), *scan))
+    for (ScanSource& src : sources_)
+      src.gate.release(
+          ros::Time::now(),
+          [this](const sensor_msgs::LaserScan& scan)
+          {
+            return scan.header.frame_id.empty() ||
+                   tf_buffer_.canTransform(global_frame_, scan.header.frame_id, scan.header.stamp);
+          },
+          [this, &src](const sensor_msgs::LaserScan::ConstPtr& m) { scanReceived(m, src.config); });
+  }
+
+  void scanReceived(const sensor_msgs::LaserScan::ConstPtr& scan, const CostmapConfig::Source& source)
+  {
+    if (!have_map_)
       return;
     Pose2D sensor;
     bool upside_down = false;
-    if (!mybot_navigation::waitForTransform(tf_buffer_, global_frame_, scan->header.frame_id, scan->header.stamp,
-                                            ros::Duration(0.1)))
-    {
-      checkTimeJump();  // a reset while it waited: the goal must not outlive it
-      ROS_WARN_THROTTLE(5.0, "move_base: dropping scan from %s: no %s -> %s at %.3f s", source.topic.c_str(),
-                        global_frame_.c_str(), scan->header.frame_id.c_str(), scan->header.stamp.toSec());
-      return;
-    }
     try
     {
       sensor = mybot_navigation::toPose2D(
@@ -647,7 +678,7 @@ private:
 
   ros::NodeHandle nh_, pnh_;
   tf2_ros::Buffer tf_buffer_;
-  tf2_ros::TransformListener listener_;
+  mybot_lockstep::TransformListener listener_;
   CostmapConfig global_cfg_, local_cfg_;
   Costmap global_, local_;
   std::unique_ptr<GlobalPlanner> planner_;
@@ -663,13 +694,22 @@ private:
   Velocity2D velocity_, last_cmd_;
   ros::Time last_odom_, last_control_;
   std::string last_recovery_;
+  struct ScanSource
+  {
+    ScanSource(const CostmapConfig::Source& s, const std::string& resolved) : config(s), gate("move_base", resolved, 5)
+    {
+    }
+    CostmapConfig::Source config;
+    TfGate<sensor_msgs::LaserScan> gate;
+    ros::Subscriber sub;
+  };
   std::set<std::string> scan_topics_;
-  std::vector<ros::Subscriber> scan_subs_;
+  std::list<ScanSource> sources_;  // a list: the subscriptions' callbacks hold references
   ros::Publisher cmd_pub_, plan_pub_, local_plan_pub_, dwa_global_plan_pub_, goal_pub_, global_costmap_pub_,
       local_costmap_pub_, action_goal_pub_;
   ros::Subscriber simple_goal_sub_, odom_sub_, map_sub_;
   ros::ServiceServer make_plan_srv_, clear_srv_;
-  ros::Timer control_timer_, update_timer_, publish_timer_;
+  mybot_lockstep::Timer control_timer_, update_timer_, publish_timer_;
 };
 
 int main(int argc, char** argv)

@@ -38,6 +38,7 @@ from mybot_move_base.action_client import SimpleActionClient
 from mybot_move_base.trajectory import sideways_distance
 from mybot_gazebo_lite.srv import SetModelState
 from mybot_common.geometry import wrap as normalize, yaw_of
+from mybot_lockstep import participant
 
 PKG = "mybot_nav_bringup"
 
@@ -64,11 +65,14 @@ class NavSimTest(unittest.TestCase):
         self.max_vy = 0.0
         self.tf = tf2_ros.Buffer(cache_time=rospy.Duration(900))
         self.listener = tf2_ros.TransformListener(self.tf)
-        rospy.Subscriber("ground_truth/odom", Odometry, self.on_truth, queue_size=50)
-        rospy.Subscriber("cmd_vel", Twist, self.on_cmd, queue_size=10)
+        # A lockstep participant (mybot_lockstep): every ground-truth sample is logged before
+        # simulated time moves on, however busy the machine is.
+        ls = participant()
+        ls.Subscriber("ground_truth/odom", Odometry, self.on_truth, queue_size=50)
+        ls.Subscriber("cmd_vel", Twist, self.on_cmd, queue_size=50)
         self.contacts = None
-        rospy.Subscriber("/gazebo/model_contacts", ModelContacts, self.on_contacts, queue_size=10)
-        self.cmd = rospy.Publisher("cmd_vel", Twist, queue_size=1)
+        ls.Subscriber("/gazebo/model_contacts", ModelContacts, self.on_contacts, queue_size=10)
+        self.cmd = ls.Publisher("cmd_vel", Twist, queue_size=1)
         self.occ, self.res, self.origin = load_map(self.map_file)
         self.slam_tf_stamps = []
         self.logs = []

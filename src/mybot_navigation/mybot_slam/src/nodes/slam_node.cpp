@@ -6,18 +6,18 @@
 #include <mutex>
 #include <string>
 
-#include <message_filters/subscriber.h>
 #include <nav_msgs/GetMap.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_ros/buffer.h>
-#include <tf2_ros/message_filter.h>
 #include <tf2_ros/transform_broadcaster.h>
-#include <tf2_ros/transform_listener.h>
 
 #include "mybot_common/node_main.h"
+#include "mybot_lockstep/participant.h"
+#include "mybot_lockstep/transform_listener.h"
+#include "mybot_nav_common/ros/tf_gate.h"
 #include "mybot_nav_common/ros/node_params.h"
 #include "mybot_nav_common/ros/conversions.h"
 #include "mybot_slam/slam.h"
@@ -48,7 +48,7 @@ const auto non_empty = [](const std::string& s) { return !s.empty(); };
 class SlamNode
 {
 public:
-  SlamNode() : pnh_("~"), listener_(tf_buffer_)
+  SlamNode() : pnh_("~"), listener_(tf_buffer_, [this] { releaseScans(); })
   {
     base_frame_ = param<std::string>(pnh_, "base_frame", "base_link", non_empty, "a frame name");
     odom_frame_ = param<std::string>(pnh_, "odom_frame", "odom", non_empty, "a frame name");
@@ -99,29 +99,45 @@ public:
     // was rendered from, for scoring a run against ground truth and for rviz.
     path_pub_ = pnh_.advertise<nav_msgs::Path>("trajectory", 1, true);
 
-    scan_sub_.subscribe(nh_, "scan", 5);
-    scan_filter_ =
-        std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(scan_sub_, tf_buffer_, odom_frame_, 10, nh_);
-    scan_filter_->registerCallback(&SlamNode::scanCallback, this);
-    scan_filter_->registerFailureCallback(
-        [this](const sensor_msgs::LaserScan::ConstPtr& scan, tf2_ros::filter_failure_reasons::FilterFailureReason r)
-        {
-          const char* why = r == tf2_ros::filter_failure_reasons::OutTheBack
-                                ? "older than the tf cache"
-                                : (r == tf2_ros::filter_failure_reasons::EmptyFrameID
-                                       ? "empty frame_id"
-                                       : "transform not available in time or scan queue full (SLAM behind the sensor)");
-          ROS_WARN_THROTTLE(5.0, "slam: dropping scan at %.3f (%s -> %s): %s", scan->header.stamp.toSec(),
-                            scan->header.frame_id.c_str(), odom_frame_.c_str(), why);
-        });
+    // In lockstep when the simulator runs it (mybot_lockstep): scans and tf are handled period
+    // by period, so the map does not depend on how busy the machine is. A scan waits until
+    // odom -> base is known at its stamp; 100 of them (2.5 s of a 40 Hz laser) absorb the bursts
+    // of a bag played live, where a queue of 5 dropped scans.
+    auto& ls = mybot_lockstep::Participant::instance();
+    scan_sub_ = ls.subscribe<sensor_msgs::LaserScan>(nh_, "scan", 100,
+                                                     [this](const sensor_msgs::LaserScan::ConstPtr& m)
+                                                     {
+                                                       scans_.add(m);
+                                                       releaseScans();
+                                                     });
     if (transform_publish_period_ > 0.0)
-      tf_timer_ = nh_.createTimer(ros::Duration(transform_publish_period_), &SlamNode::publishTransform, this);
+      tf_timer_ = ls.createTimer(transform_publish_period_, [this](const ros::TimerEvent& e) { publishTransform(e); });
     ROS_INFO("slam: delta %.3f m, linearUpdate %.2f m, angularUpdate %.2f rad, frames %s -> %s -> %s, loop closure %s",
              p.grid.resolution, p.linear_update, p.angular_update, map_frame_.c_str(), odom_frame_.c_str(),
              base_frame_.c_str(), p.loop_closure ? "on" : "off");
   }
 
 private:
+  void releaseScans()
+  {
+    scans_.release(
+        ros::Time::now(),
+        [this](const sensor_msgs::LaserScan& scan)
+        {
+          if (scan.header.frame_id.empty())
+          {
+            ROS_WARN_THROTTLE(5.0, "slam: dropping a scan at %.3f: empty frame_id", scan.header.stamp.toSec());
+            return true;  // handed on to be dropped, not kept forever
+          }
+          return tf_buffer_.canTransform(odom_frame_, scan.header.frame_id, scan.header.stamp);
+        },
+        [this](const sensor_msgs::LaserScan::ConstPtr& scan)
+        {
+          if (!scan->header.frame_id.empty())
+            scanCallback(scan);
+        });
+  }
+
   struct BeamTable
   {
     double angle_min, angle_increment;
@@ -179,7 +195,7 @@ private:
       ROS_WARN_THROTTLE(5.0, "slam: empty scan at %.3f ignored", stamp);
       return;
     }
-    if (!mybot_navigation::scanGeometryOk("slam", scan_sub_.getTopic(), *scan))
+    if (!mybot_navigation::scanGeometryOk("slam", scans_.topic(), *scan))
       return;
     geometry_msgs::TransformStamped odom_tf;
     try
@@ -332,13 +348,13 @@ private:
 
   ros::NodeHandle nh_, pnh_;
   tf2_ros::Buffer tf_buffer_;
-  tf2_ros::TransformListener listener_;
+  mybot_lockstep::TransformListener listener_;
   tf2_ros::TransformBroadcaster broadcaster_;
-  message_filters::Subscriber<sensor_msgs::LaserScan> scan_sub_;
-  std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
+  ros::Subscriber scan_sub_;
+  TfGate<sensor_msgs::LaserScan> scans_{"slam", ros::NodeHandle().resolveName("scan"), 100};
   ros::Publisher map_pub_, meta_pub_, path_pub_;
   ros::ServiceServer map_srv_;
-  ros::Timer tf_timer_;
+  mybot_lockstep::Timer tf_timer_;
   std::string base_frame_, odom_frame_, map_frame_;
   double map_update_interval_, transform_publish_period_, max_urange_, max_range_;
   int throttle_scans_;

@@ -1,0 +1,51 @@
+#include "mybot_lockstep/transform_listener.h"
+
+#include "mybot_lockstep/participant.h"
+
+namespace mybot_lockstep
+{
+
+TransformListener::TransformListener(tf2_ros::Buffer& buffer, std::function<void()> on_update,
+                                     const ros::NodeHandle& nh)
+    : buffer_(buffer), on_update_(std::move(on_update))
+{
+  ros::NodeHandle n(nh);
+  auto& ls = Participant::instance();
+  // tf2_ros's queue sizes: 100 messages, enough for a period's transforms under lockstep and
+  // for a busy moment of the spinner off it.
+  tf_sub_ = ls.subscribe<tf2_msgs::TFMessage>(
+      n, "/tf", 100, [this](const tf2_msgs::TFMessage& m) { received(m, false); }, ros::TransportHints().tcpNoDelay());
+  static_sub_ = ls.subscribe<tf2_msgs::TFMessage>(
+      n, "/tf_static", 100, [this](const tf2_msgs::TFMessage& m) { received(m, true); },
+      ros::TransportHints().tcpNoDelay());
+}
+
+void TransformListener::received(const tf2_msgs::TFMessage& msg, bool is_static)
+{
+  const ros::Time now = ros::Time::now();
+  if (!last_now_.isZero() && now < last_now_)
+  {
+    // As tf2_ros::TransformListener: after time went back, the old transforms lie in the
+    // future of the new clock and would be used for stamps they never described.
+    ROS_WARN("tf: time went backwards (%.3f -> %.3f s); clearing the transform buffer", last_now_.toSec(), now.toSec());
+    buffer_.clear();
+  }
+  last_now_ = now;
+  const std::string authority = is_static ? "tf_static" : "tf";
+  for (const auto& t : msg.transforms)
+  {
+    try
+    {
+      buffer_.setTransform(t, authority, is_static);
+    }
+    catch (const tf2::TransformException& e)
+    {
+      ROS_WARN_THROTTLE(5.0, "tf: rejected a transform %s -> %s: %s", t.header.frame_id.c_str(),
+                        t.child_frame_id.c_str(), e.what());
+    }
+  }
+  if (on_update_)
+    on_update_();
+}
+
+}  // namespace mybot_lockstep
