@@ -68,7 +68,7 @@ class Recorder:
         self.max_vy = 0.0  # sideways command: a holonomic robot should use it
         ls.Subscriber("cmd_vel", Twist, self._on_cmd, queue_size=50)
         self.contacts = None  # the simulator's count for the (only) robot
-        ls.Subscriber("/gazebo/model_contacts", ModelContacts, self._on_contacts, queue_size=10)
+        ls.Subscriber("/gazebo/model_contacts", ModelContacts, self._on_contacts, queue_size=100)
         ls.Timer(1.0 / rate, self._sample)
 
     def world_to_map(self, x, y, yaw):

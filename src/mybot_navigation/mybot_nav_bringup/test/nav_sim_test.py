@@ -71,7 +71,7 @@ class NavSimTest(unittest.TestCase):
         ls.Subscriber("ground_truth/odom", Odometry, self.on_truth, queue_size=50)
         ls.Subscriber("cmd_vel", Twist, self.on_cmd, queue_size=50)
         self.contacts = None
-        ls.Subscriber("/gazebo/model_contacts", ModelContacts, self.on_contacts, queue_size=10)
+        ls.Subscriber("/gazebo/model_contacts", ModelContacts, self.on_contacts, queue_size=100)
         self.cmd = ls.Publisher("cmd_vel", Twist, queue_size=1)
         self.occ, self.res, self.origin = load_map(self.map_file)
         self.slam_tf_stamps = []
