@@ -11,12 +11,13 @@ TransformListener::TransformListener(tf2_ros::Buffer& buffer, std::function<void
 {
   ros::NodeHandle n(nh);
   auto& ls = Participant::instance();
-  // tf2_ros's queue sizes: 100 messages, enough for a period's transforms under lockstep and
-  // for a busy moment of the spinner off it.
+  // 1000 messages (tf2_ros's listener: 100): a node whose constructor blocks (amcl waiting for
+  // its map) receives nothing until it spins, and under lockstep every message a period owes is
+  // waited for; with 100, amcl once lost 20 of the simulator's and held a period for 2 s.
   tf_sub_ = ls.subscribe<tf2_msgs::TFMessage>(
-      n, "/tf", 100, [this](const tf2_msgs::TFMessage& m) { received(m, false); }, ros::TransportHints().tcpNoDelay());
+      n, "/tf", 1000, [this](const tf2_msgs::TFMessage& m) { received(m, false); }, ros::TransportHints().tcpNoDelay());
   static_sub_ = ls.subscribe<tf2_msgs::TFMessage>(
-      n, "/tf_static", 100, [this](const tf2_msgs::TFMessage& m) { received(m, true); },
+      n, "/tf_static", 1000, [this](const tf2_msgs::TFMessage& m) { received(m, true); },
       ros::TransportHints().tcpNoDelay());
 }
 
