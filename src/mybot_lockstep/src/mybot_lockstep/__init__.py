@@ -241,7 +241,14 @@ class Participant:
 
     def _ack(self, tick):
         ack = Ack(node=self._me, seq=tick.seq, leaving=False, sent=_sent_links(self._me))
-        self._ack_pub.publish(ack)
+        try:
+            self._ack_pub.publish(ack)
+        except rospy.ROSException:
+            # A tick that arrives while the node shuts down: the simulator drops us on the closed
+            # connection, so there is nobody to answer.
+            if not rospy.is_shutdown():
+                raise
+            return
         self._last_ack = ack
 
 

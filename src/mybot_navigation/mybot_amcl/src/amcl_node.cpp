@@ -261,7 +261,7 @@ private:
   {
     try
     {
-      const auto t = tf_buffer_.lookupTransform(base_frame_, frame, stamp, ros::Duration(0.0));
+      const auto t = tf_buffer_.lookupTransform(base_frame_, frame, stamp);
       pose = mybot_navigation::toPose2D(t, &upside_down);
       return true;
     }

@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include <actionlib/server/simple_action_server.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <move_base_msgs/MoveBaseAction.h>
@@ -32,6 +31,7 @@
 #include "mybot_nav_common/ros/node_params.h"
 #include "mybot_nav_common/ros/conversions.h"
 #include "mybot_nav_common/ros/tf_gate.h"
+#include "goal_server.h"
 
 using namespace mybot_navigation;
 
@@ -198,7 +198,7 @@ nav_msgs::Path toPath(const std::vector<Pose2D>& poses, const std::string& frame
 
 class MoveBaseNode
 {
-  using Server = actionlib::SimpleActionServer<move_base_msgs::MoveBaseAction>;
+  using Server = mybot_move_base::GoalServer<move_base_msgs::MoveBaseAction>;
 
 public:
   MoveBaseNode()
@@ -298,10 +298,9 @@ public:
     map_sub_ = ls.subscribe<nav_msgs::OccupancyGrid>(
         nh_, global_cfg_.map_topic, 1, [this](const nav_msgs::OccupancyGrid::ConstPtr& m) { mapReceived(m); });
 
-    server_ = std::make_unique<Server>(nh_, "move_base", false);
-    server_->registerGoalCallback([this] { goalCallback(); });
-    server_->registerPreemptCallback([this] { preemptCallback(); });
-    server_->start();
+    server_ = std::make_unique<Server>(
+        nh_, "move_base", [this](const move_base_msgs::MoveBaseGoalConstPtr& goal) { goalCallback(goal); },
+        [this] { preemptCallback(); });
 
     control_timer_ = ls.createTimer(1.0 / controller_frequency_, [this](const ros::TimerEvent& e) { controlLoop(e); });
     update_timer_ =
@@ -456,8 +455,13 @@ private:
     }
     try
     {
+      // The goal's frame as it was at the goal's stamp, the global frame as it is now (the rviz
+      // goal in base_link means "from where the robot was"). No timeout: nothing fills the buffer
+      // while this callback runs (tf comes through the lockstep participant).
       geometry_msgs::PoseStamped g;
-      tf_buffer_.transform(in, g, global_frame_, ros::Time(0), in.header.frame_id, ros::Duration(0.5));
+      tf2::doTransform(in, g,
+                       tf_buffer_.lookupTransform(global_frame_, ros::Time(0), in.header.frame_id, in.header.stamp,
+                                                  in.header.frame_id));
       out = mybot_navigation::toPose2D(g.pose);
       return true;
     }
@@ -468,9 +472,9 @@ private:
     }
   }
 
-  void goalCallback()
+  void goalCallback(const move_base_msgs::MoveBaseGoalConstPtr& goal)
   {
-    pending_goal_ = server_->acceptNewGoal();
+    pending_goal_ = goal;
     pending_since_ = ros::Time::now();
     const auto& o = pending_goal_->target_pose.pose.orientation;
     const double q = std::sqrt(o.x * o.x + o.y * o.y + o.z * o.z + o.w * o.w);
@@ -518,7 +522,7 @@ private:
     pending_goal_.reset();
     ROS_WARN("move_base: goal aborted: %s", error.c_str());
     stop();
-    server_->setAborted(move_base_msgs::MoveBaseResult(), error);
+    server_->setAborted(error);
   }
 
   void preemptCallback()
@@ -563,7 +567,8 @@ private:
     navigator_->cancel();
     stop();
     if (server_->isActive())
-      server_->setAborted(move_base_msgs::MoveBaseResult(), "time went backwards (simulation reset?)");
+      server_->setAborted("time went backwards (simulation reset?)");
+    server_->forget();
     global_.reset();
     local_.reset();
     last_odom_ = ros::Time();
@@ -606,12 +611,12 @@ private:
     {
       case NavState::Succeeded:
         stop();
-        server_->setSucceeded(move_base_msgs::MoveBaseResult(), "Goal reached.");
+        server_->setSucceeded("Goal reached.");
         return;
       case NavState::Aborted:
         stop();
         ROS_WARN("move_base: aborting: %s", out.message.c_str());
-        server_->setAborted(move_base_msgs::MoveBaseResult(), out.message);
+        server_->setAborted(out.message);
         return;
       case NavState::Idle:
         stop();
