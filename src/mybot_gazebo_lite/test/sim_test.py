@@ -25,14 +25,21 @@ from std_srvs.srv import Empty
 from mybot_gazebo_lite.msg import ModelContacts, ModelState
 from mybot_gazebo_lite.srv import GetModelState, SetModelState, SpawnModel
 from mybot_common.geometry import wrap, yaw_of
+from mybot_lockstep import participant
 
 WALL_TIMEOUT = 60.0
 
 
 class Robot:
-    """Latest ground truth / odom of one (possibly namespaced) robot and a cmd_vel publisher."""
+    """Latest ground truth / odom of one (possibly namespaced) robot and a cmd_vel publisher.
 
-    def __init__(self, ns=''):
+    A robot that is commanded (commands=True) makes this node a lockstep participant
+    (mybot_lockstep): the simulator waits for it every period, so a command sent for period k
+    acts at period k whatever the load, and every ground-truth sample is seen. The main thread
+    then holds the simulation between its sleeps, so it waits only through the helper's sleeps
+    (wait, settle, drive) and calls release() before any other blocking call."""
+
+    def __init__(self, ns='', commands=True):
         p = ns.strip('/') + '/' if ns else ''
         self.lock = threading.Lock()
         self.gt = None
@@ -40,11 +47,15 @@ class Robot:
         self.scan = None
         self.joints = None
         self.history = None
-        self.cmd = rospy.Publisher('/' + p + 'cmd_vel', Twist, queue_size=1)
-        rospy.Subscriber('/' + p + 'ground_truth/odom', Odometry, self._gt)
-        rospy.Subscriber('/' + p + 'odom', Odometry, self._odom)
-        rospy.Subscriber('/' + p + 'scan', LaserScan, self._scan)
-        rospy.Subscriber('/' + p + 'joint_states', JointState, self._js)
+        # Without commands (the rest test: 600 s of sim time, no input) the node stays out of
+        # lockstep: the simulation need not hand it every period.
+        self.ls = participant() if commands else None
+        sub = self.ls.Subscriber if self.ls else rospy.Subscriber
+        self.cmd = (self.ls.Publisher if self.ls else rospy.Publisher)('/' + p + 'cmd_vel', Twist, queue_size=1)
+        sub('/' + p + 'ground_truth/odom', Odometry, self._gt)
+        sub('/' + p + 'odom', Odometry, self._odom)
+        sub('/' + p + 'scan', LaserScan, self._scan)
+        sub('/' + p + 'joint_states', JointState, self._js)
 
     def _gt(self, m):
         with self.lock:
@@ -65,13 +76,22 @@ class Robot:
             self.joints = m
 
     def wait(self, cond, what, timeout=WALL_TIMEOUT):
-        end = time.time() + timeout
-        while time.time() < end and not rospy.is_shutdown():
+        """Until cond(), a period of sim time at a time; the bound is wall time (start-up)."""
+        end = time.monotonic() + timeout
+        while time.monotonic() < end and not rospy.is_shutdown():
             with self.lock:
                 if cond():
                     return
-            time.sleep(0.002)
+            if self.ls and rospy.get_rostime() > rospy.Time(0):
+                self.ls.sleep(0.01)
+            else:
+                time.sleep(0.002)
         raise AssertionError('timed out waiting for ' + what)
+
+    def release(self):
+        """Before a blocking call (a service, wait_for_message): stop holding the simulation."""
+        if self.ls:
+            self.ls.release()
 
     def ready(self):
         self.wait(lambda: self.gt is not None, 'ground truth')
@@ -88,18 +108,17 @@ class Robot:
 
     def drive(self, v, w, duration):
         """Publishes (v, w) every 20 ms of sim time for `duration` sim seconds, then stops."""
+        self.publish_for(v, w, duration, 50)
+        self.cmd.publish(Twist())
+
+    def publish_for(self, v, w, duration, hz):
         t_end = self.now() + duration
         tw = Twist()
         tw.linear.x, tw.angular.z = v, w
-        next_pub = 0.0
+        rate = self.ls.Rate(hz)
         while self.now() < t_end:
-            if self.now() >= next_pub:
-                self.cmd.publish(tw)
-                next_pub = self.now() + 0.02
-            time.sleep(0.0005)
-            if rospy.is_shutdown():
-                raise AssertionError('shutdown')
-        self.cmd.publish(Twist())
+            self.cmd.publish(tw)
+            rate.sleep()
 
     def record(self, v, w, duration):
         """Drives for `duration` plus a margin and returns the ground-truth samples.
@@ -134,6 +153,7 @@ class DriveTests(unittest.TestCase):
         cls.r.ready()
 
     def setUp(self):
+        self.r.release()
         rospy.wait_for_service('/gazebo/reset_world', 30)
         rospy.ServiceProxy('/gazebo/reset_world', Empty)()
         self.r.settle(0.5)
@@ -173,13 +193,7 @@ class DriveTests(unittest.TestCase):
 
     def test_nan_commands_are_ignored(self):
         x0, y0, _ = self.r.pose()
-        tw = Twist()
-        tw.linear.x = float('nan')
-        tw.angular.z = float('inf')
-        t_end = self.r.now() + 1.0
-        while self.r.now() < t_end:
-            self.r.cmd.publish(tw)
-            time.sleep(0.005)
+        self.r.publish_for(float('nan'), float('inf'), 1.0, 200)
         x1, y1, th1 = self.r.pose()
         self.assertLess(math.hypot(x1 - x0, y1 - y0), 0.001)
         self.assertTrue(all(math.isfinite(v) for v in (x1, y1, th1)))
@@ -210,7 +224,7 @@ class DriveTests(unittest.TestCase):
 class RestTests(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.r = Robot()
+        cls.r = Robot(commands=False)
         cls.r.ready()
 
     def test_rest_ten_minutes(self):
@@ -231,6 +245,7 @@ class WallTests(unittest.TestCase):
 
     def test_laser_range_to_wall(self):
         self.r.settle(0.5)
+        self.r.release()
         contacts = rospy.wait_for_message('/gazebo/model_contacts', ModelContacts, timeout=30)
         self.assertEqual(contacts.model_name, 'mybot')
         self.assertEqual((contacts.contact_steps, contacts.first_time), (0, -1.0), 'resting on the ground is no contact')
@@ -266,6 +281,7 @@ class WallTests(unittest.TestCase):
         self.assertGreater(x, 4.0)
         self.assertLess(abs(z), 0.1)
         self.assertLess(math.hypot(v.x, v.y), 0.05)
+        self.r.release()
         contacts = rospy.wait_for_message('/gazebo/model_contacts', ModelContacts, timeout=30)
         # Pushing for seconds: in contact for most of them (at rest afterwards it may just touch).
         self.assertEqual(contacts.first_model, 'wall_east', str(contacts))

@@ -244,9 +244,10 @@ class Participant:
         try:
             self._ack_pub.publish(ack)
         except rospy.ROSException:
-            # A tick that arrives while the node shuts down: the simulator drops us on the closed
-            # connection, so there is nobody to answer.
-            if not rospy.is_shutdown():
+            # A tick that arrives while the node shuts down (rospy closes its topics in a
+            # pre-shutdown hook, before is_shutdown() turns true): the simulator drops us on the
+            # closed connection, so there is nobody to answer.
+            if not rospy.core.is_shutdown_requested():
                 raise
             return
         self._last_ack = ack
