@@ -220,8 +220,12 @@ class SwerveSimTest(unittest.TestCase):
             rospy.loginfo('module %s: 90 degree step settles (2%%) in %s s, overshoot %.4f rad', m,
                           'never' if settle is None else '%.3f' % settle, worst_over)
             self.assertIsNotNone(settle, 'module %s never settled' % m)
-            self.assertLess(settle, 1.0)
-            self.assertLess(worst_over, 0.1)
+            # In lockstep every run measures the same: 0.490 s and 0.0001 rad (idle and with a
+            # busy loop on one core). The bounds were 1.0 s and 0.1 rad when the simulator ran
+            # free of the controllers; these leave five 10 ms periods and catch a slower or
+            # overshooting pivot loop.
+            self.assertLess(settle, 0.55)
+            self.assertLess(worst_over, 0.01)
 
     def check_modules_never_turn_more_than_90_degrees(self):
         rnd = random.Random(5)
