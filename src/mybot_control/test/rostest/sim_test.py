@@ -181,7 +181,9 @@ class SimTest(unittest.TestCase):
         drift = math.degrees(abs(relative(gt0, self.gt.pose())[2]))
         rospy.loginfo('weak wheel, pid_on %s: heading drift %.2f deg over 2 m', pid_on, drift)
         if pid_on:
-            self.assertLess(drift, 2.0)
+            # 0.45 deg in every run in lockstep, idle or loaded; the 2 deg asked of the GoPiGo
+            # (whose driver's simulated motors run on the wall clock) was the bound here too.
+            self.assertLess(drift, 0.6)
         else:
             self.assertGreater(drift, 10.0)  # open loop visibly curves
 
