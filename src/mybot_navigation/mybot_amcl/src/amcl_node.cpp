@@ -43,6 +43,8 @@ AmclParams readAmclParams(const ros::NodeHandle& pnh)
   p.filter.alpha_fast = d("recovery_alpha_fast", p.filter.alpha_fast);
   p.filter.recovery_trigger_ratio = d("recovery_trigger_ratio", p.filter.recovery_trigger_ratio);
   p.filter.recovery_release_ratio = d("recovery_release_ratio", p.filter.recovery_release_ratio);
+  p.filter.recovery_accept_ratio = d("recovery_accept_ratio", p.filter.recovery_accept_ratio);
+  p.filter.recovery_accept_updates = i("recovery_accept_updates", p.filter.recovery_accept_updates);
   p.laser.max_beams = i("laser_max_beams", p.laser.max_beams);
   p.laser.z_hit = d("laser_z_hit", p.laser.z_hit);
   p.laser.z_rand = d("laser_z_rand", p.laser.z_rand);
@@ -326,9 +328,14 @@ private:
       if (lost_)
         ROS_WARN("amcl: the scan fits %.0f %% as well as when localized: adding random particles",
                  100.0 * f.wFast() / f.wSlow());
-      else
+      else if (f.wFast() >= f.params().recovery_release_ratio * f.wSlow())
         ROS_INFO("amcl: the scan fits %.0f %% as well as when localized again: recovery stops",
                  100.0 * f.wFast() / f.wSlow());
+      else
+        ROS_WARN(
+            "amcl: the scan fits %.0f %% as well as when localized, and %d updates of search found no better "
+            "place: recovery stops here",
+            100.0 * f.wFast() / f.wSlow(), f.params().recovery_accept_updates);
     }
     if (updated)
     {

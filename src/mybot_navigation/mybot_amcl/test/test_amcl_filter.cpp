@@ -164,6 +164,69 @@ TEST(ParticleFilter, RecoveryAveragesTrackTheFitAndTriggerOnlyWhenLost)
   EXPECT_FALSE(pf.correct(constant(0.0), 0.0, 20.0));  // all weights vanished
 }
 
+TEST(ParticleFilter, RecoveryAcceptsAPlaceFittingLessWellOnlyAfterSearchingLonger)
+{
+  // A lookalike place fits 80-95 % as well as the localized scene: the search goes on for
+  // recovery_accept_updates updates before it settles there; a place fitting as well stops it at once.
+  FilterParams fp;
+  fp.alpha_slow = 0.001;
+  fp.alpha_fast = 0.1;
+  fp.max_particles = 500;
+  fp.recovery_accept_updates = 40;
+  const auto constant = [](double l) { return [l](const Pose2D&) { return l; }; };
+  int random = 0;
+  const ParticleFilter::PoseGenerator far = [&random](Rng&)
+  {
+    ++random;
+    return Pose2D{100, 100, 0};
+  };
+  const auto lose = [&](ParticleFilter& pf)
+  {
+    pf.initGaussian({0, 0, 0}, 1, 1, 1);
+    for (int i = 0; i < 30; ++i)  // localized: fit 0.8
+    {
+      pf.correct(constant(16.0), 0.0, 20.0);
+      pf.resample(far);
+    }
+    EXPECT_FALSE(pf.lost());
+    for (int i = 0; i < 20 && !pf.lost(); ++i)  // kidnapped: fit 0.1
+    {
+      pf.correct(constant(2.0), 0.0, 20.0);
+      pf.resample(far);
+    }
+    EXPECT_TRUE(pf.lost());
+  };
+  // The lookalike: fit 0.7, 7/8 of the localized 0.8.
+  ParticleFilter lookalike(fp, 1);
+  lose(lookalike);
+  int above_accept = 0;
+  while (lookalike.lost() && above_accept < 200)
+  {
+    lookalike.correct(constant(14.0), 0.0, 20.0);
+    if (lookalike.wFast() >= fp.recovery_accept_ratio * lookalike.wSlow())
+      ++above_accept;
+    const int before = random;
+    lookalike.resample(far);
+    if (lookalike.lost())
+      EXPECT_GT(random, before);  // still searching
+  }
+  EXPECT_FALSE(lookalike.lost());
+  EXPECT_EQ(above_accept, fp.recovery_accept_updates + 1);
+  EXPECT_LT(lookalike.wFast(), fp.recovery_release_ratio * lookalike.wSlow());
+  // The true place: fit 0.8 again, released as soon as the fit is past recovery_release_ratio.
+  ParticleFilter found(fp, 1);
+  lose(found);
+  int updates = 0;
+  for (; found.lost() && updates < 200; ++updates)
+  {
+    found.correct(constant(16.0), 0.0, 20.0);
+    found.resample(far);
+  }
+  EXPECT_FALSE(found.lost());
+  EXPECT_GE(found.wFast(), fp.recovery_release_ratio * found.wSlow());
+  EXPECT_LT(updates, 40);
+}
+
 TEST(Amcl, ValidateNamesTheBadParameter)
 {
   AmclParams p;
@@ -173,6 +236,12 @@ TEST(Amcl, ValidateNamesTheBadParameter)
   p = AmclParams();
   p.filter.recovery_trigger_ratio = 0.0;
   EXPECT_NE(validate(p).find("recovery_trigger_ratio"), std::string::npos);
+  p = AmclParams();
+  p.filter.recovery_accept_ratio = 0.99;  // above recovery_release_ratio
+  EXPECT_NE(validate(p).find("recovery_accept_ratio"), std::string::npos);
+  p = AmclParams();
+  p.filter.recovery_accept_updates = -1;
+  EXPECT_NE(validate(p).find("recovery_accept_updates"), std::string::npos);
   p = AmclParams();
   p.resample_interval = 0;
   EXPECT_NE(validate(p).find("resample_interval"), std::string::npos);

@@ -79,6 +79,7 @@ class NavSimTest(unittest.TestCase):
         if rospy.get_param("~slam_ns", ""):
             rospy.Subscriber(rospy.get_param("~slam_ns") + "/map", OccupancyGrid,
                              lambda m: self.slam_map_stamps.append(m.header.stamp), queue_size=10)
+        if rospy.get_param("~slam_ns", "") or self.mode == "kidnap":
             rospy.Subscriber("/rosout", Log, lambda m: self.logs.append(m.msg), queue_size=100)
         if self.mode == "reset":
             rospy.Subscriber("amcl_pose", PoseWithCovarianceStamped, self.on_amcl_pose, queue_size=100)
@@ -223,27 +224,34 @@ class NavSimTest(unittest.TestCase):
         st.reference_frame = "world"
         self.assertTrue(srv(st).success)
 
-    def spin_until_localized(self, max_sim, speed=0.6):
-        """Turns in place (and nudges AMCL) until it agrees with ground truth; returns sim time."""
+    def spin_until(self, done, max_sim, speed=0.6):
+        """Turns in place (and nudges AMCL) until done() after each 0.2 s; returns sim time."""
         nomotion = rospy.ServiceProxy("request_nomotion_update", Empty)
         start = rospy.Time.now()
-        good_since = None
         twist = Twist()
         twist.angular.z = speed
         while (rospy.Time.now() - start).to_sec() < max_sim:
             self.cmd.publish(twist)
             nomotion()
             self.wait_sim(0.2)
-            dxy, dyaw = self.localization_error()
-            if dxy < 0.25 and dyaw < 0.25:
-                if good_since is None:
-                    good_since = rospy.Time.now()
-                if (rospy.Time.now() - good_since).to_sec() > 2.0:
-                    break
-            else:
-                good_since = None
+            if done():
+                break
         self.cmd.publish(Twist())
         return (rospy.Time.now() - start).to_sec()
+
+    def spin_until_localized(self, max_sim, speed=0.6):
+        """Turns in place until AMCL has agreed with ground truth for 2 s; returns sim time."""
+        good_since = [None]
+
+        def localized():
+            dxy, dyaw = self.localization_error()
+            if dxy >= 0.25 or dyaw >= 0.25:
+                good_since[0] = None
+                return False
+            good_since[0] = good_since[0] or rospy.Time.now()
+            return (rospy.Time.now() - good_since[0]).to_sec() > 2.0
+
+        return self.spin_until(localized, max_sim, speed)
 
     # ----- tests -------------------------------------------------------------------------------
     def test_nav(self):
@@ -477,6 +485,13 @@ class NavSimTest(unittest.TestCase):
         took = self.spin_until_localized(rospy.get_param("~max_converge", 60.0))
         dxy, dyaw = self.localization_error()
         rospy.loginfo("kidnap recovery: %.1f s sim, error %.3f m %.3f rad", took, dxy, dyaw)
+        self.assertLess(dxy, 0.25)
+        self.assertLess(dyaw, 0.25)
+        # AMCL stops adding random particles, and stays where it found the robot.
+        took = self.spin_until(lambda: any("recovery stops" in m for m in self.logs), 90.0)
+        self.assertTrue(any("recovery stops" in m for m in self.logs), "AMCL still searching after %.0f s" % took)
+        dxy, dyaw = self.localization_error()
+        rospy.loginfo("kidnap: recovery stopped %.1f s sim later, error %.3f m %.3f rad", took, dxy, dyaw)
         self.assertLess(dxy, 0.25)
         self.assertLess(dyaw, 0.25)
 

@@ -19,14 +19,16 @@ struct Particle
 
 struct FilterParams
 {
-  int min_particles = 100;              // min_particles
-  int max_particles = 5000;             // max_particles
-  double kld_err = 0.01;                // kld_err
-  double kld_z = 0.99;                  // kld_z (upper standard normal quantile 1 - delta)
-  double alpha_slow = 0.0;              // recovery_alpha_slow (0 disables recovery)
-  double alpha_fast = 0.0;              // recovery_alpha_fast
-  double recovery_trigger_ratio = 0.5;  // ours: lost (random particles) once w_fast < this * w_slow
-  double recovery_release_ratio = 0.8;  // ours: ... until w_fast >= this * w_slow again
+  int min_particles = 100;               // min_particles
+  int max_particles = 5000;              // max_particles
+  double kld_err = 0.01;                 // kld_err
+  double kld_z = 0.99;                   // kld_z (upper standard normal quantile 1 - delta)
+  double alpha_slow = 0.0;               // recovery_alpha_slow (0 disables recovery)
+  double alpha_fast = 0.0;               // recovery_alpha_fast
+  double recovery_trigger_ratio = 0.5;   // ours: lost (random particles) once w_fast < this * w_slow
+  double recovery_release_ratio = 0.95;  // ours: ... until w_fast >= this * w_slow again,
+  double recovery_accept_ratio = 0.8;    // ours: or until w_fast has stayed >= this * w_slow
+  int recovery_accept_updates = 250;     // ours: for this many sensor updates
   // amcl's kd-tree histogram bin size used to count occupied bins for the KLD bound.
   std::array<double, 3> bin_size{{0.5, 0.5, 10.0 * M_PI / 180.0}};
 };
@@ -85,6 +87,7 @@ private:
   double w_slow_ = 0.0, w_fast_ = 0.0;
   bool have_averages_ = false;
   bool lost_ = false;
+  int accept_count_ = 0;  // updates since the lost filter last fitted recovery_accept_ratio or worse
 };
 
 }  // namespace mybot_navigation

@@ -27,6 +27,12 @@ std::string validate(const AmclParams& p)
              p.filter.recovery_release_ratio <= 1.0))
     e << "recovery_release_ratio must be in [recovery_trigger_ratio, 1] (got " << p.filter.recovery_release_ratio
       << ")";
+  else if (!(p.filter.recovery_accept_ratio >= p.filter.recovery_trigger_ratio &&
+             p.filter.recovery_accept_ratio <= p.filter.recovery_release_ratio))
+    e << "recovery_accept_ratio must be in [recovery_trigger_ratio, recovery_release_ratio] (got "
+      << p.filter.recovery_accept_ratio << ")";
+  else if (p.filter.recovery_accept_updates < 0)
+    e << "recovery_accept_updates must be >= 0 (got " << p.filter.recovery_accept_updates << ")";
   else if (p.laser.max_beams < 2)
     e << "laser_max_beams must be >= 2 (got " << p.laser.max_beams << ")";
   else if (!(p.laser.sigma_hit > 0.0))

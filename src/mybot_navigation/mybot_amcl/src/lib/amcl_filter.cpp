@@ -55,6 +55,7 @@ void ParticleFilter::initGaussian(const Pose2D& mean, double var_x, double var_y
     p.weight = w;
   }
   have_averages_ = lost_ = false;
+  accept_count_ = 0;
 }
 
 void ParticleFilter::initFromGenerator(const PoseGenerator& gen)
@@ -67,6 +68,7 @@ void ParticleFilter::initFromGenerator(const PoseGenerator& gen)
     p.weight = w;
   }
   have_averages_ = lost_ = false;
+  accept_count_ = 0;
 }
 
 void ParticleFilter::predict(const MotionModel& model, const Pose2D& odom_old, const Pose2D& odom_new)
@@ -138,6 +140,11 @@ void ParticleFilter::resample(const PoseGenerator& random_pose)
   // is back above recovery_release_ratio. Smaller dips are the scene, and any random particle
   // spreads the cloud over new histogram bins, which drives the KLD sample count to
   // max_particles; a cloud that settled on a wrong place fitting half as well keeps searching.
+  // A place that fits between recovery_accept_ratio and recovery_release_ratio is accepted only
+  // after recovery_accept_updates updates in which the search found nothing better: in the
+  // factory a rack 9.4 m from the robot fits 80-90 % as well as the true place (1 kidnap run in
+  // 20 stopped there with the release at 0.8), while the scene where the robot really is may
+  // fit less well than the one where it was localized (people, moved furniture).
   double w_diff = 0.0;
   if (random_pose && w_slow_ > 0.0)
   {
@@ -146,6 +153,13 @@ void ParticleFilter::resample(const PoseGenerator& random_pose)
       lost_ = true;
     else if (ratio >= params_.recovery_release_ratio)
       lost_ = false;
+    if (lost_ && ratio >= params_.recovery_accept_ratio)
+    {
+      if (++accept_count_ > params_.recovery_accept_updates)
+        lost_ = false;
+    }
+    else
+      accept_count_ = 0;
     if (lost_)
       w_diff = 1.0 - ratio;
   }
