@@ -58,6 +58,9 @@ struct MatchRequest
   // instead of an arbitrary end of the plateau.
   double translation_weight = 0.0;
   double rotation_weight = 0.0;
+  // Beyond this distance from `initial` the translation penalty stops growing (m; 0: never
+  // capped): a pose that fits clearly better still wins when the odometry is far off.
+  double translation_prior_cap = 0.0;
 };
 
 struct MatchResult
@@ -81,9 +84,10 @@ double scorePose(const MatchField& field, const std::vector<Point2D>& points, co
 double translationConstraintRatio(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& pose);
 
 // Gauss-Newton on sum (1 - f(T p))^2 with bilinear interpolation; stays within max_step of start.
-// prior / translation_weight / rotation_weight pull the pose towards `prior` (0: no prior).
+// prior / translation_weight / rotation_weight pull the pose towards `prior` (0: no prior); the
+// translation pull stops beyond translation_prior_cap (0: never).
 Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& start, int iterations = 10,
                   double max_step = 0.1, const Pose2D* prior = nullptr, double translation_weight = 0.0,
-                  double rotation_weight = 0.0);
+                  double rotation_weight = 0.0, double translation_prior_cap = 0.0);
 
 }  // namespace mybot_navigation

@@ -189,6 +189,9 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
     }
   }
   const double inv_n = 1.0 / static_cast<double>(points.size());
+  const double cap2 = request.translation_prior_cap > 0.0
+                          ? request.translation_prior_cap * request.translation_prior_cap
+                          : std::numeric_limits<double>::infinity();
   // Smallest |offset| over [d, d + size - 1] cells, in metres: keeps the penalised score of a
   // block an upper bound of its children's.
   auto nearest = [res](int d, int size)
@@ -204,7 +207,8 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
       s += field.value(level, c.first + dx, c.second + dy);
     const int size = 1 << level;
     const double ex = nearest(dx, size), ey = nearest(dy, size), et = (k - n_angles) * angle_step;
-    return s * inv_n - request.translation_weight * (ex * ex + ey * ey) - request.rotation_weight * et * et;
+    return s * inv_n - request.translation_weight * std::min(ex * ex + ey * ey, cap2) -
+           request.rotation_weight * et * et;
   };
 
   std::vector<Candidate> tops;
@@ -255,8 +259,8 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
               wrapAngle(request.initial.theta + (best.angle - n_angles) * angle_step)};
   if (request.refine)
   {
-    const Pose2D refined =
-        refinePose(field, points, pose, 10, res, &request.initial, request.translation_weight, request.rotation_weight);
+    const Pose2D refined = refinePose(field, points, pose, 10, res, &request.initial, request.translation_weight,
+                                      request.rotation_weight, request.translation_prior_cap);
     if (scorePose(field, points, refined) >= scorePose(field, points, pose) * 0.98)
       pose = refined;
   }
@@ -283,7 +287,8 @@ double translationConstraintRatio(const MatchField& field, const std::vector<Poi
 }
 
 Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& start, int iterations,
-                  double max_step, const Pose2D* prior, double translation_weight, double rotation_weight)
+                  double max_step, const Pose2D* prior, double translation_weight, double rotation_weight,
+                  double translation_prior_cap)
 {
   const double w = prior ? translation_weight * static_cast<double>(points.size()) : 0.0;
   const double wr = prior ? rotation_weight * static_cast<double>(points.size()) : 0.0;
@@ -304,7 +309,9 @@ Pose2D refinePose(const MatchField& field, const std::vector<Point2D>& points, c
       H += J * J.transpose();
       g += J * r;
     }
-    if (w > 0.0)
+    const bool capped = prior && translation_prior_cap > 0.0 &&
+                        std::hypot(pose.x - prior->x, pose.y - prior->y) > translation_prior_cap;
+    if (w > 0.0 && !capped)
     {
       H(0, 0) += w;
       H(1, 1) += w;

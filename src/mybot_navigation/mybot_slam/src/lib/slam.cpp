@@ -54,7 +54,7 @@ bool Slam::wantsScan(double stamp, const Pose2D& odom) const
 {
   if (stamp <= last_stamp_)
     return false;
-  if (keyframes_.empty())
+  if (keyframes_.empty() || params_.track_every_scan)
     return true;
   const Keyframe& last = keyframes_.back();
   const Pose2D delta = between(last.odom, odom);
@@ -66,6 +66,38 @@ void Slam::updateOdometry(const Pose2D& odom)
 {
   if (!keyframes_.empty())
     current_pose_ = compose(map_to_odom_, odom);
+}
+
+const MatchField& Slam::localField(const Pose2D& around, const std::vector<Point2D>& points)
+{
+  const int source = local_[1].members.size() > local_[0].members.size() ? 1 : 0;
+  if (local_field_dirty_ || source != local_field_source_)
+  {
+    const OccupancyGrid& g = local_[source].grid;
+    const double reach = maxRange(points) + params_.search_window_linear + params_.linear_update + 1.0;
+    local_field_ = MatchField(g, params_.match_sigma, levelsFor(params_.search_window_linear, g.resolution()),
+                              g.worldToLattice(around.x - reach), g.worldToLattice(around.y - reach),
+                              g.worldToLattice(around.x + reach), g.worldToLattice(around.y + reach));
+    local_field_source_ = source;
+    local_field_dirty_ = false;
+  }
+  return local_field_;
+}
+
+MatchResult Slam::matchLocal(const Pose2D& predicted, const std::vector<Point2D>& points)
+{
+  const MatchField& field = localField(predicted, points);
+  MatchRequest req;
+  req.initial = predicted;
+  req.linear_window = params_.search_window_linear;
+  req.angular_window = params_.search_window_angular;
+  req.min_score = params_.min_match_score;
+  req.translation_weight = params_.match_translation_weight;
+  req.rotation_weight = params_.match_rotation_weight;
+  req.translation_prior_cap = params_.match_prior_cap;
+  MatchResult res = matchScan(field, points, req);
+  stats_.last_match_score = res.ok ? res.score : scorePose(field, points, predicted);
+  return res;
 }
 
 ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& scan)
@@ -90,7 +122,8 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
     global_.insertScan(odom, scan);
     insertIntoLocalMaps(0);
     map_to_odom_ = Pose2D{};
-    current_pose_ = odom;
+    current_pose_ = tracked_ = tracked_odom_ = odom;
+    last_scan_in_keyframe_ = Pose2D{};
     ++stats_.keyframes;
     ++map_version_;
     return ScanOutcome::Processed;
@@ -98,14 +131,49 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
 
   const Keyframe& last = keyframes_.back();
   const Pose2D delta = between(last.odom, odom);
-  current_pose_ = compose(last.pose, delta);
+  // Where the scan is, by odometry from the last tracked scan (from the last keyframe without
+  // tracking: tracked_ is then the keyframe's pose).
+  const Pose2D predicted = compose(tracked_, between(tracked_odom_, odom));
   const bool moved = translationNorm(delta) >= params_.linear_update ||
                      std::abs(delta.theta) >= params_.angular_update ||
                      (params_.temporal_update >= 0.0 && stamp - last.stamp >= params_.temporal_update);
-  if (!moved)
-    return ScanOutcome::Skipped;
-  if (scan.hits.size() < 3)
-    return ScanOutcome::NoValidPoints;
+  if (!moved || scan.hits.size() < 3)
+  {
+    const Pose2D last_tracked = tracked_;
+    tracked_ = predicted;
+    if (params_.track_every_scan && scan.hits.size() >= 3)
+    {
+      const std::vector<Point2D> points = voxelFilter(scan.hits, params_.match_point_spacing);
+      MatchResult res = matchLocal(predicted, points);
+      // Along a corridor the match is flat but for small bumps, and every scan that followed one
+      // would carry its error into the next prediction: the tracked pose leaves the odometry's
+      // only where the match explains clearly more of the scan.
+      if (res.ok && res.score - scorePose(local_field_, points, predicted) < params_.track_min_gain)
+        res.ok = false;
+      if (res.ok)
+        tracked_ = res.pose;
+      if (res.ok && params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0)
+      {
+        // Trusted odometry holds the tracked heading as it holds the keyframes' (below).
+        PoseGraphEdge m;
+        m.measurement = between(last_tracked, res.pose);
+        m.sigma_xy = params_.sigma_xy;
+        m.sigma_theta = params_.sigma_theta;
+        tracked_ = compose(last_tracked, fuseIncrements(m, between(tracked_odom_, odom), params_.odom_edge_sigma_xy,
+                                                        params_.odom_edge_sigma_theta));
+      }
+    }
+    if (params_.track_every_scan)
+    {
+      tracked_odom_ = odom;
+      map_to_odom_ = compose(tracked_, inverse(odom));
+    }
+    else
+      tracked_ = last.pose;  // the odometry since the keyframe stays the prediction
+    current_pose_ = params_.track_every_scan ? tracked_ : predicted;
+    last_scan_in_keyframe_ = between(last.pose, current_pose_);
+    return moved ? ScanOutcome::NoValidPoints : ScanOutcome::Skipped;
+  }
 
   Keyframe kf;
   kf.stamp = stamp;
@@ -113,28 +181,9 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   kf.scan = scan;
   kf.match_points = voxelFilter(scan.hits, params_.match_point_spacing);
   kf.travelled = last.travelled + translationNorm(delta);
-  const Pose2D predicted = current_pose_;
+  current_pose_ = predicted;
 
-  const int source = local_[1].members.size() > local_[0].members.size() ? 1 : 0;
-  if (local_field_dirty_ || source != local_field_source_)
-  {
-    const OccupancyGrid& g = local_[source].grid;
-    const double reach = maxRange(kf.match_points) + params_.search_window_linear + 1.0;
-    local_field_ = MatchField(g, params_.match_sigma, levelsFor(params_.search_window_linear, g.resolution()),
-                              g.worldToLattice(predicted.x - reach), g.worldToLattice(predicted.y - reach),
-                              g.worldToLattice(predicted.x + reach), g.worldToLattice(predicted.y + reach));
-    local_field_source_ = source;
-    local_field_dirty_ = false;
-  }
-  MatchRequest req;
-  req.initial = predicted;
-  req.linear_window = params_.search_window_linear;
-  req.angular_window = params_.search_window_angular;
-  req.min_score = params_.min_match_score;
-  req.translation_weight = params_.match_translation_weight;
-  req.rotation_weight = params_.match_rotation_weight;
-  const MatchResult res = matchScan(local_field_, kf.match_points, req);
-  stats_.last_match_score = res.ok ? res.score : scorePose(local_field_, kf.match_points, predicted);
+  const MatchResult res = matchLocal(predicted, kf.match_points);
   PoseGraphEdge edge;
   edge.from = static_cast<int>(keyframes_.size()) - 1;
   edge.sigma_xy = params_.sigma_xy;
@@ -186,7 +235,9 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
 
   const Keyframe& now = keyframes_.back();
   map_to_odom_ = compose(now.pose, inverse(now.odom));
-  current_pose_ = now.pose;
+  current_pose_ = tracked_ = now.pose;
+  tracked_odom_ = now.odom;
+  last_scan_in_keyframe_ = Pose2D{};
   return ScanOutcome::Processed;
 }
 

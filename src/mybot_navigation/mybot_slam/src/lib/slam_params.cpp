@@ -70,6 +70,9 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           "match_rotation_weight", [](P& p) -> double& { return p.slam.match_rotation_weight; }, nonNegative,
           "a number >= 0 (score per rad^2)"),
       number(
+          "match_prior_cap", [](P& p) -> double& { return p.slam.match_prior_cap; }, nonNegative,
+          "a distance >= 0 (m; 0 = never capped)"),
+      number(
           "odom_edge_sigma_xy", [](P& p) -> double& { return p.slam.odom_edge_sigma_xy; }, nonNegative,
           "a distance >= 0 (m per keyframe; 0 = no odometry edges)"),
       number(
@@ -77,6 +80,11 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           "an angle >= 0 (rad per keyframe; 0 = no odometry edges)"),
       number(
           "min_match_score", [](P& p) -> double& { return p.slam.min_match_score; },
+          [](double v) { return v >= 0 && v < 1; }, "in [0, 1)"),
+      {"track_every_scan", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.track_every_scan; },
+       [](double) { return true; }, "a bool"},
+      number(
+          "track_min_gain", [](P& p) -> double& { return p.slam.track_min_gain; },
           [](double v) { return v >= 0 && v < 1; }, "in [0, 1)"),
       {"loop_closure", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.loop_closure; },
        [](double) { return true; }, "a bool"},

@@ -24,7 +24,8 @@ struct ScanRecord
 {
   double stamp;
   Pose2D odom;
-  int keyframe;  // the keyframe current after this scan (-1 before the first)
+  int keyframe;        // the keyframe current after this scan (-1 before the first)
+  Pose2D in_keyframe;  // the scan's pose relative to that keyframe
 };
 
 Pose2D interpolate(const std::vector<std::pair<double, Pose2D>>& odom, double t)
@@ -164,22 +165,30 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
     auto mt = mount.find(scan->header.frame_id);
     if (mt != mount.end())
       g.sensor_in_base = mt->second;
+    // The scan's place relative to its keyframe: as the Slam tracked it, else by odometry.
+    bool tracked = false;
     if (slam.wantsScan(stamp, odom))
     {
       const double range_max = run.max_range > 0.0 ? std::min<double>(run.max_range, scan->range_max) : scan->range_max;
-      slam.addScan(stamp, odom,
-                   convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min, range_max,
-                                 run.max_urange, g));
+      tracked = slam.addScan(stamp, odom,
+                             convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min,
+                                           range_max, run.max_urange, g)) != ScanOutcome::OutOfOrder;
     }
     else
     {
       slam.updateOdometry(odom);
     }
-    scans.push_back({stamp, odom, static_cast<int>(slam.keyframes().size()) - 1});
+    const int keyframe = static_cast<int>(slam.keyframes().size()) - 1;
+    Pose2D in_keyframe;
+    if (tracked && keyframe >= 0)
+      in_keyframe = slam.lastScanInKeyframe();
+    else if (keyframe >= 0)
+      in_keyframe = between(slam.keyframes().back().odom, odom);
+    scans.push_back({stamp, odom, keyframe, in_keyframe});
   }
   bag.close();
   result.scans = scans.size();
-  // Every scan's pose after the last optimisation: its keyframe's, moved by the odometry since.
+  // Every scan's pose after the last optimisation: its keyframe's, moved as tracked.
   const auto& kfs = slam.keyframes();
   for (const ScanRecord& s : scans)
   {
@@ -187,7 +196,7 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
     if (s.keyframe < 0)
       continue;
     const Keyframe& k = kfs[static_cast<std::size_t>(s.keyframe)];
-    result.trajectory.push_back({s.stamp, compose(k.pose, between(k.odom, s.odom))});
+    result.trajectory.push_back({s.stamp, compose(k.pose, s.in_keyframe)});
   }
   return result;
 }
