@@ -104,8 +104,10 @@ class MeasurementTest(unittest.TestCase):
         self.assertEqual(p.header.frame_id, "world")
         self.assertAlmostEqual(p.point.y, 2.0, places=6)
         self.assertAlmostEqual(p.point.x, 2.0, places=6)
+        # position and yaw are two topics: the yaw of the last pair may arrive after its position
         end = time.monotonic() + TIMEOUT
-        while time.monotonic() < end and not (pos_err.msgs and abs(pos_err.msgs[-1].data - 0.1) < 1e-6):
+        while time.monotonic() < end and not (pos_err.msgs and abs(pos_err.msgs[-1].data - 0.1) < 1e-6
+                                              and yaw_err.msgs and abs(yaw_err.msgs[-1].data + 0.2) < 1e-6):
             time.sleep(0.02)
         self.assertAlmostEqual(pos_err.msgs[-1].data, 0.1, places=6)  # 1.0 m true vs 0.9 m odometry
         self.assertAlmostEqual(yaw_err.msgs[-1].data, -0.2, places=6)
