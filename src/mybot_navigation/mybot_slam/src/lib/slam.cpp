@@ -296,7 +296,7 @@ bool Slam::tryLoopClosure(int current)
     return false;
   last_loop_attempt_ = current;
   ++stats_.loop_attempts;
-  expireHeldClosure();
+  expireHeldClosures();
   LoopMatch match;
   if (!matchCandidateSubmap(current, candidate, match))
     return false;
@@ -331,13 +331,18 @@ int Slam::findLoopCandidate(int current) const
   return best;
 }
 
-void Slam::expireHeldClosure()
+void Slam::expireHeldClosures()
 {
-  if (held_.active && held_.attempts_left-- <= 0)
+  for (auto it = held_.begin(); it != held_.end();)
   {
-    held_.active = false;
+    if (it->attempts_left-- > 0)
+    {
+      ++it;
+      continue;
+    }
     ++stats_.loop_unconfirmed;
-    stats_.last_unconfirmed = held_.record;
+    stats_.last_unconfirmed = it->record;
+    it = held_.erase(it);
   }
 }
 
@@ -395,7 +400,8 @@ const char* Slam::implausibleClosure(int current, int candidate, const LoopMatch
 }
 
 // A large correction is held until a later attempt finds the same one (a one-off match in a
-// repetitive place is not seen again); then both edges go in. False while held or rejected.
+// repetitive place is not seen again; a weak one needs loop_weak_confirmations attempts in all);
+// then the edges of all agreeing attempts go in. False while held.
 bool Slam::confirmClosure(int current, int candidate, const LoopMatch& match, std::vector<PoseGraphEdge>& added)
 {
   const Keyframe& kf = keyframes_[static_cast<size_t>(current)];
@@ -408,34 +414,45 @@ bool Slam::confirmClosure(int current, int candidate, const LoopMatch& match, st
   edge.robust = true;
 
   const double moved = translationNorm(match.correction);
-  const Pose2D map_correction = compose(match.result.pose, inverse(kf.pose));
   if (params_.loop_confirm_correction > 0.0 && moved > params_.loop_confirm_correction)
   {
-    if (moved > params_.loop_large_correction && match.result.score < params_.loop_min_score_large)
-      return rejectClosure("rejected: a large correction from a weak match");
-    // Both corrections applied to the current pose must land in the same place.
-    const Pose2D a = compose(map_correction, kf.pose);
-    const Pose2D b = held_.active ? compose(held_.map_correction, kf.pose) : Pose2D{};
-    if (!held_.active || std::hypot(a.x - b.x, a.y - b.y) > params_.loop_confirm_tolerance ||
-        std::abs(wrapAngle(a.theta - b.theta)) > 0.05)
+    HeldClosure now;
+    now.edge = edge;
+    now.map_correction = compose(match.result.pose, inverse(kf.pose));
+    now.record = stats_.last_closure;
+    now.attempts_left = params_.loop_confirm_attempts;
+    now.strong = moved <= params_.loop_large_correction || match.result.score >= params_.loop_min_score_large;
+    // Attempts agree when their corrections, applied to the current pose, land in the same
+    // place: the drift they remove grows only slowly between two attempts a few keyframes apart.
+    const Pose2D a = compose(now.map_correction, kf.pose);
+    std::vector<size_t> agreeing;
+    bool strong = now.strong;
+    for (size_t i = 0; i < held_.size(); ++i)
     {
-      if (held_.active)
+      const Pose2D b = compose(held_[i].map_correction, kf.pose);
+      if (std::hypot(a.x - b.x, a.y - b.y) <= params_.loop_confirm_tolerance &&
+          std::abs(wrapAngle(a.theta - b.theta)) <= 0.05)
       {
-        ++stats_.loop_unconfirmed;
-        stats_.last_unconfirmed = held_.record;
+        agreeing.push_back(i);
+        strong = strong || held_[i].strong;
       }
-      held_.active = true;
-      held_.edge = edge;
-      held_.map_correction = map_correction;
-      held_.record = stats_.last_closure;
-      held_.record.reason = "held until a later attempt finds the same correction";
-      held_.attempts_left = params_.loop_confirm_attempts;
-      stats_.last_closure.reason = held_.record.reason;
+    }
+    const size_t needed = strong ? 2 : static_cast<size_t>(std::max(2, params_.loop_weak_confirmations));
+    if (agreeing.size() + 1 < needed)
+    {
+      now.record.reason = now.strong ? "held until a later attempt finds the same correction"
+                                     : "held: a large correction from a weak match, until more attempts agree";
+      stats_.last_closure.reason = now.record.reason;
+      held_.push_back(now);
       ++stats_.loop_held;
       return false;
     }
-    added.push_back(held_.edge);
-    held_.active = false;
+    for (size_t i : agreeing)
+      added.push_back(held_[i].edge);
+    // The others disagree with a closure about to be applied, and their corrections were
+    // measured against poses the optimisation is about to move.
+    stats_.loop_unconfirmed += static_cast<int>(held_.size() - agreeing.size());
+    held_.clear();
   }
   added.push_back(edge);
   return true;

@@ -122,6 +122,8 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           "a positive distance (m)"),
       number(
           "loop_min_score_large", [](P& p) -> double& { return p.slam.loop_min_score_large; }, openUnit, "in (0, 1)"),
+      integer(
+          "loop_weak_confirmations", [](P& p) -> int& { return p.slam.loop_weak_confirmations; }, 2, "an integer >= 2"),
       number(
           "loop_confirm_tolerance", [](P& p) -> double& { return p.slam.loop_confirm_tolerance; }, positive,
           "a positive distance (m)"),
