@@ -97,6 +97,16 @@ struct SlamParams
   int loop_weak_confirmations = 3;
   double loop_confirm_tolerance = 0.1;  // m (and 0.05 rad)
   int loop_confirm_attempts = 2;        // later attempts a held closure waits for its confirmation
+
+  // Final optimisation (runFinalOptimization, as Cartographer's at the end of an offline run):
+  // every keyframe is matched against each earlier submap (loop_submap_scans * 2 consecutive
+  // keyframes) it comes within final_match_radius of, at least loop_min_travel of path later,
+  // in a small window around its pose; each good match becomes a robust edge and the whole graph
+  // is optimised once more. Online, a revisit is tied to one candidate every
+  // loop_check_interval keyframes; this ties every keyframe to every visit before it.
+  double final_match_radius = 2.0;    // m, keyframe to the nearest keyframe of a submap
+  double final_window_linear = 0.3;   // m
+  double final_window_angular = 0.1;  // rad
 };
 
 struct Keyframe
@@ -143,6 +153,8 @@ struct SlamStats
   double last_match_score = 0.0;
   LoopClosureRecord last_closure;      // the last matched closure, accepted, held or rejected
   LoopClosureRecord last_unconfirmed;  // the last held closure that was dropped
+  int final_edges = 0;                 // edges the final optimisation added (and kept)
+  int final_edges_dropped = 0;         // its matches the optimised graph disagreed with
 };
 
 class Slam
@@ -179,6 +191,11 @@ public:
   // Re-renders the global map from every keyframe at its current pose.
   void renderGlobalMap();
 
+  // Ties every keyframe to every earlier visit of its place and optimises the whole graph (see
+  // SlamParams::final_match_radius); then re-renders the maps. For the end of an offline run:
+  // its cost grows with the number of revisits (a few seconds for an hour of log).
+  void runFinalOptimization();
+
 private:
   void insertIntoLocalMaps(int index);
   // The field of the fuller local map, rebuilt around `around` when the map changed.
@@ -196,6 +213,11 @@ private:
   bool confirmClosure(int current, int candidate, const LoopMatch& match, std::vector<PoseGraphEdge>& added);
   bool applyClosure(const std::vector<PoseGraphEdge>& added, const Pose2D& correction);
   bool rejectClosure(const char* reason);
+  // The stages of runFinalOptimization, in order.
+  struct Submap;
+  std::vector<Submap> partitionIntoSubmaps() const;
+  void matchKeyframesAgainstSubmap(const Submap& submap, std::vector<PoseGraphEdge>& edges) const;
+  void optimizeDroppingDisagreeingEdges(size_t first_new_edge);
 
   struct LocalMap
   {

@@ -129,6 +129,15 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           "a positive distance (m)"),
       integer(
           "loop_confirm_attempts", [](P& p) -> int& { return p.slam.loop_confirm_attempts; }, 1, "an integer >= 1"),
+      number(
+          "final_match_radius", [](P& p) -> double& { return p.slam.final_match_radius; }, positive,
+          "a positive distance (m)"),
+      number(
+          "final_window_linear", [](P& p) -> double& { return p.slam.final_window_linear; }, positive,
+          "a positive distance (m)"),
+      number(
+          "final_window_angular", [](P& p) -> double& { return p.slam.final_window_angular; }, positive,
+          "a positive angle (rad)"),
   };
   return specs;
 }

@@ -163,7 +163,9 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
     const Pose2D odom = opt.odom == "last" ? last_odom : interpolate(odom_by_stamp, stamp);
     ScanGeometry g;
     auto mt = mount.find(scan->header.frame_id);
-    if (mt != mount.end())
+    if (opt.override_mount)
+      g.sensor_in_base = opt.mount;
+    else if (mt != mount.end())
       g.sensor_in_base = mt->second;
     // The scan's place relative to its keyframe: as the Slam tracked it, else by odometry.
     bool tracked = false;
@@ -188,6 +190,7 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
   }
   bag.close();
   result.scans = scans.size();
+  slam.runFinalOptimization();
   // Every scan's pose after the last optimisation: its keyframe's, moved as tracked.
   const auto& kfs = slam.keyframes();
   for (const ScanRecord& s : scans)

@@ -2,12 +2,13 @@
 // slam_gmapping_replay: the same Slam as slam_node over every scan, at full speed, no roscore.
 //
 //   rosrun mybot_slam slam_replay --bag FILE --out DIR [--params slam.yaml]
-//        [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate] [--quiet]
+//        [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate] [--laser-pose X,Y,YAW] [--quiet]
 //
 // Odometry at a scan: `last` (default) takes the pose of the last odometry message before the
 // scan in bag order, which is what CARMEN logs embed in each FLASER (ACES, Intel); `interpolate`
 // interpolates between the odometry messages around the scan's stamp (FR079, whose CARMEN
-// odometry was interpolated). The laser's mounting comes from /tf_static (base -> the scan's frame).
+// odometry was interpolated). The laser's mounting comes from /tf_static (base -> the scan's frame),
+// or from --laser-pose (m, m, rad in the base frame) where the log's is known to be wrong.
 //
 // Writes, each file replaced atomically: DIR/map.pgm + map.yaml (map_server), DIR/map.png,
 // DIR/trajectory.tum (every scan's pose, after the last optimisation, in the map frame: "stamp x y
@@ -37,13 +38,15 @@ struct Options
 {
   std::string bag, out, params, scan_topic = "/scan", odom_topic = "/odom", odom = "last";
   bool quiet = false;
+  bool override_mount = false;
+  mybot_navigation::Pose2D mount;
 };
 
 [[noreturn]] void usage(const std::string& error)
 {
   std::fprintf(stderr,
                "slam_replay: %s\nusage: slam_replay --bag FILE --out DIR [--params slam.yaml] [--scan-topic /scan] "
-               "[--odom-topic /odom] [--odom last|interpolate] [--quiet]\n",
+               "[--odom-topic /odom] [--odom last|interpolate] [--laser-pose X,Y,YAW] [--quiet]\n",
                error.c_str());
   std::exit(2);
 }
@@ -72,6 +75,15 @@ Options parseArgs(int argc, char** argv)
       o.odom_topic = value();
     else if (a == "--odom")
       o.odom = value();
+    else if (a == "--laser-pose")
+    {
+      const std::string v = value();
+      char rest = 0;
+      if (std::sscanf(v.c_str(), "%lf,%lf,%lf%c", &o.mount.x, &o.mount.y, &o.mount.theta, &rest) != 3 ||
+          !std::isfinite(o.mount.x) || !std::isfinite(o.mount.y) || !std::isfinite(o.mount.theta))
+        usage("--laser-pose must be X,Y,YAW (m, m, rad), got " + v);
+      o.override_mount = true;
+    }
     else if (a == "--quiet")
       o.quiet = true;
     else
@@ -114,6 +126,8 @@ int main(int argc, char** argv)
   ro.scan_topic = opt.scan_topic;
   ro.odom_topic = opt.odom_topic;
   ro.odom = opt.odom;
+  ro.override_mount = opt.override_mount;
+  ro.mount = opt.mount;
   int percent = -1;
   BagReplayResult r;
   try
@@ -183,7 +197,9 @@ int main(int argc, char** argv)
   }
   if (!opt.quiet)
     std::fprintf(stderr,
-                 "slam_replay: %zu scans, %zu keyframes, %d loop closures; %.1f s of log in %.1f s of CPU (%.0fx)\n",
-                 r.scans, slam.keyframes().size(), slam.stats().loop_closures, span, cpu, cpu > 0 ? span / cpu : 0.0);
+                 "slam_replay: %zu scans, %zu keyframes, %d loop closures, %d revisit edges in the final "
+                 "optimisation (%d dropped); %.1f s of log in %.1f s of CPU (%.0fx)\n",
+                 r.scans, slam.keyframes().size(), slam.stats().loop_closures, slam.stats().final_edges,
+                 slam.stats().final_edges_dropped, span, cpu, cpu > 0 ? span / cpu : 0.0);
   return 0;
 }

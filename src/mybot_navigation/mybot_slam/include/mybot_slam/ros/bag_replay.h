@@ -20,6 +20,10 @@ struct BagReplayOptions
   // logs embed in each FLASER); "interpolate" = between the messages around its stamp.
   std::string odom = "last";
   double max_log_seconds = 0.0;  // > 0: stop after this much log from the first scan
+  // The laser's pose in the base frame, for every scan, instead of /tf_static's (a log whose
+  // recorded mounting is known to be wrong, or that has none).
+  bool override_mount = false;
+  Pose2D mount;
 };
 
 struct BagReplayResult

@@ -1,0 +1,142 @@
+// Slam::runFinalOptimization: the dense revisit constraints and the last optimisation of an
+// offline run. Online, loop closure ties a revisit to one candidate keyframe every few keyframes
+// and only where the drift it removes is worth it; at the end of a log the graph is already
+// globally consistent to within a few centimetres, so a small search window around each
+// keyframe's pose suffices to tie it to every earlier pass through its place (Cartographer's
+// constraint builder does the same for every node and every nearby submap, Hess et al. 2016).
+#include <algorithm>
+#include <cmath>
+
+#include "mybot_slam/slam.h"
+
+namespace mybot_navigation
+{
+
+// Consecutive keyframes rendered together; a keyframe is matched against the ones it revisits.
+struct Slam::Submap
+{
+  int first = 0;  // keyframe index; the edges hang from this node
+  int last = 0;
+  double travelled_last = 0.0;
+};
+
+std::vector<Slam::Submap> Slam::partitionIntoSubmaps() const
+{
+  std::vector<Submap> out;
+  const int n = std::max(2, 2 * params_.loop_submap_scans);
+  for (int first = 0; first < static_cast<int>(keyframes_.size()); first += n)
+  {
+    Submap s;
+    s.first = first;
+    s.last = std::min(static_cast<int>(keyframes_.size()) - 1, first + n - 1);
+    s.travelled_last = keyframes_[static_cast<size_t>(s.last)].travelled;
+    out.push_back(s);
+  }
+  return out;
+}
+
+void Slam::matchKeyframesAgainstSubmap(const Submap& submap, std::vector<PoseGraphEdge>& edges) const
+{
+  // Which later keyframes pass near this submap's keyframes (at least loop_min_travel later).
+  std::vector<int> visitors;
+  const double r2 = params_.final_match_radius * params_.final_match_radius;
+  for (size_t i = static_cast<size_t>(submap.last) + 1; i < keyframes_.size(); ++i)
+  {
+    const Keyframe& k = keyframes_[i];
+    if (k.travelled - submap.travelled_last < params_.loop_min_travel)
+      continue;
+    for (int j = submap.first; j <= submap.last; ++j)
+    {
+      const Pose2D& q = keyframes_[static_cast<size_t>(j)].pose;
+      if ((k.pose.x - q.x) * (k.pose.x - q.x) + (k.pose.y - q.y) * (k.pose.y - q.y) <= r2)
+      {
+        visitors.push_back(static_cast<int>(i));
+        break;
+      }
+    }
+  }
+  if (visitors.empty())
+    return;
+  OccupancyGrid grid(params_.grid);
+  for (int j = submap.first; j <= submap.last; ++j)
+    grid.insertScan(keyframes_[static_cast<size_t>(j)].pose, keyframes_[static_cast<size_t>(j)].scan);
+  int levels = 1;
+  while ((1 << (levels - 1)) * grid.resolution() < params_.final_window_linear && levels < 7)
+    ++levels;
+  const MatchField field(grid, params_.match_sigma, levels);
+  const Pose2D& anchor = keyframes_[static_cast<size_t>(submap.first)].pose;
+  for (int i : visitors)
+  {
+    const Keyframe& k = keyframes_[static_cast<size_t>(i)];
+    MatchRequest req;
+    req.initial = k.pose;
+    req.linear_window = params_.final_window_linear;
+    req.angular_window = params_.final_window_angular;
+    req.min_score = params_.loop_min_score;
+    const MatchResult res = matchScan(field, k.match_points, req);
+    // A corridor pins nothing along it: such an edge would hold the pose wherever it is.
+    if (!res.ok || translationConstraintRatio(field, k.match_points, res.pose) < params_.loop_min_constraint_ratio)
+      continue;
+    PoseGraphEdge e;
+    e.from = submap.first;
+    e.to = i;
+    e.measurement = between(anchor, res.pose);
+    e.sigma_xy = params_.loop_sigma_xy;
+    e.sigma_theta = params_.loop_sigma_theta;
+    e.robust = true;
+    edges.push_back(e);
+  }
+}
+
+// A match the optimised graph cannot honour (loop_max_residual_sigma) was made at the wrong
+// place: it is taken out and the graph optimised again without it.
+void Slam::optimizeDroppingDisagreeingEdges(size_t first_new_edge)
+{
+  graph_.optimize();
+  std::vector<PoseGraphEdge> edges = graph_.edges();
+  std::vector<PoseGraphEdge> kept(edges.begin(), edges.begin() + static_cast<long>(first_new_edge));
+  int dropped = 0;
+  for (size_t k = first_new_edge; k < edges.size(); ++k)
+  {
+    const Pose2D r = graph_.residual(edges[k]);
+    if (translationNorm(r) > params_.loop_max_residual_sigma * params_.loop_sigma_xy ||
+        std::abs(r.theta) > params_.loop_max_residual_sigma * params_.loop_sigma_theta)
+      ++dropped;
+    else
+      kept.push_back(edges[k]);
+  }
+  stats_.final_edges = static_cast<int>(edges.size() - first_new_edge) - dropped;
+  stats_.final_edges_dropped = dropped;
+  if (dropped == 0)
+    return;
+  while (graph_.edges().size() > 0)
+    graph_.popEdge();
+  for (size_t i = 0; i < keyframes_.size(); ++i)
+    graph_.setNode(static_cast<int>(i), keyframes_[i].pose);
+  for (const PoseGraphEdge& e : kept)
+    graph_.addEdge(e);
+  graph_.optimize();
+}
+
+void Slam::runFinalOptimization()
+{
+  if (keyframes_.size() < 2)
+    return;
+  std::vector<PoseGraphEdge> edges;
+  for (const Submap& s : partitionIntoSubmaps())
+    matchKeyframesAgainstSubmap(s, edges);
+  if (edges.empty())
+    return;
+  const size_t first_new_edge = graph_.edges().size();
+  for (const PoseGraphEdge& e : edges)
+    graph_.addEdge(e);
+  optimizeDroppingDisagreeingEdges(first_new_edge);
+  for (size_t i = 0; i < keyframes_.size(); ++i)
+    keyframes_[i].pose = graph_.node(static_cast<int>(i));
+  current_pose_ = tracked_ = compose(keyframes_.back().pose, last_scan_in_keyframe_);
+  map_to_odom_ = compose(tracked_, inverse(tracked_odom_));
+  renderGlobalMap();
+  rebuildLocalMaps();
+}
+
+}  // namespace mybot_navigation
