@@ -29,7 +29,7 @@ target_link_libraries(mybot_diffdrive_nodes mybot_control_ros mybot_control_lib 
 add_dependencies(mybot_diffdrive_nodes ${PROJECT_NAME}_generate_messages_cpp)
 add_library(mybot_diffdrive_nodelets src/nodes/diffdrive_nodelets.cpp)
 target_link_libraries(mybot_diffdrive_nodelets mybot_diffdrive_nodes ${catkin_LIBRARIES})
-add_executable(diffdrive_chain src/nodes/diffdrive_chain.cpp)
+add_executable(diffdrive_chain src/nodes/diffdrive_chain_node.cpp)
 target_link_libraries(diffdrive_chain mybot_diffdrive_nodes ${catkin_LIBRARIES})
 install(TARGETS diffdrive_chain RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(TARGETS mybot_control_lib mybot_control_ros mybot_diffdrive_nodes mybot_diffdrive_nodelets

@@ -24,7 +24,7 @@ target_link_libraries(mybot_swerve_nodes mybot_swerve_ros mybot_swerve_lib mybot
 add_dependencies(mybot_swerve_nodes ${PROJECT_NAME}_generate_messages_cpp)
 add_library(mybot_swerve_nodelets src/nodes/swerve_nodelets.cpp)
 target_link_libraries(mybot_swerve_nodelets mybot_swerve_nodes ${catkin_LIBRARIES})
-add_executable(swerve_chain src/nodes/swerve_chain.cpp)
+add_executable(swerve_chain src/nodes/swerve_chain_node.cpp)
 target_link_libraries(swerve_chain mybot_swerve_nodes ${catkin_LIBRARIES})
 install(TARGETS swerve_chain RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(TARGETS mybot_swerve_lib mybot_swerve_ros mybot_swerve_nodes mybot_swerve_nodelets

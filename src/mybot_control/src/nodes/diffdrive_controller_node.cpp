@@ -8,7 +8,7 @@
 
 #include "mybot_control/kinematics.hpp"
 #include "diffdrive_nodes.hpp"
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 #include "mybot_control/speed_limiter.hpp"
 #include "mybot_control/step_scheduler.hpp"
 

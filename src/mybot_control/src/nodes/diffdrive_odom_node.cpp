@@ -9,9 +9,9 @@
 #include <memory>
 
 #include "mybot_control/odometry.hpp"
-#include "mybot_control/odometry_publisher.hpp"
+#include "mybot_control/ros/odometry_publisher.hpp"
 #include "diffdrive_nodes.hpp"
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 #include "mybot_control/step_scheduler.hpp"
 
 using namespace mybot_control;

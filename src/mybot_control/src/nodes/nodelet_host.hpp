@@ -8,7 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 
 namespace mybot_control
 {

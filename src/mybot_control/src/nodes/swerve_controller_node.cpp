@@ -14,11 +14,11 @@
 #include <cmath>
 #include <memory>
 
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 #include "mybot_control/swerve_limiter.hpp"
 #include "mybot_control/step_scheduler.hpp"
 #include "mybot_control/swerve_kinematics.hpp"
-#include "mybot_control/swerve_ros.hpp"
+#include "mybot_control/ros/swerve.hpp"
 #include "swerve_nodes.hpp"
 
 using namespace mybot_control;

@@ -15,9 +15,9 @@
 #include <cmath>
 
 #include "mybot_control/odometry.hpp"
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 #include "mybot_control/swerve_module.hpp"
-#include "mybot_control/swerve_ros.hpp"
+#include "mybot_control/ros/swerve.hpp"
 #include "swerve_nodes.hpp"
 
 using namespace mybot_control;

@@ -9,11 +9,11 @@
 
 #include <memory>
 
-#include "mybot_control/odometry_publisher.hpp"
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/odometry_publisher.hpp"
+#include "mybot_control/ros/params.hpp"
 #include "mybot_control/step_scheduler.hpp"
 #include "mybot_control/swerve_odometry.hpp"
-#include "mybot_control/swerve_ros.hpp"
+#include "mybot_control/ros/swerve.hpp"
 #include "swerve_nodes.hpp"
 
 using namespace mybot_control;

@@ -9,7 +9,7 @@
 #include <std_msgs/String.h>
 
 #include "diffdrive_nodes.hpp"
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 #include "mybot_control/twist_mux.hpp"
 
 using namespace mybot_control;

@@ -14,7 +14,7 @@
 #include "mybot_control/odometry.hpp"
 #include "mybot_control/pid.hpp"
 #include "diffdrive_nodes.hpp"
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 #include "mybot_control/step_scheduler.hpp"
 
 using namespace mybot_control;

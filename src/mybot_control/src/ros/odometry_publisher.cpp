@@ -1,11 +1,11 @@
-#include "mybot_control/odometry_publisher.hpp"
+#include "mybot_control/ros/odometry_publisher.hpp"
 
 #include <cmath>
 
 #include <geometry_msgs/TransformStamped.h>
 #include <geometry_msgs/Twist.h>
 
-#include "mybot_control/swerve_ros.hpp"
+#include "mybot_control/ros/swerve.hpp"
 
 namespace mybot_control
 {

@@ -1,4 +1,4 @@
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 
 #include <urdf/model.h>
 

@@ -1,4 +1,4 @@
-#include "mybot_control/swerve_ros.hpp"
+#include "mybot_control/ros/swerve.hpp"
 
 #include <urdf/model.h>
 

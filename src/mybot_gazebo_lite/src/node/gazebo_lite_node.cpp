@@ -1,6 +1,6 @@
 // gazebo_lite: the headless simulator node. Steps the Bullet world at a fixed
 // step, publishes /clock, runs the plugin emulations and the /gazebo services.
-#include "mybot_gazebo_lite/sim_plugin.h"
+#include "mybot_gazebo_lite/ros/sim_plugin.h"
 
 #include "mybot_gazebo_lite/DeleteModel.h"
 #include "mybot_gazebo_lite/GetModelState.h"
@@ -10,8 +10,8 @@
 #include "mybot_gazebo_lite/parsing.h"
 #include "mybot_gazebo_lite/physics.h"
 #include "mybot_common/checks.h"
-#include "mybot_common/node_main.h"
-#include "mybot_common/params.h"
+#include "mybot_common/ros/node_main.h"
+#include "mybot_common/ros/params.h"
 
 #include <ros/ros.h>
 #include <ros/callback_queue.h>

@@ -1,8 +1,8 @@
 // depth_to_scan: one band of a depth image -> sensor_msgs/LaserScan (depthimage_to_laserscan's
 // interface; mybot_perception's README).
-#include "mybot_common/node_main.h"
+#include "mybot_common/ros/node_main.h"
 
-#include "mybot_perception/depth_to_scan_ros.h"
+#include "mybot_perception/ros/depth_to_scan.h"
 
 int main(int argc, char** argv)
 {

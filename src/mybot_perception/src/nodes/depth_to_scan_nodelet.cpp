@@ -1,12 +1,12 @@
 // depth_to_scan as a nodelet (nodelet_plugins.xml): mybot_perception/DepthToScan.
-#include <mybot_common/params.h>
+#include <mybot_common/ros/params.h>
 #include <mybot_lockstep/participant.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 
 #include <memory>
 
-#include "mybot_perception/depth_to_scan_ros.h"
+#include "mybot_perception/ros/depth_to_scan.h"
 
 namespace mybot_perception
 {

@@ -1,6 +1,6 @@
-#include "mybot_perception/depth_to_scan_ros.h"
+#include "mybot_perception/ros/depth_to_scan.h"
 
-#include <mybot_common/params.h>
+#include <mybot_common/ros/params.h>
 #include <mybot_lockstep/participant.h>
 #include <sensor_msgs/LaserScan.h>
 

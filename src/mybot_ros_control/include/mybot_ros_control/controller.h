@@ -4,7 +4,7 @@
 
 #include "mybot_ros_control/robot_hw_sim.h"
 
-#include <mybot_gazebo_lite/sim_plugin.h>
+#include <mybot_gazebo_lite/ros/sim_plugin.h>
 #include <ros/ros.h>
 
 #include <functional>

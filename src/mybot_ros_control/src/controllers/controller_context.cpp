@@ -1,6 +1,6 @@
 #include "controllers.h"
 
-#include <mybot_common/params.h>
+#include <mybot_common/ros/params.h>
 
 namespace mybot_ros_control
 {

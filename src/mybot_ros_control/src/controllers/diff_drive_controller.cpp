@@ -5,7 +5,7 @@
 #include "controllers.h"
 
 #include <mybot_control/odometry.hpp>
-#include <mybot_control/ros_params.hpp>
+#include <mybot_control/ros/params.hpp>
 #include <mybot_control/speed_limiter.hpp>
 
 #include <geometry_msgs/Twist.h>

@@ -3,7 +3,7 @@
 // its controllers every <controlPeriod> of sim time, before the physics step, as upstream.
 #include "mybot_ros_control/controller_manager.h"
 
-#include <mybot_common/params.h>
+#include <mybot_common/ros/params.h>
 #include <std_msgs/Bool.h>
 
 #include <cmath>

@@ -1,7 +1,7 @@
 // The plugins built into gazebo_lite, one a file in this folder; registry.cpp maps file names to them.
 #pragma once
 
-#include "mybot_gazebo_lite/sim_plugin.h"
+#include "mybot_gazebo_lite/ros/sim_plugin.h"
 
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>

@@ -14,7 +14,7 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
 
-#include "mybot_common/node_main.h"
+#include "mybot_common/ros/node_main.h"
 #include "mybot_lockstep/participant.h"
 #include "mybot_lockstep/transform_listener.h"
 #include "mybot_nav_common/ros/tf_gate.h"

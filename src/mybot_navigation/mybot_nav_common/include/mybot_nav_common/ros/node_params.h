@@ -15,7 +15,7 @@
 #include <XmlRpcValue.h>
 
 #include "mybot_common/checks.h"
-#include "mybot_common/params.h"
+#include "mybot_common/ros/params.h"
 #include "mybot_nav_common/pose2d.h"
 
 namespace mybot_navigation

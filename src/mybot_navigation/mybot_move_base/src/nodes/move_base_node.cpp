@@ -24,7 +24,7 @@
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
 
-#include "mybot_common/node_main.h"
+#include "mybot_common/ros/node_main.h"
 #include "mybot_lockstep/participant.h"
 #include "mybot_lockstep/transform_listener.h"
 #include "mybot_move_base/navigator.h"

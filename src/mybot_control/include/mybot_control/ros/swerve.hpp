@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 #include "mybot_control/swerve_kinematics.hpp"
 
 namespace mybot_control

@@ -9,9 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "mybot_common/node_main.h"
-#include "mybot_common/params.h"
-#include "mybot_common/params.h"
+#include "mybot_common/ros/node_main.h"
+#include "mybot_common/ros/params.h"
 #include "mybot_control/pid.hpp"
 #include "mybot_control/speed_limiter.hpp"
 

@@ -9,7 +9,7 @@
 
 #include <ros/ros.h>
 
-#include "mybot_common/params.h"
+#include "mybot_common/ros/params.h"
 
 namespace mybot_common
 {

@@ -1,6 +1,6 @@
 // Column renderer: geometry of walls, pillars and tops against closed-form
 // projections, gazebo_ros intrinsics, and the image noise statistics.
-#include "mybot_gazebo_lite/camera.h"
+#include "mybot_gazebo_lite/camera_model.h"
 #include "mybot_gazebo_lite/parsing.h"
 
 #include <gtest/gtest.h>

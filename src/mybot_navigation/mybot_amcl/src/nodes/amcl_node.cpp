@@ -16,7 +16,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "mybot_common/checks.h"
-#include "mybot_common/node_main.h"
+#include "mybot_common/ros/node_main.h"
 #include "mybot_amcl/amcl.h"
 #include "mybot_lockstep/participant.h"
 #include "mybot_lockstep/transform_listener.h"

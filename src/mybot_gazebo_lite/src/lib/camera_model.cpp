@@ -1,4 +1,4 @@
-#include "mybot_gazebo_lite/camera.h"
+#include "mybot_gazebo_lite/camera_model.h"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 // parameters are those of the three separate nodes.
 #include <ros/ros.h>
 
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 #include "swerve_nodes.hpp"
 
 int main(int argc, char** argv)

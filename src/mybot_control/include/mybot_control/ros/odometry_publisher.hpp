@@ -14,7 +14,7 @@
 
 #include "mybot_control/SetPose.h"
 #include "mybot_control/kinematics.hpp"
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 #include "mybot_control/step_scheduler.hpp"
 
 namespace mybot_control

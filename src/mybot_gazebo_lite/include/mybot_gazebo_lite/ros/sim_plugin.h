@@ -5,7 +5,7 @@
 // `lib<name>.so`, found on LD_LIBRARY_PATH, exporting MYBOT_GAZEBO_LITE_PLUGIN's factory.
 #pragma once
 
-#include "mybot_gazebo_lite/camera.h"
+#include "mybot_gazebo_lite/camera_model.h"
 #include "mybot_gazebo_lite/model.h"
 #include "mybot_gazebo_lite/physics.h"
 #include "mybot_gazebo_lite/raycast2d.h"

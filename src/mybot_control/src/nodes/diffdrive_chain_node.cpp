@@ -7,7 +7,7 @@
 #include <ros/ros.h>
 
 #include "diffdrive_nodes.hpp"
-#include "mybot_control/ros_params.hpp"
+#include "mybot_control/ros/params.hpp"
 
 int main(int argc, char** argv)
 {
