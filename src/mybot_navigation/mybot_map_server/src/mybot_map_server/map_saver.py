@@ -1,35 +1,11 @@
-"""map_saver's file format, byte for byte (ROS navigation map_server/src/map_saver.cpp, Noetic).
+"""map_saver's checks and its save of a nav_msgs/OccupancyGrid (ROS navigation
+map_server/src/map_saver.cpp, Noetic); the file pair itself is mybot_common.map_file's.
 
 Pure functions: no rospy, so they are unit tested directly."""
 import math
-import os
 
-from mybot_common.atomic_file import write_files_atomically
 from mybot_common.geometry import yaw_from_quaternion  # noqa: F401 (part of this module's interface)
-
-DEFAULT_OCC = 65
-DEFAULT_FREE = 25
-
-
-def pgm_bytes(data, width, height, resolution, occ=DEFAULT_OCC, free=DEFAULT_FREE):
-    """P5 image, top row first: 0 <= v <= free -> 254, v >= occ -> 0, anything else -> 205."""
-    if len(data) != width * height:
-        raise ValueError("map data has %d cells, expected width*height = %d" % (len(data), width * height))
-    header = "P5\n# CREATOR: map_saver.cpp %.3f m/pix\n%d %d\n255\n" % (resolution, width, height)
-    out = bytearray(width * height)
-    i = 0
-    for y in range(height):
-        row = (height - y - 1) * width
-        for x in range(width):
-            v = data[row + x]
-            out[i] = 254 if 0 <= v <= free else (0 if v >= occ else 205)
-            i += 1
-    return header.encode("ascii") + bytes(out)
-
-
-def yaml_text(image_name, resolution, origin_x, origin_y, yaw):
-    return ("image: %s\nresolution: %f\norigin: [%f, %f, %f]\nnegate: 0\noccupied_thresh: 0.65\n"
-            "free_thresh: 0.196\n\n" % (image_name, resolution, origin_x, origin_y, yaw))
+from mybot_common.map_file import DEFAULT_FREE, DEFAULT_OCC, save_map_files
 
 
 def check_grid(info):
@@ -57,13 +33,8 @@ def save_map(grid, basename, occ=DEFAULT_OCC, free=DEFAULT_FREE):
     if error:
         raise ValueError(error)
     q = info.origin.orientation
-    pgm_path = basename + ".pgm"
-    yaml_path = basename + ".yaml"
-    image = pgm_bytes(grid.data, info.width, info.height, info.resolution, occ, free)
-    text = yaml_text(os.path.basename(pgm_path), info.resolution, info.origin.position.x,
-                     info.origin.position.y, yaw_from_quaternion(q.x, q.y, q.z, q.w))
-    write_files_atomically([(pgm_path, image), (yaml_path, text)])
-    return pgm_path, yaml_path
+    return save_map_files(basename, grid.data, info.width, info.height, info.resolution, info.origin.position.x,
+                          info.origin.position.y, yaw_from_quaternion(q.x, q.y, q.z, q.w), occ, free)
 
 
 def check_thresholds(occ, free):

@@ -1,4 +1,5 @@
-"""map_saver output format, checked byte for byte against what ROS's map_saver writes."""
+"""map_saver: its thresholds, its save of an OccupancyGrid (the file pair is mybot_common.map_file's,
+tested there byte for byte), and that a failed save never destroys the map you had."""
 import math
 import os
 import signal
@@ -11,7 +12,8 @@ import pytest
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "src"))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "..", "..", "mybot_common", "src"))
 
-from mybot_map_server.map_saver import check_thresholds, pgm_bytes, save_map, yaml_text  # noqa: E402
+from mybot_common.map_file import map_pgm  # noqa: E402
+from mybot_map_server.map_saver import check_thresholds, save_map  # noqa: E402
 
 
 def grid(width, height, data, resolution=0.05, ox=-1.0, oy=2.5, yaw=0.0):
@@ -22,29 +24,12 @@ def grid(width, height, data, resolution=0.05, ox=-1.0, oy=2.5, yaw=0.0):
     return ns(info=info, data=data)
 
 
-def test_pgm_values_and_row_order():
-    # Grid rows bottom-up: row 0 = [-1, 0, 25], row 1 = [26, 64, 65], row 2 = [100, 1, -1].
-    data = [-1, 0, 25, 26, 64, 65, 100, 1, -1]
-    b = pgm_bytes(data, 3, 3, 0.05)
-    header = b"P5\n# CREATOR: map_saver.cpp 0.050 m/pix\n3 3\n255\n"
-    assert b.startswith(header)
-    pixels = list(b[len(header):])
-    # Image rows top-down: grid row 2 first.
-    assert pixels == [0, 254, 205, 205, 205, 0, 205, 254, 254]
-
-
 def test_custom_thresholds():
-    b = pgm_bytes([50, 10, 30], 3, 1, 0.1, occ=50, free=10)
+    b = map_pgm([50, 10, 30], 3, 1, 0.1, occ=50, free=10)
     assert list(b[-3:]) == [0, 254, 205]
     assert check_thresholds(65, 25) is None
     assert "smaller" in check_thresholds(20, 30)
     assert "[0, 100]" in check_thresholds(120, 25)
-
-
-def test_yaml_matches_map_saver_printf():
-    assert yaml_text("m.pgm", 0.05, -1.0, 2.5, 0.0) == (
-        "image: m.pgm\nresolution: 0.050000\norigin: [-1.000000, 2.500000, 0.000000]\nnegate: 0\n"
-        "occupied_thresh: 0.65\nfree_thresh: 0.196\n\n")
 
 
 def test_save_map_writes_bare_image_name_and_yaw(tmp_path):
@@ -57,16 +42,6 @@ def test_save_map_writes_bare_image_name_and_yaw(tmp_path):
     assert "origin: [-1.000000, 2.500000, 0.500000]" in text
 
 
-def test_size_mismatch_is_an_error():
-    try:
-        pgm_bytes([0, 0], 3, 1, 0.05)
-    except ValueError as e:
-        assert "width*height" in str(e)
-    else:
-        raise AssertionError("expected ValueError")
-
-
-# A failed save never destroys the map you had (the old pair is intact each time).
 def _old_pair(tmp_path):
     base = str(tmp_path / "map")
     save_map(grid(2, 1, [0, 100]), base)
