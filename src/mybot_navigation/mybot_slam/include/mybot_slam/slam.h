@@ -197,6 +197,12 @@ public:
   void runFinalOptimization();
 
 private:
+  // The stages of addScan: the first scan starts the map; a scan that did not move far enough
+  // since the last keyframe is tracked (placed, not inserted); one that did becomes a keyframe,
+  // matched against the local map and tied to the previous keyframe in the graph.
+  ScanOutcome startMap(double stamp, const Pose2D& odom, const RangeScan& scan);
+  void trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted);
+  void addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted);
   void insertIntoLocalMaps(int index);
   // The field of the fuller local map, rebuilt around `around` when the map changed.
   const MatchField& localField(const Pose2D& around, const std::vector<Point2D>& points);

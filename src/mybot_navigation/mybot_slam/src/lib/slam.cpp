@@ -106,28 +106,8 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   if (stamp <= last_stamp_)
     return ScanOutcome::OutOfOrder;
   last_stamp_ = stamp;
-
   if (keyframes_.empty())
-  {
-    if (scan.hits.size() < 3)
-      return ScanOutcome::NoValidPoints;
-    Keyframe kf;
-    kf.stamp = stamp;
-    kf.odom = odom;
-    kf.pose = odom;  // the map frame coincides with the odometry frame at start
-    kf.scan = scan;
-    kf.match_points = voxelFilter(scan.hits, params_.match_point_spacing);
-    keyframes_.push_back(std::move(kf));
-    graph_.addNode(odom);
-    global_.insertScan(odom, scan);
-    insertIntoLocalMaps(0);
-    map_to_odom_ = Pose2D{};
-    current_pose_ = tracked_ = tracked_odom_ = odom;
-    last_scan_in_keyframe_ = Pose2D{};
-    ++stats_.keyframes;
-    ++map_version_;
-    return ScanOutcome::Processed;
-  }
+    return startMap(stamp, odom, scan);
 
   const Keyframe& last = keyframes_.back();
   const Pose2D delta = between(last.odom, odom);
@@ -139,42 +119,86 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
                      (params_.temporal_update >= 0.0 && stamp - last.stamp >= params_.temporal_update);
   if (!moved || scan.hits.size() < 3)
   {
-    const Pose2D last_tracked = tracked_;
-    tracked_ = predicted;
-    if (params_.track_every_scan && scan.hits.size() >= 3)
-    {
-      const std::vector<Point2D> points = voxelFilter(scan.hits, params_.match_point_spacing);
-      MatchResult res = matchLocal(predicted, points);
-      // Along a corridor the match is flat but for small bumps, and every scan that followed one
-      // would carry its error into the next prediction: the tracked pose leaves the odometry's
-      // only where the match explains clearly more of the scan.
-      if (res.ok && res.score - scorePose(local_field_, points, predicted) < params_.track_min_gain)
-        res.ok = false;
-      if (res.ok)
-        tracked_ = res.pose;
-      if (res.ok && params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0)
-      {
-        // Trusted odometry holds the tracked heading as it holds the keyframes' (below).
-        PoseGraphEdge m;
-        m.measurement = between(last_tracked, res.pose);
-        m.sigma_xy = params_.sigma_xy;
-        m.sigma_theta = params_.sigma_theta;
-        tracked_ = compose(last_tracked, fuseIncrements(m, between(tracked_odom_, odom), params_.odom_edge_sigma_xy,
-                                                        params_.odom_edge_sigma_theta));
-      }
-    }
-    if (params_.track_every_scan)
-    {
-      tracked_odom_ = odom;
-      map_to_odom_ = compose(tracked_, inverse(odom));
-    }
-    else
-      tracked_ = last.pose;  // the odometry since the keyframe stays the prediction
-    current_pose_ = params_.track_every_scan ? tracked_ : predicted;
-    last_scan_in_keyframe_ = between(last.pose, current_pose_);
+    trackScan(odom, scan, predicted);
     return moved ? ScanOutcome::NoValidPoints : ScanOutcome::Skipped;
   }
+  addKeyframe(stamp, odom, scan, predicted);
+  const int index = static_cast<int>(keyframes_.size()) - 1;
+  if (params_.loop_closure && index - last_loop_attempt_ >= params_.loop_check_interval)
+    tryLoopClosure(index);
 
+  const Keyframe& now = keyframes_.back();
+  map_to_odom_ = compose(now.pose, inverse(now.odom));
+  current_pose_ = tracked_ = now.pose;
+  tracked_odom_ = now.odom;
+  last_scan_in_keyframe_ = Pose2D{};
+  return ScanOutcome::Processed;
+}
+
+ScanOutcome Slam::startMap(double stamp, const Pose2D& odom, const RangeScan& scan)
+{
+  if (scan.hits.size() < 3)
+    return ScanOutcome::NoValidPoints;
+  Keyframe kf;
+  kf.stamp = stamp;
+  kf.odom = odom;
+  kf.pose = odom;  // the map frame coincides with the odometry frame at start
+  kf.scan = scan;
+  kf.match_points = voxelFilter(scan.hits, params_.match_point_spacing);
+  keyframes_.push_back(std::move(kf));
+  graph_.addNode(odom);
+  global_.insertScan(odom, scan);
+  insertIntoLocalMaps(0);
+  map_to_odom_ = Pose2D{};
+  current_pose_ = tracked_ = tracked_odom_ = odom;
+  last_scan_in_keyframe_ = Pose2D{};
+  ++stats_.keyframes;
+  ++map_version_;
+  return ScanOutcome::Processed;
+}
+
+void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted)
+{
+  const Keyframe& last = keyframes_.back();
+  const Pose2D last_tracked = tracked_;
+  tracked_ = predicted;
+  if (params_.track_every_scan && scan.hits.size() >= 3)
+  {
+    const std::vector<Point2D> points = voxelFilter(scan.hits, params_.match_point_spacing);
+    MatchResult res = matchLocal(predicted, points);
+    // Along a corridor the match is flat but for small bumps, and every scan that followed one
+    // would carry its error into the next prediction: the tracked pose leaves the odometry's
+    // only where the match explains clearly more of the scan.
+    if (res.ok && res.score - scorePose(local_field_, points, predicted) < params_.track_min_gain)
+      res.ok = false;
+    if (res.ok)
+      tracked_ = res.pose;
+    if (res.ok && params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0)
+    {
+      // Trusted odometry holds the tracked heading as it holds the keyframes' (addKeyframe).
+      PoseGraphEdge m;
+      m.measurement = between(last_tracked, res.pose);
+      m.sigma_xy = params_.sigma_xy;
+      m.sigma_theta = params_.sigma_theta;
+      tracked_ = compose(last_tracked, fuseIncrements(m, between(tracked_odom_, odom), params_.odom_edge_sigma_xy,
+                                                      params_.odom_edge_sigma_theta));
+    }
+  }
+  if (params_.track_every_scan)
+  {
+    tracked_odom_ = odom;
+    map_to_odom_ = compose(tracked_, inverse(odom));
+  }
+  else
+    tracked_ = last.pose;  // the odometry since the keyframe stays the prediction
+  current_pose_ = params_.track_every_scan ? tracked_ : predicted;
+  last_scan_in_keyframe_ = between(last.pose, current_pose_);
+}
+
+void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted)
+{
+  const Keyframe& last = keyframes_.back();
+  const Pose2D delta = between(last.odom, odom);
   Keyframe kf;
   kf.stamp = stamp;
   kf.odom = odom;
@@ -229,16 +253,6 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   insertIntoLocalMaps(index);
   ++stats_.keyframes;
   ++map_version_;
-
-  if (params_.loop_closure && index - last_loop_attempt_ >= params_.loop_check_interval)
-    tryLoopClosure(index);
-
-  const Keyframe& now = keyframes_.back();
-  map_to_odom_ = compose(now.pose, inverse(now.odom));
-  current_pose_ = tracked_ = now.pose;
-  tracked_odom_ = now.odom;
-  last_scan_in_keyframe_ = Pose2D{};
-  return ScanOutcome::Processed;
 }
 
 void Slam::insertIntoLocalMaps(int index)
