@@ -195,6 +195,13 @@ public:
   double rayTest(const btVector3& from, const btVector3& to, const Robot* exclude) const;
 
 private:
+  // The stages of addRobot, in order.
+  struct LumpedBody;
+  using LinkPlaces = std::map<std::string, std::pair<int, btTransform>>;  // link -> (body, frame in body root)
+  static std::vector<LumpedBody> lumpFixedJoints(const RobotSpec& rs, LinkPlaces& where);
+  void buildMultiBody(const std::vector<LumpedBody>& bodies, Robot& r);
+  void addColliders(const std::vector<LumpedBody>& bodies, Robot& r);
+  void addJointConstraints(const std::vector<LumpedBody>& bodies, Robot& r);
   void addWorldModel(const WorldModel& m);
   void updateContacts();
   void recordPoints(const btPersistentManifold* m);

@@ -361,6 +361,18 @@ void PhysicsWorld::addWorldModel(const WorldModel& m)
   }
 }
 
+// A moving body of the multibody: a link with every link fixed to it, in breadth-first order so
+// parents precede children.
+struct PhysicsWorld::LumpedBody
+{
+  std::string root;
+  int parent = -2;
+  const JointSpec* joint = nullptr;
+  btTransform joint_in_parent_root;
+  std::vector<std::pair<const LinkSpec*, btTransform>> members;
+  MassProps mp;
+};
+
 Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::string& name, const std::string& ns,
                               const btTransform& pose)
 {
@@ -374,22 +386,25 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   r->ns_ = ns;
   r->spec_ = spec;
   r->spawn_ = pose;
-  const RobotSpec& rs = *spec;
+  LinkPlaces where;
+  const std::vector<LumpedBody> bodies = lumpFixedJoints(*spec, where);
+  buildMultiBody(bodies, *r);
+  for (const auto& [lname, bw] : where)
+    r->links_[lname] = Robot::LinkRef{bw.first - 1, bodies[bw.first].mp.inertial.inverse() * bw.second};
+  addColliders(bodies, *r);
+  addJointConstraints(bodies, *r);
+  setRobotPose(*r, pose, btVector3(0, 0, 0), btVector3(0, 0, 0));
+  robots_.push_back(std::move(r));
+  return *robots_.back();
+}
 
-  // Lump fixed joints: bodies in breadth-first order so parents precede children.
-  struct Body
-  {
-    std::string root;
-    int parent = -2;
-    const JointSpec* joint = nullptr;
-    btTransform joint_in_parent_root;
-    std::vector<std::pair<const LinkSpec*, btTransform>> members;
-    MassProps mp;
-  };
-  std::vector<Body> bodies;
-  std::map<std::string, std::pair<int, btTransform>> where;  // link -> (body, link frame in body root)
-  bodies.push_back(
-      Body{rs.root, -1, nullptr, btTransform::getIdentity(), {{rs.link(rs.root), btTransform::getIdentity()}}, {}});
+// Fixed joints are lumped: Featherstone's multibody has one link per moving joint, and a fixed
+// child's mass, inertia and colliders join its parent's (as Gazebo's URDF conversion does).
+std::vector<PhysicsWorld::LumpedBody> PhysicsWorld::lumpFixedJoints(const RobotSpec& rs, LinkPlaces& where)
+{
+  std::vector<LumpedBody> bodies;
+  bodies.push_back(LumpedBody{
+      rs.root, -1, nullptr, btTransform::getIdentity(), {{rs.link(rs.root), btTransform::getIdentity()}}, {}});
   where[rs.root] = {0, btTransform::getIdentity()};
   std::vector<std::string> queue{rs.root};
   for (size_t qi = 0; qi < queue.size(); ++qi)
@@ -408,7 +423,7 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
       }
       else
       {
-        Body b;
+        LumpedBody b;
         b.root = j.child;
         b.parent = pb;
         b.joint = &j;
@@ -432,7 +447,12 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
       b.mp.diag = btVector3(1e-7, 1e-7, 1e-7);
     }
   }
+  return bodies;
+}
 
+// One multibody link per moving body, each in its inertial frame, joined by its joint.
+void PhysicsWorld::buildMultiBody(const std::vector<LumpedBody>& bodies, Robot& r)
+{
   const int nlinks = static_cast<int>(bodies.size()) - 1;
   btMultiBody* mb = new btMultiBody(nlinks, bodies[0].mp.mass, bodies[0].mp.diag, false, true);
   mb->setLinearDamping(0);
@@ -440,10 +460,10 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   mb->setHasSelfCollision(false);
   mb->setUseGyroTerm(true);
   mb->setMaxCoordinateVelocity(1000);
-  r->base_root_in_inertial_ = bodies[0].mp.inertial.inverse();
+  r.base_root_in_inertial_ = bodies[0].mp.inertial.inverse();
   for (int i = 1; i <= nlinks; ++i)
   {
-    const Body& b = bodies[i];
+    const LumpedBody& b = bodies[i];
     const btTransform& Pi = bodies[b.parent].mp.inertial;
     const btTransform& Ci = b.mp.inertial;
     btTransform offA = Pi.inverse() * b.joint_in_parent_root;
@@ -460,26 +480,28 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   }
   mb->finalizeMultiDof();
   world_->addMultiBody(mb);
-  r->mb_ = mb;
+  r.mb_ = mb;
+}
 
-  for (const auto& [lname, bw] : where)
-    r->links_[lname] = Robot::LinkRef{bw.first - 1, bodies[bw.first].mp.inertial.inverse() * bw.second};
-
-  // Colliders: one compound per body in its inertial frame.
-  for (int i = 0; i <= nlinks; ++i)
+// Colliders: one compound per body in its inertial frame, each child shape with its own friction.
+void PhysicsWorld::addColliders(const std::vector<LumpedBody>& bodies, Robot& r)
+{
+  const RobotSpec& rs = *r.spec_;
+  btMultiBody* mb = r.mb_;
+  for (int i = 0; i < static_cast<int>(bodies.size()); ++i)
   {
-    const Body& b = bodies[i];
+    const LumpedBody& b = bodies[i];
     auto* compound = new btCompoundShape(true);
     auto mus = std::make_unique<std::vector<Surface>>();
     btTransform inv = b.mp.inertial.inverse();
     for (const auto& [link, tf] : b.members)
       for (const auto& s : link->collisions)
       {
-        btCollisionShape* cs = buildShape(s, true, r->shapes_, rs.source + ": link '" + link->name + "'");
+        btCollisionShape* cs = buildShape(s, true, r.shapes_, rs.source + ": link '" + link->name + "'");
         compound->addChildShape(inv * tf * s.pose, cs);
         mus->push_back(Surface{std::min(s.mu1, s.mu2)});
       }
-    r->shapes_.push_back(compound);
+    r.shapes_.push_back(compound);
     if (compound->getNumChildShapes() == 0)
       continue;
     auto* col = new btMultiBodyLinkCollider(mb, i - 1);
@@ -493,12 +515,16 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
       mb->setBaseCollider(col);
     else
       mb->getLink(i - 1).m_collider = col;
-    r->colliders_.push_back(col);
-    r->child_mu_.push_back(std::move(mus));
+    r.colliders_.push_back(col);
+    r.child_mu_.push_back(std::move(mus));
   }
+}
 
-  // Joints: a motor for commands, one for Coulomb friction, limits.
-  for (int i = 1; i <= nlinks; ++i)
+// Joints: a motor for commands, one for Coulomb friction, limits.
+void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Robot& r)
+{
+  btMultiBody* mb = r.mb_;
+  for (int i = 1; i < static_cast<int>(bodies.size()); ++i)
   {
     const JointSpec* js = bodies[i].joint;
     Robot::Joint j;
@@ -507,25 +533,22 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
     j.motor = new btMultiBodyJointMotor(mb, i - 1, 0, 0);
     j.motor->setMaxAppliedImpulse(0);
     world_->addMultiBodyConstraint(j.motor);
-    r->constraints_.push_back(j.motor);
+    r.constraints_.push_back(j.motor);
     if (js->friction > 0)
     {
       j.friction = new btMultiBodyJointMotor(mb, i - 1, 0, js->friction * opt_.step);
       world_->addMultiBodyConstraint(j.friction);
-      r->constraints_.push_back(j.friction);
+      r.constraints_.push_back(j.friction);
     }
     if (js->has_limits)
     {
       auto* lim = new btMultiBodyJointLimitConstraint(mb, i - 1, js->lower, js->upper);
       world_->addMultiBodyConstraint(lim);
-      r->constraints_.push_back(lim);
+      r.constraints_.push_back(lim);
     }
-    r->joint_index_[js->name] = r->joints_.size();
-    r->joints_.push_back(j);
+    r.joint_index_[js->name] = r.joints_.size();
+    r.joints_.push_back(j);
   }
-  setRobotPose(*r, pose, btVector3(0, 0, 0), btVector3(0, 0, 0));
-  robots_.push_back(std::move(r));
-  return *robots_.back();
 }
 
 void PhysicsWorld::setRobotPose(Robot& r, const btTransform& root_pose, const btVector3& lin, const btVector3& ang)

@@ -112,6 +112,26 @@ private:
   // 5. DWA: sample the dynamic window, roll each velocity out, keep the cheapest admissible one.
   LocalResult sampleTrajectories(const Costmap& cm, const Pose2D& pose, const Velocity2D& vel,
                                  const LocalWindow& window, bool near_goal) const;
+  //    Its parts: the admissible velocities around `centre` (every one sampled is counted);
+  std::vector<Velocity2D> dynamicWindow(const Velocity2D& centre, bool honour_flags, int& n_samples) const;
+  //    whether a rollout may be driven (getting out of a collision it starts in) and its worst
+  //    cell cost;
+  struct EscapeRule
+  {
+    bool start_in_collision = false;
+    std::vector<Point2D> shrunk;  // the footprint shrunk just enough to clear the start, if any
+  };
+  struct Clearance
+  {
+    bool admissible = true;
+    bool free = false;  // the footprint is (or came) clear of obstacles
+    double occ = 0.0;   // the worst cell cost along it once free
+  };
+  Clearance checkClearance(const Costmap& cm, const Pose2D& start, const std::vector<Pose2D>& traj,
+                           const EscapeRule& escape) const;
+  //    and its cost: distances to the path and goal at its end and ahead of it, obstacles
+  //    (false: its end is outside the window).
+  bool trajectoryCost(const LocalWindow& window, const Pose2D& end, double occ, bool near_goal, double& cost) const;
   // 6. Remember the chosen rotation and strafe directions (the oscillation flags).
   void rememberDirection(const Velocity2D& cmd);
 

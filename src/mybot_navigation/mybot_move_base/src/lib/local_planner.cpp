@@ -323,26 +323,110 @@ void LocalPlanner::resetOscillationFlags(const Pose2D& pose)
   }
 }
 
+// Starting in collision (localization error, or an obstacle marked at the footprint's edge)
+// every trajectory would be rejected and the robot would sit until the recoveries, blocked the
+// same way, abort the goal. Accept the trajectories that get out: collisions are tolerated until
+// the footprint first comes free, after which it must stay free. Until then each pose must be
+// clear with the footprint shrunk by kEscapeShrink (a side grazing a shelf drives along it and
+// turns away, over several cycles if need be), or lie within kEscapeDistance of the start on a
+// trajectory that comes free (an edge pushed into a wall backs out). Nothing tunnels through a wall.
+LocalPlanner::Clearance LocalPlanner::checkClearance(const Costmap& cm, const Pose2D& start,
+                                                     const std::vector<Pose2D>& traj, const EscapeRule& escape) const
+{
+  constexpr double kEscapeDistance = 0.15;  // m
+  Clearance out;
+  out.free = !escape.start_in_collision;
+  bool deep = false;
+  for (const Pose2D& p : traj)
+  {
+    const double c = cm.footprintCost(p);
+    if (c < 0)
+    {
+      if (!out.free && !escape.shrunk.empty() && cm.polygonCost(p, escape.shrunk) >= 0)
+        continue;  // grazing: still getting out
+      if (!out.free && std::hypot(p.x - start.x, p.y - start.y) <= kEscapeDistance)
+      {
+        deep = true;  // acceptable only if it comes free
+        continue;
+      }
+      out.admissible = false;
+      return out;
+    }
+    out.free = true;
+    out.occ = std::max(out.occ, c);
+  }
+  out.admissible = !(deep && !out.free);
+  return out;
+}
+
+std::vector<Velocity2D> LocalPlanner::dynamicWindow(const Velocity2D& centre, bool honour_flags, int& n_samples) const
+{
+  const double dt = simPeriod();
+  const std::vector<double> vxs =
+      samples(std::max(params_.min_vel_x, centre.vx - params_.acc_lim_x * dt),
+              std::min(params_.max_vel_x, centre.vx + params_.acc_lim_x * dt), params_.vx_samples);
+  const std::vector<double> vys =
+      params_.holonomic_robot
+          ? samples(std::max(params_.min_vel_y, centre.vy - params_.acc_lim_y * dt),
+                    std::min(params_.max_vel_y, centre.vy + params_.acc_lim_y * dt), params_.vy_samples)
+          : std::vector<double>{0.0};
+  const std::vector<double> vths =
+      samples(std::max(-params_.max_vel_theta, centre.wz - params_.acc_lim_theta * dt),
+              std::min(params_.max_vel_theta, centre.wz + params_.acc_lim_theta * dt), params_.vth_samples);
+  std::vector<Velocity2D> out;
+  for (double vx : vxs)
+    for (double vy : vys)
+      for (double wz : vths)
+      {
+        ++n_samples;
+        const double vmag = std::hypot(vx, vy);
+        if (vmag > params_.max_vel_trans + 1e-9)
+          continue;
+        if (vmag + 1e-9 < params_.min_vel_trans && std::abs(wz) + 1e-9 < params_.min_vel_theta)
+          continue;
+        if (honour_flags && forbid_rot_sign_ != 0 && wz * forbid_rot_sign_ > 1e-9 && vmag < params_.min_vel_trans)
+          continue;
+        if (honour_flags && forbid_strafe_sign_ != 0 && vy * forbid_strafe_sign_ > 1e-9)
+          continue;
+        out.push_back({vx, vy, wz});
+      }
+  return out;
+}
+
+bool LocalPlanner::trajectoryCost(const LocalWindow& window, const Pose2D& end, double occ, bool near_goal,
+                                  double& cost) const
+{
+  double pd, gd;
+  if (!window.lookup(window.path_dist, end.x, end.y, pd) || !window.lookup(window.goal_dist, end.x, end.y, gd))
+    return false;
+  cost = params_.path_distance_bias * pd + params_.goal_distance_bias * gd + params_.occdist_scale * occ;
+  // DWA's alignment and goal-front costs at a point ahead of the trajectory's end: they make
+  // the robot face along the path (for a holonomic robot, holonomic_align_scale of them).
+  const double align = params_.holonomic_robot ? params_.holonomic_align_scale : 1.0;
+  if (!near_goal && align > 0.0)
+  {
+    const double fx = end.x + params_.forward_point_distance * std::cos(end.theta);
+    const double fy = end.y + params_.forward_point_distance * std::sin(end.theta);
+    double fpd, fgd;
+    if (window.lookup(window.path_dist, fx, fy, fpd) && window.lookup(window.goal_dist, fx, fy, fgd))
+      cost += align * (params_.path_distance_bias * fpd + params_.goal_distance_bias * fgd);
+    else
+      cost += align * (params_.path_distance_bias + params_.goal_distance_bias) * window.reach;
+  }
+  return true;
+}
+
 LocalResult LocalPlanner::sampleTrajectories(const Costmap& cm, const Pose2D& pose, const Velocity2D& vel,
                                              const LocalWindow& window, bool near_goal) const
 {
-  const double dt = simPeriod();
-  // Starting in collision (localization error, or an obstacle marked at the footprint's edge)
-  // every trajectory would be rejected and the robot would sit until the recoveries, blocked
-  // the same way, abort the goal. Accept the trajectories that get out: collisions are
-  // tolerated until the footprint first comes free, after which it must stay free. Until then
-  // each pose must be clear with the footprint shrunk by kEscapeShrink (a side grazing a shelf
-  // drives along it and turns away, over several cycles if need be), or lie within
-  // kEscapeDistance of the start on a trajectory that comes free (an edge pushed into a wall
-  // backs out). Nothing tunnels through a wall.
-  constexpr double kEscapeDistance = 0.15;  // m
   constexpr double kStillGrazingCost = 1e4;
-  const bool start_in_collision = cm.footprintCost(pose) < 0;
+  EscapeRule escape;
+  escape.start_in_collision = cm.footprintCost(pose) < 0;
   // The least shrink that clears the start: no trajectory may graze deeper than the robot
   // already does, or the planner would steer into shelf corners in narrow gaps.
   // Empty when even kEscapeShrink does not clear the start: only the short escape applies.
-  const std::vector<Point2D> shrunk =
-      start_in_collision ? cm.footprintClearing(pose, kEscapeShrink) : std::vector<Point2D>();
+  if (escape.start_in_collision)
+    escape.shrunk = cm.footprintClearing(pose, kEscapeShrink);
   LocalResult best;
   best.cost = std::numeric_limits<double>::infinity();
   int n_samples = 0, n_valid = 0;
@@ -352,87 +436,23 @@ LocalResult LocalPlanner::sampleTrajectories(const Costmap& cm, const Pose2D& po
   // a stopped robot without the flags: the base controller brakes into the new command, where
   // DWA would command zero and let the recoveries abort the goal.
   for (int pass = 0; pass < 2 && n_valid == 0; ++pass)
-  {
-    const Velocity2D centre = pass == 0 ? vel : Velocity2D();
-    const bool honour_flags = pass == 0;
-    const std::vector<double> vxs =
-        samples(std::max(params_.min_vel_x, centre.vx - params_.acc_lim_x * dt),
-                std::min(params_.max_vel_x, centre.vx + params_.acc_lim_x * dt), params_.vx_samples);
-    const std::vector<double> vys =
-        params_.holonomic_robot
-            ? samples(std::max(params_.min_vel_y, centre.vy - params_.acc_lim_y * dt),
-                      std::min(params_.max_vel_y, centre.vy + params_.acc_lim_y * dt), params_.vy_samples)
-            : std::vector<double>{0.0};
-    const std::vector<double> vths =
-        samples(std::max(-params_.max_vel_theta, centre.wz - params_.acc_lim_theta * dt),
-                std::min(params_.max_vel_theta, centre.wz + params_.acc_lim_theta * dt), params_.vth_samples);
-    for (double vx : vxs)
-      for (double vy : vys)
-        for (double wz : vths)
-        {
-          ++n_samples;
-          const double vmag = std::hypot(vx, vy);
-          if (vmag > params_.max_vel_trans + 1e-9)
-            continue;
-          if (vmag + 1e-9 < params_.min_vel_trans && std::abs(wz) + 1e-9 < params_.min_vel_theta)
-            continue;
-          if (honour_flags && forbid_rot_sign_ != 0 && wz * forbid_rot_sign_ > 1e-9 && vmag < params_.min_vel_trans)
-            continue;
-          if (honour_flags && forbid_strafe_sign_ != 0 && vy * forbid_strafe_sign_ > 1e-9)
-            continue;
-          const Velocity2D v{vx, vy, wz};
-          const std::vector<Pose2D> traj = simulate(pose, v);
-          double occ = 0.0;
-          bool ok = true, free = !start_in_collision, deep = false;
-          for (const Pose2D& p : traj)
-          {
-            const double c = cm.footprintCost(p);
-            if (c < 0)
-            {
-              if (!free && !shrunk.empty() && cm.polygonCost(p, shrunk) >= 0)
-                continue;  // grazing: still getting out
-              if (!free && std::hypot(p.x - pose.x, p.y - pose.y) <= kEscapeDistance)
-              {
-                deep = true;  // acceptable only if it comes free
-                continue;
-              }
-              ok = false;
-              break;
-            }
-            free = true;
-            occ = std::max(occ, c);
-          }
-          if (!ok || (deep && !free))
-            continue;
-          const Pose2D& end = traj.back();
-          double pd, gd;
-          if (!window.lookup(window.path_dist, end.x, end.y, pd) || !window.lookup(window.goal_dist, end.x, end.y, gd))
-            continue;
-          double cost = params_.path_distance_bias * pd + params_.goal_distance_bias * gd + params_.occdist_scale * occ;
-          // DWA's alignment and goal-front costs at a point ahead of the trajectory's end: they make
-          // the robot face along the path (for a holonomic robot, holonomic_align_scale of them).
-          const double align = params_.holonomic_robot ? params_.holonomic_align_scale : 1.0;
-          if (!near_goal && align > 0.0)
-          {
-            const double fx = end.x + params_.forward_point_distance * std::cos(end.theta);
-            const double fy = end.y + params_.forward_point_distance * std::sin(end.theta);
-            double fpd, fgd;
-            if (window.lookup(window.path_dist, fx, fy, fpd) && window.lookup(window.goal_dist, fx, fy, fgd))
-              cost += align * (params_.path_distance_bias * fpd + params_.goal_distance_bias * fgd);
-            else
-              cost += align * (params_.path_distance_bias + params_.goal_distance_bias) * window.reach;
-          }
-          if (!free)
-            cost += kStillGrazingCost;  // any trajectory that comes free is better
-          ++n_valid;
-          if (cost < best.cost)
-          {
-            best.cost = cost;
-            best.cmd = v;
-            best.trajectory = traj;
-          }
-        }
-  }
+    for (const Velocity2D& v : dynamicWindow(pass == 0 ? vel : Velocity2D(), pass == 0, n_samples))
+    {
+      const std::vector<Pose2D> traj = simulate(pose, v);
+      const Clearance clear = checkClearance(cm, pose, traj, escape);
+      double cost;
+      if (!clear.admissible || !trajectoryCost(window, traj.back(), clear.occ, near_goal, cost))
+        continue;
+      if (!clear.free)
+        cost += kStillGrazingCost;  // any trajectory that comes free is better
+      ++n_valid;
+      if (cost < best.cost)
+      {
+        best.cost = cost;
+        best.cmd = v;
+        best.trajectory = traj;
+      }
+    }
   best.samples = n_samples;
   best.valid_samples = n_valid;
   if (n_valid == 0)
