@@ -52,6 +52,15 @@ public:
   // One optional value by type (double, int, bool, std::string): readParamOrThrow.
   template <typename T>
   T get(const std::string& name, const T& default_value) const;
+  // The same, then `ok(value)` must hold, else "is invalid: must be <requirement>".
+  template <typename T, typename Check>
+  T checked(const std::string& name, const T& default_value, Check ok, const std::string& requirement) const
+  {
+    const T v = get<T>(name, default_value);
+    if (!ok(v))
+      fail(name, "is invalid: must be " + requirement);
+    return v;
+  }
 
   // "parameter <full name> <why>"; for the empty name, the parameters of the namespace.
   std::string message(const std::string& name, const std::string& why) const;

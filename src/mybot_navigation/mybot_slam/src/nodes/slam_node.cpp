@@ -27,17 +27,6 @@ using namespace mybot_navigation;
 
 namespace
 {
-// Reads a private parameter strictly (mybot_common::readParam: the wrong type stops the node
-// naming it), applies a check and stops the node with one clear message on failure.
-template <typename T, typename Check>
-T param(ros::NodeHandle& pnh, const std::string& name, T def, Check ok, const char* requirement)
-{
-  const T v = mybot_common::readParam<T>("slam", pnh, name, def);
-  if (!ok(v))
-    mybot_common::fatalParam("slam", pnh, name, std::string("is invalid: must be ") + requirement);
-  return v;
-}
-
 const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
 const auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
 const auto any_number = [](double v) { return std::isfinite(v); };
@@ -50,13 +39,16 @@ class SlamNode
 public:
   SlamNode() : pnh_("~"), listener_(tf_buffer_, [this] { releaseScans(); })
   {
-    base_frame_ = param<std::string>(pnh_, "base_frame", "base_link", non_empty, "a frame name");
-    odom_frame_ = param<std::string>(pnh_, "odom_frame", "odom", non_empty, "a frame name");
-    map_frame_ = param<std::string>(pnh_, "map_frame", "map", non_empty, "a frame name");
-    map_update_interval_ = param(pnh_, "map_update_interval", 5.0, non_negative, "a number >= 0 (s)");
-    transform_publish_period_ = param(pnh_, "transform_publish_period", 0.05, non_negative, "a number >= 0 (s)");
-    throttle_scans_ = param(
-        pnh_, "throttle_scans", 1, [](int v) { return v >= 1; }, "an integer >= 1");
+    // Strict: a value of the wrong type or out of range throws ParamError naming it, and
+    // runNode stops the node with that one line.
+    const mybot_common::ParamReader params(pnh_);
+    base_frame_ = params.checked<std::string>("base_frame", "base_link", non_empty, "a frame name");
+    odom_frame_ = params.checked<std::string>("odom_frame", "odom", non_empty, "a frame name");
+    map_frame_ = params.checked<std::string>("map_frame", "map", non_empty, "a frame name");
+    map_update_interval_ = params.checked("map_update_interval", 5.0, non_negative, "a number >= 0 (s)");
+    transform_publish_period_ = params.checked("transform_publish_period", 0.05, non_negative, "a number >= 0 (s)");
+    throttle_scans_ = params.checked(
+        "throttle_scans", 1, [](int v) { return v >= 1; }, "an integer >= 1");
 
     // The Slam's own parameters: one table, shared with slam_replay.
     SlamRunParams run;
@@ -65,25 +57,21 @@ public:
       switch (spec.type)
       {
         case SlamParamSpec::Type::Number:
-          spec.field_double(run) = param(pnh_, spec.name, spec.field_double(run), spec.ok, spec.requirement);
+          spec.field_double(run) = params.checked(spec.name, spec.field_double(run), spec.ok, spec.requirement);
           break;
         case SlamParamSpec::Type::Integer:
-          spec.field_int(run) = param(
-              pnh_, spec.name, spec.field_int(run), [&spec](int v) { return spec.ok(v); }, spec.requirement);
+          spec.field_int(run) = params.checked(
+              spec.name, spec.field_int(run), [&spec](int v) { return spec.ok(v); }, spec.requirement);
           break;
         case SlamParamSpec::Type::Boolean:
-          spec.field_bool(run) = param(
-              pnh_, spec.name, spec.field_bool(run), [](bool) { return true; }, "a bool");
+          spec.field_bool(run) = params.checked(
+              spec.name, spec.field_bool(run), [](bool) { return true; }, "a bool");
           break;
       }
     }
     const std::string inconsistent = checkSlamRunParams(run);
     if (!inconsistent.empty())
-    {
-      ROS_FATAL("slam: parameters %s", inconsistent.c_str());
-      ros::shutdown();
-      std::exit(1);
-    }
+      throw mybot_common::ParamError("parameters " + inconsistent);
     max_urange_ = run.max_urange;
     max_range_ = run.max_range;
     SlamParams p = run.slam;
