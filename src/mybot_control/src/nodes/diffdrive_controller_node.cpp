@@ -2,7 +2,7 @@
 // curvature-preserving wheel desaturation. Host side of the diff-drive chain.
 #include <geometry_msgs/Twist.h>
 #include <geometry_msgs/TwistStamped.h>
-#include <mybot_lockstep/participant.h>
+#include <mybot_lockstep/ros/participant.h>
 #include <ros/ros.h>
 #include <std_msgs/Float32.h>
 

@@ -1,7 +1,7 @@
 // Dead reckoning from stamped wheel joint positions (joint_states): odom (nav_msgs/Odometry),
 // tf odom -> base_footprint, cmd_vel_enc (the twist recovered from the encoders), and
 // services to reset or set the pose.
-#include <mybot_lockstep/participant.h>
+#include <mybot_lockstep/ros/participant.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 

@@ -2,7 +2,7 @@
 // node's one-line message.
 #pragma once
 
-#include <mybot_lockstep/participant.h>
+#include <mybot_lockstep/ros/participant.h>
 #include <nodelet/nodelet.h>
 
 #include <memory>

@@ -5,7 +5,7 @@
 // while any module is more than angle_error_threshold from its requested angle.
 #include <geometry_msgs/Twist.h>
 #include <geometry_msgs/TwistStamped.h>
-#include <mybot_lockstep/participant.h>
+#include <mybot_lockstep/ros/participant.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <std_msgs/Float64.h>

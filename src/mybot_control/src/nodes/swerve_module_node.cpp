@@ -7,7 +7,7 @@
 //              <joint>/command (the simulator's joint-command interface);
 //   interface: mock   -> no hardware: a first-order actuator model per joint, integrated on a
 //              timer, and the node publishes joint_states itself (for the odometry).
-#include <mybot_lockstep/participant.h>
+#include <mybot_lockstep/ros/participant.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Float64.h>

@@ -2,7 +2,7 @@
 // optional IMU yaw fusion: odom (nav_msgs/Odometry), tf odom -> base_footprint, cmd_vel_enc,
 // and the services ~reset_odometry (std_srvs/Trigger) and ~set_pose (mybot_control/SetPose),
 // as diffdrive_odom.
-#include <mybot_lockstep/participant.h>
+#include <mybot_lockstep/ros/participant.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>

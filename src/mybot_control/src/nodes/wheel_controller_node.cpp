@@ -2,7 +2,7 @@
 // *_angular_vel_target (rad/s) -> PID against the encoder speed (pid_on) -> *_angular_vel_control
 // -> *_angular_vel_motor, and in the simulator the Float64 joint velocity commands.
 // Publishes *_angular_vel_enc and *_tangent_vel_enc from stamped joint_states positions.
-#include <mybot_lockstep/participant.h>
+#include <mybot_lockstep/ros/participant.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Float32.h>

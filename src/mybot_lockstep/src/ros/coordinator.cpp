@@ -1,4 +1,4 @@
-#include "mybot_lockstep/coordinator.h"
+#include "mybot_lockstep/ros/coordinator.h"
 
 #include <ros/publication.h>
 #include <ros/topic_manager.h>
@@ -9,7 +9,7 @@
 
 #include <ros/master.h>
 
-#include "mybot_lockstep/participant.h"
+#include "mybot_lockstep/ros/participant.h"
 #include "ros_links.h"
 
 namespace mybot_lockstep

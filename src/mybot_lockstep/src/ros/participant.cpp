@@ -1,4 +1,4 @@
-#include "mybot_lockstep/participant.h"
+#include "mybot_lockstep/ros/participant.h"
 
 #include <ros/callback_queue.h>
 #include <ros/poll_manager.h>

@@ -1,6 +1,6 @@
-#include "mybot_lockstep/transform_listener.h"
+#include "mybot_lockstep/ros/transform_listener.h"
 
-#include "mybot_lockstep/participant.h"
+#include "mybot_lockstep/ros/participant.h"
 
 namespace mybot_lockstep
 {

@@ -1,6 +1,6 @@
 // depth_to_scan as a nodelet (nodelet_plugins.xml): mybot_perception/DepthToScan.
 #include <mybot_common/ros/params.h>
-#include <mybot_lockstep/participant.h>
+#include <mybot_lockstep/ros/participant.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 

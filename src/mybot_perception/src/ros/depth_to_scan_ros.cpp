@@ -1,7 +1,7 @@
 #include "mybot_perception/ros/depth_to_scan.h"
 
 #include <mybot_common/ros/params.h>
-#include <mybot_lockstep/participant.h>
+#include <mybot_lockstep/ros/participant.h>
 #include <sensor_msgs/LaserScan.h>
 
 namespace mybot_perception

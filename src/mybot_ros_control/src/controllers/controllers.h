@@ -1,7 +1,7 @@
 // The built-in controller types, one family a file in this folder.
 #pragma once
 
-#include "mybot_ros_control/controller.h"
+#include "mybot_ros_control/ros/controller.h"
 
 namespace mybot_ros_control
 {

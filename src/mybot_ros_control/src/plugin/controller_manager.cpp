@@ -1,4 +1,4 @@
-#include "mybot_ros_control/controller_manager.h"
+#include "mybot_ros_control/ros/controller_manager.h"
 
 #include <algorithm>
 #include <set>

@@ -1,7 +1,7 @@
 // libgazebo_ros_control.so for gazebo_lite (loaded as libgazebo_lite_gazebo_ros_control.so):
 // the URDF's transmissions as a simulated robot hardware, and a controller manager running
 // its controllers every <controlPeriod> of sim time, before the physics step, as upstream.
-#include "mybot_ros_control/controller_manager.h"
+#include "mybot_ros_control/ros/controller_manager.h"
 
 #include <mybot_common/ros/params.h>
 #include <std_msgs/Bool.h>

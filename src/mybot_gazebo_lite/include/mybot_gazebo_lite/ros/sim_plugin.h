@@ -12,7 +12,7 @@
 
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/TransformStamped.h>
-#include <mybot_lockstep/coordinator.h>
+#include <mybot_lockstep/ros/coordinator.h>
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 

@@ -15,8 +15,8 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "mybot_common/ros/node_main.h"
-#include "mybot_lockstep/participant.h"
-#include "mybot_lockstep/transform_listener.h"
+#include "mybot_lockstep/ros/participant.h"
+#include "mybot_lockstep/ros/transform_listener.h"
 #include "mybot_nav_common/ros/tf_gate.h"
 #include "mybot_nav_common/ros/node_params.h"
 #include "mybot_nav_common/ros/conversions.h"

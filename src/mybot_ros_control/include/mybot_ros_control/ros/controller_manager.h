@@ -4,7 +4,7 @@
 // fields of controller_manager's (types in mybot_gazebo_lite, which Debian's ROS lacks).
 #pragma once
 
-#include "mybot_ros_control/controller.h"
+#include "mybot_ros_control/ros/controller.h"
 
 #include <mybot_gazebo_lite/ListControllerTypes.h>
 #include <mybot_gazebo_lite/ListControllers.h>
