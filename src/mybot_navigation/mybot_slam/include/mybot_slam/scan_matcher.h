@@ -46,6 +46,16 @@ private:
   std::vector<std::vector<uint8_t>> levels_;
 };
 
+// Enough max-pooled levels that the coarsest block spans a search window (m) at a resolution
+// (m/cell), at most 7: the branch and bound then starts from a handful of blocks.
+inline int matchFieldLevels(double window, double resolution)
+{
+  int levels = 1;
+  while ((1 << (levels - 1)) * resolution < window && levels < 7)
+    ++levels;
+  return levels;
+}
+
 struct MatchRequest
 {
   Pose2D initial;                // prior pose of the base in the world

@@ -60,10 +60,7 @@ void Slam::matchKeyframesAgainstSubmap(const Submap& submap, std::vector<PoseGra
   OccupancyGrid grid(params_.grid);
   for (int j = submap.first; j <= submap.last; ++j)
     grid.insertScan(keyframes_[static_cast<size_t>(j)].pose, keyframes_[static_cast<size_t>(j)].scan);
-  int levels = 1;
-  while ((1 << (levels - 1)) * grid.resolution() < params_.final_window_linear && levels < 7)
-    ++levels;
-  const MatchField field(grid, params_.match_sigma, levels);
+  const MatchField field(grid, params_.match_sigma, matchFieldLevels(params_.final_window_linear, grid.resolution()));
   const Pose2D& anchor = keyframes_[static_cast<size_t>(submap.first)].pose;
   for (int i : visitors)
   {

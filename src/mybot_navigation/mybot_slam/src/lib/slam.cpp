@@ -7,15 +7,6 @@ namespace mybot_navigation
 {
 namespace
 {
-// Enough max-pooled levels that the coarsest block spans the search window.
-int levelsFor(double window, double resolution)
-{
-  int levels = 1;
-  while ((1 << (levels - 1)) * resolution < window && levels < 7)
-    ++levels;
-  return levels;
-}
-
 double maxRange(const std::vector<Point2D>& pts)
 {
   double r = 0.0;
@@ -75,7 +66,7 @@ const MatchField& Slam::localField(const Pose2D& around, const std::vector<Point
   {
     const OccupancyGrid& g = local_[source].grid;
     const double reach = maxRange(points) + params_.search_window_linear + params_.linear_update + 1.0;
-    local_field_ = MatchField(g, params_.match_sigma, levelsFor(params_.search_window_linear, g.resolution()),
+    local_field_ = MatchField(g, params_.match_sigma, matchFieldLevels(params_.search_window_linear, g.resolution()),
                               g.worldToLattice(around.x - reach), g.worldToLattice(around.y - reach),
                               g.worldToLattice(around.x + reach), g.worldToLattice(around.y + reach));
     local_field_source_ = source;
@@ -375,7 +366,7 @@ bool Slam::matchCandidateSubmap(int current, int candidate, LoopMatch& match) co
   }
   if (sub.empty())
     return false;
-  const MatchField field(sub, params_.match_sigma, levelsFor(params_.loop_window_linear, sub.resolution()));
+  const MatchField field(sub, params_.match_sigma, matchFieldLevels(params_.loop_window_linear, sub.resolution()));
   MatchRequest req;
   req.initial = kf.pose;
   req.linear_window = params_.loop_window_linear;
