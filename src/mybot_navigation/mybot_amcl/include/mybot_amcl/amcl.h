@@ -69,6 +69,13 @@ public:
   // A uniformly random pose in the map's free space.
   Pose2D randomFreePose(Rng& rng) const;
 
+  // Whether recovery may stop at `pose` for this scan: some pose within 0.1 m and 2.3 degrees of
+  // it (the cloud's mean is that far off while it settles) sends at most
+  // recovery_max_see_through of the beams through a mapped wall.
+  bool plausible(const Pose2D& pose, const LaserScanData& scan);
+  // The smallest see-through share plausible() found at its last call.
+  double lastSeeThrough() const { return last_see_through_; }
+
 private:
   AmclParams params_;
   MotionModel motion_;
@@ -84,6 +91,7 @@ private:
   Pose2D estimate_odom_pose_;
   bool has_estimate_ = false;
   int updates_ = 0, resamples_ = 0;
+  double last_see_through_ = 0.0;
 };
 
 }  // namespace mybot_navigation

@@ -29,6 +29,9 @@ struct FilterParams
   double recovery_release_ratio = 0.95;  // ours: ... until w_fast >= this * w_slow again,
   double recovery_accept_ratio = 0.8;    // ours: or until w_fast has stayed >= this * w_slow
   int recovery_accept_updates = 250;     // ours: for this many sensor updates
+  // ours: recovery stops only at a place from which at most this share of the beams would pass
+  // through a mapped wall (1 turns the check off); see Amcl::plausible.
+  double recovery_max_see_through = 0.15;
   // amcl's kd-tree histogram bin size used to count occupied bins for the KLD bound.
   std::array<double, 3> bin_size{{0.5, 0.5, 10.0 * M_PI / 180.0}};
 };
@@ -63,8 +66,12 @@ public:
   // `floor` and `ceiling` bound the likelihood for this measurement (a pose that explains
   // nothing / everything): the recovery averages track where the posterior sits between them.
   bool correct(const std::function<double(const Pose2D&)>& likelihood, double floor = 0.0, double ceiling = 1.0);
+  // Asked before recovery stops at the current cloud; false keeps it searching.
+  using ReleaseCheck = std::function<bool()>;
+
   // KLD resampling; `random_pose` supplies recovery particles (may be empty: no recovery).
-  void resample(const PoseGenerator& random_pose);
+  // `may_release` (may be empty: always) vetoes stopping the recovery at the current cloud.
+  void resample(const PoseGenerator& random_pose, const ReleaseCheck& may_release = ReleaseCheck());
 
   PoseEstimate estimate() const;
 
@@ -75,6 +82,8 @@ public:
   double wFast() const { return w_fast_; }
   // Recovery is adding random particles (the fit fell below recovery_trigger_ratio).
   bool lost() const { return lost_; }
+  // The last resample would have stopped the recovery, but `may_release` said no.
+  bool releaseVetoed() const { return release_vetoed_; }
   Rng& rng() { return rng_; }
 
   // amcl's pf_resample_limit: samples needed for `k` occupied bins.
@@ -87,6 +96,7 @@ private:
   double w_slow_ = 0.0, w_fast_ = 0.0;
   bool have_averages_ = false;
   bool lost_ = false;
+  bool release_vetoed_ = false;
   int accept_count_ = 0;  // updates since the lost filter last fitted recovery_accept_ratio or worse
 };
 

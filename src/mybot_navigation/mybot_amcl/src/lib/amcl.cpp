@@ -1,5 +1,6 @@
 #include "mybot_amcl/amcl.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -33,6 +34,8 @@ std::string validate(const AmclParams& p)
       << p.filter.recovery_accept_ratio << ")";
   else if (p.filter.recovery_accept_updates < 0)
     e << "recovery_accept_updates must be >= 0 (got " << p.filter.recovery_accept_updates << ")";
+  else if (!(p.filter.recovery_max_see_through >= 0.0 && p.filter.recovery_max_see_through <= 1.0))
+    e << "recovery_max_see_through must be in [0, 1] (got " << p.filter.recovery_max_see_through << ")";
   else if (p.laser.max_beams < 2)
     e << "laser_max_beams must be >= 2 (got " << p.laser.max_beams << ")";
   else if (!(p.laser.sigma_hit > 0.0))
@@ -102,6 +105,27 @@ Pose2D Amcl::randomFreePose(Rng& rng) const
   return {p.x, p.y, wrapAngle((u(rng) * 2.0 - 1.0) * M_PI)};
 }
 
+bool Amcl::plausible(const Pose2D& pose, const LaserScanData& scan)
+{
+  if (params_.filter.recovery_max_see_through >= 1.0)
+    return true;
+  // A beam counts as seeing through only if the wall it crosses stands more than this before its
+  // end point: the map's walls are a few cells thick, and the cloud's mean is some centimetres off.
+  constexpr double kMargin = 0.5;
+  constexpr double kStepXY = 0.05, kStepA = 0.02;
+  last_see_through_ = 1.0;
+  for (int i = -2; i <= 2; ++i)
+    for (int j = -2; j <= 2; ++j)
+      for (int k = -2; k <= 2; ++k)
+      {
+        const Pose2D p{pose.x + i * kStepXY, pose.y + j * kStepXY, pose.theta + k * kStepA};
+        last_see_through_ = std::min(last_see_through_, field_.seeThroughShare(p, scan, kMargin));
+        if (last_see_through_ <= params_.filter.recovery_max_see_through)
+          return true;
+      }
+  return false;
+}
+
 void Amcl::globalLocalization()
 {
   filter_.initFromGenerator([this](Rng& rng) { return randomFreePose(rng); });
@@ -153,7 +177,8 @@ bool Amcl::processScan(const Pose2D& odom_pose, const LaserScanData& scan)
   {
     const bool recovery = params_.filter.alpha_slow > 0.0 && params_.filter.alpha_fast > 0.0;
     filter_.resample(recovery ? ParticleFilter::PoseGenerator([this](Rng& rng) { return randomFreePose(rng); })
-                              : ParticleFilter::PoseGenerator());
+                              : ParticleFilter::PoseGenerator(),
+                     [this, &scan] { return plausible(filter_.estimate().mean, scan); });
     ++resamples_;
   }
   estimate_ = filter_.estimate();

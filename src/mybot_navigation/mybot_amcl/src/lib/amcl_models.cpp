@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "mybot_nav_common/costmap_distance.h"
+#include "mybot_nav_common/ray_cast.h"
 
 namespace mybot_navigation
 {
@@ -122,6 +123,7 @@ void LikelihoodField::setMap(const GridMap& map)
     seed[i] = map.data[i] >= params_.occupied_threshold ? 1 : 0;
     known_[i] = map.data[i] != GridMap::kUnknown ? 1 : 0;
   }
+  occupied_ = seed;
   dist_ = distanceTransform(seed, info_.width, info_.height);
   // Inside obstacles use the depth below the surface: amcl's field is 0 everywhere inside, so
   // with solid (thick) obstacles end points may sink into walls unpunished, which biases the
@@ -213,6 +215,38 @@ double LikelihoodField::maxWeightSeenFrom(const Pose2D& robot, const LaserScanDa
       ++known;
   }
   return 1.0 + std::max(known, (used + 3) / 4) * pz * pz * pz;
+}
+
+double LikelihoodField::seeThroughShare(const Pose2D& robot, const LaserScanData& scan, double margin) const
+{
+  // In cell units, relative to the map's origin, as traceSegment wants them.
+  const Pose2D s = compose(inverse_origin_, compose(robot, scan.sensor_in_base));
+  const double inv_res = 1.0 / info_.resolution;
+  int used = 0, through = 0;
+  for (size_t i : beamIndices(scan.readings.size()))
+  {
+    const LaserReading& r = scan.readings[i];
+    if (!(r.range < scan.range_max))
+      continue;
+    ++used;
+    const double free_length = r.range - margin;
+    if (free_length <= 0.0)
+      continue;
+    const double a = s.theta + r.bearing;
+    bool blocked = false;
+    traceSegment(s.x * inv_res, s.y * inv_res, (s.x + free_length * std::cos(a)) * inv_res,
+                 (s.y + free_length * std::sin(a)) * inv_res,
+                 [&](int cx, int cy)
+                 {
+                   if (cx < 0 || cy < 0 || cx >= info_.width || cy >= info_.height)
+                     return false;  // off the map: nothing more to cross
+                   blocked = occupied_[static_cast<size_t>(cy) * info_.width + cx] != 0;
+                   return !blocked;
+                 });
+    if (blocked)
+      ++through;
+  }
+  return used > 0 ? static_cast<double>(through) / used : 0.0;
 }
 
 double LikelihoodField::weight(const Pose2D& robot, const LaserScanData& scan) const

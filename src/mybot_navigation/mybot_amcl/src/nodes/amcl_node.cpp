@@ -45,6 +45,7 @@ AmclParams readAmclParams(const ros::NodeHandle& pnh)
   p.filter.recovery_release_ratio = d("recovery_release_ratio", p.filter.recovery_release_ratio);
   p.filter.recovery_accept_ratio = d("recovery_accept_ratio", p.filter.recovery_accept_ratio);
   p.filter.recovery_accept_updates = i("recovery_accept_updates", p.filter.recovery_accept_updates);
+  p.filter.recovery_max_see_through = d("recovery_max_see_through", p.filter.recovery_max_see_through);
   p.laser.max_beams = i("laser_max_beams", p.laser.max_beams);
   p.laser.z_hit = d("laser_z_hit", p.laser.z_hit);
   p.laser.z_rand = d("laser_z_rand", p.laser.z_rand);
@@ -321,9 +322,19 @@ private:
       data.readings.push_back({r, sign * (scan->angle_min + scan->angle_increment * static_cast<double>(i))});
     }
     const bool updated = amcl_.processScan(odom_pose, data);
+    if (updated && amcl_.filter().releaseVetoed() && !veto_logged_)
+    {
+      // Once per search: the check runs at every update until the cloud is somewhere plausible.
+      veto_logged_ = true;
+      ROS_INFO(
+          "amcl: the scan fits %.0f %% as well as when localized, but from there %.0f %% of its beams would "
+          "pass through walls: searching on",
+          100.0 * amcl_.filter().wFast() / amcl_.filter().wSlow(), 100.0 * amcl_.lastSeeThrough());
+    }
     if (updated && amcl_.filter().lost() != lost_)
     {
       lost_ = amcl_.filter().lost();
+      veto_logged_ = false;
       const ParticleFilter& f = amcl_.filter();
       if (lost_)
         ROS_WARN("amcl: the scan fits %.0f %% as well as when localized: adding random particles",
@@ -406,6 +417,7 @@ private:
   mybot_lockstep::Timer save_timer_;
   Pose2D last_pose_;
   bool lost_ = false;
+  bool veto_logged_ = false;
   bool have_pose_ = false;
   ros::Time last_now_;
   ros::Time last_cloud_;
