@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -83,6 +84,42 @@ TEST(RayCaster, MatchesBruteForceOnRotatedBoxes)
     else
       EXPECT_NEAR(got, best, 1e-9) << k;
   }
+}
+
+TEST(Rasterize, MarksExactlyTheCellsASolidCovers)
+{
+  // A 1 x 0.5 m box from (1.0, 2.0) to (2.0, 2.5) and a 0.25 m circle at (4.0, 1.0), on a 5 cm
+  // grid from the origin: every face lies on a cell boundary. Cells 20..39 x 40..49 for the box
+  // (not 40 or 50: those lie beyond its +x and +y faces), and for the circle the cells it covers
+  // with some area.
+  Slice2D slice;
+  slice.polygons.push_back({{1.0, 2.0}, {2.0, 2.0}, {2.0, 2.5}, {1.0, 2.5}});
+  slice.polygons.push_back({{1.0, 2.0}, {1.0, 2.5}, {2.0, 2.5}, {2.0, 2.0}});  // the same, clockwise
+  slice.circles.push_back({4.0, 1.0, 0.25});
+  const double res = 0.05;
+  const int w = 120, h = 80;
+  std::vector<uint8_t> grid;
+  rasterizeSlice(slice, 0.0, 0.0, res, w, h, grid);
+  for (int cy = 0; cy < h; ++cy)
+    for (int cx = 0; cx < w; ++cx)
+    {
+      const bool in_box = cx >= 20 && cx <= 39 && cy >= 40 && cy <= 49;
+      // The circle covers part of the cell when the cell's nearest point is strictly inside it.
+      const double nx = std::clamp(4.0, cx * res, (cx + 1) * res), ny = std::clamp(1.0, cy * res, (cy + 1) * res);
+      const bool in_circle = std::hypot(nx - 4.0, ny - 1.0) < 0.25 - 1e-9;
+      EXPECT_EQ(grid[static_cast<size_t>(cy) * w + cx] != 0, in_box || in_circle) << "cell " << cx << ", " << cy;
+    }
+  // A wall thinner than a cell still marks the cells it passes through.
+  Slice2D thin;
+  thin.polygons.push_back({{1.01, 0.0}, {1.02, 0.0}, {1.02, 1.0}, {1.01, 1.0}});
+  rasterizeSlice(thin, 0.0, 0.0, res, w, h, grid);
+  for (int cy = 0; cy < 20; ++cy)
+  {
+    EXPECT_EQ(grid[static_cast<size_t>(cy) * w + 20], 1) << "row " << cy;
+    EXPECT_EQ(grid[static_cast<size_t>(cy) * w + 19], 0) << "row " << cy;
+    EXPECT_EQ(grid[static_cast<size_t>(cy) * w + 21], 0) << "row " << cy;
+  }
+  EXPECT_EQ(grid[static_cast<size_t>(20) * w + 20], 0);  // the wall ends at y = 1.0
 }
 
 TEST(Laser, GazeboOutOfRangeSemantics)

@@ -424,15 +424,35 @@ void rasterizeSlice(const Slice2D& slice, double x0, double y0, double res, int 
       }
       if (xa > xb)
         continue;
-      for (int cx = static_cast<int>(std::floor((xa - x0) / res)); cx <= static_cast<int>(std::floor((xb - x0) / res));
-           ++cx)
+      // Cells whose centre lies inside; the outline below adds those covered in part.
+      for (int cx = static_cast<int>(std::ceil((xa - x0) / res - 0.5));
+           cx <= static_cast<int>(std::floor((xb - x0) / res - 0.5)); ++cx)
         mark(cx, cy);
     }
+    // The outline marks the cells the solid covers however thinly, so a wall thinner than a cell
+    // survives. It is drawn a micrometre inside the solid: a face lying exactly on a cell
+    // boundary (a 1 m box on a 5 cm grid) then marks the cell it covers, not the free cell beyond
+    // (which made every +x and +y face one cell thicker than the solid).
+    double twice_area = 0.0;
     for (size_t i = 0; i < poly.size(); ++i)
     {
       const auto& a = poly[i];
       const auto& b = poly[(i + 1) % poly.size()];
-      drawSeg(a.first, a.second, b.first, b.second);
+      twice_area += a.first * b.second - b.first * a.second;
+    }
+    const double inward = twice_area >= 0.0 ? 1.0 : -1.0;  // counter-clockwise: the interior is on the left
+    constexpr double kInside = 1e-6;                       // m
+    for (size_t i = 0; i < poly.size(); ++i)
+    {
+      const auto& a = poly[i];
+      const auto& b = poly[(i + 1) % poly.size()];
+      const double len = std::hypot(b.first - a.first, b.second - a.second);
+      if (len <= 2.0 * kInside)
+        continue;
+      const double tx = (b.first - a.first) / len, ty = (b.second - a.second) / len;
+      const double nx = -ty * inward * kInside, ny = tx * inward * kInside;
+      drawSeg(a.first + tx * kInside + nx, a.second + ty * kInside + ny, b.first - tx * kInside + nx,
+              b.second - ty * kInside + ny);
     }
   }
   for (const auto& c : slice.circles)
@@ -444,10 +464,10 @@ void rasterizeSlice(const Slice2D& slice, double x0, double y0, double res, int 
     for (int cy = ay; cy <= by; ++cy)
       for (int cx = ax; cx <= bx; ++cx)
       {
-        // Occupied when the cell's nearest point lies inside the circle.
+        // Occupied when the circle covers part of the cell (touching its boundary is not enough).
         double nxp = std::clamp(c.cx, x0 + cx * res, x0 + (cx + 1) * res);
         double nyp = std::clamp(c.cy, y0 + cy * res, y0 + (cy + 1) * res);
-        if (std::hypot(nxp - c.cx, nyp - c.cy) <= c.r)
+        if (std::hypot(nxp - c.cx, nyp - c.cy) < c.r - 1e-9)
           mark(cx, cy);
       }
   }
