@@ -18,6 +18,7 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -116,6 +117,15 @@ int main(int argc, char** argv)
   catch (const std::exception& e)
   {
     std::fprintf(stderr, "slam_replay: %s\n", e.what());
+    return 2;
+  }
+  // Before the run, not after it: a long replay must not end on an output folder it cannot write.
+  std::error_code ec;
+  std::filesystem::create_directories(opt.out, ec);
+  if (ec || !std::filesystem::is_directory(opt.out))
+  {
+    std::fprintf(stderr, "slam_replay: --out %s: cannot create the folder (%s)\n", opt.out.c_str(),
+                 ec ? ec.message().c_str() : "a file of that name exists");
     return 2;
   }
   const auto wall0 = std::chrono::steady_clock::now();
