@@ -105,6 +105,29 @@ TEST(Costmap, ObstacleLayerMarksAndClears)
   EXPECT_EQ(cm.costAt(3.0, 2.0), costs::kFree);
 }
 
+TEST(Costmap, MarksUnderTheRobotAreClearedNotTheStaticMap)
+{
+  // costmap_2d's footprint_clearing_enabled. The robot (0.6 x 0.5 m, padded 0.04 m) stands at
+  // (0.42, 2.0) with its rear padding over the room's west wall (static); a mark under its side
+  // padding is stale (it could not be standing there otherwise), one beside it is not.
+  CostmapParams p;
+  p.footprint = {{0.3, 0.25}, {0.3, -0.25}, {-0.3, -0.25}, {-0.3, 0.25}};
+  p.footprint_padding = 0.04;
+  const Pose2D robot{0.42, 2.0, 0.0};
+  for (const bool enabled : {true, false})
+  {
+    p.footprint_clearing_enabled = enabled;
+    Costmap cm(p);
+    cm.setStaticMap(emptyRoom());
+    cm.updateWithScan({0.5, 2.0}, {{0.5, 2.27}, {0.5, 2.4}}, {});
+    cm.clearFootprint(robot);
+    cm.updateCosts();
+    EXPECT_EQ(cm.costAt(0.5, 2.27) == costs::kLethal, !enabled) << (enabled ? "enabled" : "disabled");
+    EXPECT_EQ(cm.costAt(0.5, 2.4), costs::kLethal);
+    EXPECT_EQ(cm.costAt(0.02, 2.0), costs::kLethal);  // the wall under the rear padding
+  }
+}
+
 TEST(Costmap, ConservativeResetKeepsNearbyObstacles)
 {
   Costmap cm(circleParams());

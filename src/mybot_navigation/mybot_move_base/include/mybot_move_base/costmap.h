@@ -39,6 +39,8 @@ struct CostmapParams
   bool use_obstacles = true;
   double obstacle_range = 2.5;  // m, marking range
   double raytrace_range = 3.0;  // m, clearing range
+  // costmap_2d's ObstacleLayer footprint_clearing_enabled: marks under the robot are cleared.
+  bool footprint_clearing_enabled = true;
   // inflation layer
   double inflation_radius = 0.55;
   double cost_scaling_factor = 10.0;
@@ -73,6 +75,12 @@ public:
   // Clears obstacle layer cells farther than `distance` from (x, y) (move_base's reset
   // recoveries: conservative and aggressive); a negative distance clears everything.
   void clearObstaclesOutside(double x, double y, double distance);
+  // costmap_2d's ObstacleLayer footprint_clearing_enabled: the robot is where it is, so obstacle
+  // layer marks under its (padded) footprint at `pose` are stale and are cleared. In a demo run a
+  // pillar corner marked with 4 cm of localization error ended up under the padding, outside the
+  // 180-degree laser's view, and no move was valid for 850 s. Call with the robot pose before
+  // updateCosts(); the static layer is untouched.
+  void clearFootprint(const Pose2D& pose);
   // Clears the obstacle layer completely (clear_costmaps service) and re-applies the static map.
   void reset();
 

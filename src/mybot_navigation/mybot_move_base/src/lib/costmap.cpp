@@ -303,6 +303,58 @@ void Costmap::clearObstaclesOutside(double x, double y, double distance)
   markDirty(0, 0, info_.width - 1, info_.height - 1);
 }
 
+void Costmap::clearFootprint(const Pose2D& pose)
+{
+  if (!params_.use_obstacles || !params_.footprint_clearing_enabled || info_.width == 0)
+    return;
+  // Every cell the outline passes through (as polygonCost sees it) and every cell whose centre is
+  // inside the polygon.
+  const double res = info_.resolution;
+  const Pose2D inv = inverse(info_.origin);
+  std::vector<Point2D> poly;
+  for (const Point2D& q : footprint_)
+    poly.push_back(transformPoint(inv, transformPoint(pose, q)));
+  double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
+  for (const Point2D& q : poly)
+    x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
+  const int cx0 = std::max(0, static_cast<int>(std::floor(x0 / res))),
+            cy0 = std::max(0, static_cast<int>(std::floor(y0 / res)));
+  const int cx1 = std::min(info_.width - 1, static_cast<int>(std::floor(x1 / res)));
+  const int cy1 = std::min(info_.height - 1, static_cast<int>(std::floor(y1 / res)));
+  if (cx0 > cx1 || cy0 > cy1)
+    return;
+  bool changed = false;
+  auto clear = [&](int x, int y)
+  {
+    if (inside(x, y) && obstacles_[idx(x, y)])
+    {
+      obstacles_[idx(x, y)] = 0;
+      changed = true;
+    }
+    return true;
+  };
+  for (size_t i = 0; i < poly.size(); ++i)
+  {
+    const Point2D& a = poly[i];
+    const Point2D& b = poly[(i + 1) % poly.size()];
+    traceSegment(a.x / res, a.y / res, b.x / res, b.y / res, clear);
+  }
+  for (int y = cy0; y <= cy1; ++y)
+    for (int x = cx0; x <= cx1; ++x)
+    {
+      const double px = (x + 0.5) * res, py = (y + 0.5) * res;
+      bool in = false;
+      for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
+        if ((poly[i].y > py) != (poly[j].y > py) &&
+            px < (poly[j].x - poly[i].x) * (py - poly[i].y) / (poly[j].y - poly[i].y) + poly[i].x)
+          in = !in;
+      if (in)
+        clear(x, y);
+    }
+  if (changed)
+    markDirty(cx0, cy0, cx1, cy1);
+}
+
 void Costmap::reset()
 {
   std::fill(obstacles_.begin(), obstacles_.end(), 0);

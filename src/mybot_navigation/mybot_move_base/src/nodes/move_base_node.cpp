@@ -108,6 +108,9 @@ CostmapConfig readCostmap(const ros::NodeHandle& nh, bool rolling_default)
     c.sources.push_back(s);
   }
   p.use_obstacles = !c.sources.empty();
+  p.footprint_clearing_enabled = readParam<bool>(kNode, nh, "footprint_clearing_enabled", p.footprint_clearing_enabled);
+  p.footprint_clearing_enabled =
+      readParam<bool>(kNode, nh, "obstacle_layer/footprint_clearing_enabled", p.footprint_clearing_enabled);
   const std::string error = validate(p);
   if (!error.empty())
     fatalParam(kNode, nh, "", error);
@@ -397,7 +400,11 @@ private:
   {
     Pose2D pose;
     if (robotPose(pose, false))
+    {
       local_.updateOrigin(pose.x, pose.y);
+      local_.clearFootprint(pose);
+      global_.clearFootprint(pose);
+    }
     global_.updateCosts();
     local_.updateCosts();
   }
@@ -596,6 +603,8 @@ private:
     if ((ros::Time::now() - last_odom_).toSec() > 0.5)
       vel = last_cmd_;
     local_.updateOrigin(pose.x, pose.y);
+    local_.clearFootprint(pose);
+    global_.clearFootprint(pose);
     local_.updateCosts();
     const NavOutput out = navigator_->step(ros::Time::now().toSec(), pose, vel);
     if (out.new_plan)
