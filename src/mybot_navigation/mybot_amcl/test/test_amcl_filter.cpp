@@ -294,8 +294,8 @@ TEST(ParticleFilter, RecoveryStopsOnlyWhereTheReleaseCheckAgrees)
 }
 
 // Within the factory's outer walls. Beyond them the map is free floor too (the yard past the
-// loading door), and there the walls' outer faces fit the scan up to 75 % as well as the truth
-// with no wall in the way: the see-through check cannot refuse those places.
+// loading door), and there the walls' outer faces can fit the scan well with no wall in the way:
+// the see-through check cannot refuse those places.
 bool insideFactory(const Point2D& p)
 {
   return std::abs(p.x) < 10.0 && std::abs(p.y) < 7.5;
