@@ -169,10 +169,41 @@ TEST(LikelihoodField, DistanceIsCappedAndOffMapUsesTheCap)
   lp.likelihood_max_dist = 1.0;
   LikelihoodField f(lp);
   f.setMap(world);
-  EXPECT_NEAR(f.distance(0.05, 2.0), 0.025, 1e-6);  // 2.5 cm deep inside the 0.1 m wall
+  EXPECT_NEAR(f.distance(0.05, 2.0), 0.0, 1e-6);    // inside the 0.1 m wall
   EXPECT_NEAR(f.distance(0.5, 2.0), 0.4, 0.06);     // 0.4 m from the wall's inner face
   EXPECT_NEAR(f.distance(3.0, 2.0), 1.0, 1e-6);     // capped
   EXPECT_NEAR(f.distance(-10.0, 2.0), 1.0, 1e-6);   // off the map
+}
+
+// One beam straight at a wall 0.1 m thick (x 2.0-2.1): the laser stops at the face it meets, so an
+// end point 7.5 cm beyond that face is as wrong as one 7.5 cm short of it. The nearest surface of
+// the thin wall is only 2.5 cm from the point inside: scored by that, poses that push the end
+// points into the walls ahead cost too little, and the estimate runs ahead of the robot.
+TEST(LikelihoodField, EndPointsInsideAWallAreScoredByTheirDepthAlongTheBeam)
+{
+  GridMap world = makeWorld(6.0, 4.0, 0.05, {});
+  for (int cy = 0; cy < world.info.height; ++cy)
+    for (int cx = 40; cx < 42; ++cx)
+      world.data[static_cast<size_t>(cy) * world.info.width + cx] = GridMap::kOccupied;
+  LaserModelParams lp;
+  lp.max_beams = 2;
+  lp.sigma_hit = 0.05;
+  LikelihoodField f(lp);
+  f.setMap(world);
+  auto one_beam = [](double range, double bearing = 0.0)
+  {
+    LaserScanData scan;
+    scan.readings = {{range, bearing}};
+    return scan;
+  };
+  // End points on cell centres, where the field's distances are exact.
+  const Pose2D robot{1.0, 2.0, 0.0};
+  const double short_of_it = f.weight(robot, one_beam(0.925)), inside = f.weight(robot, one_beam(1.075));
+  EXPECT_NEAR(inside, short_of_it, 1e-6);
+  EXPECT_LT(inside, f.weight(robot, one_beam(1.025)) - 0.3);  // 2.5 cm in: much better
+  // Across the wall the depth is counted from the face the beam entered by: from the far side
+  // (robot at x 3), the same point is 2.5 cm deep.
+  EXPECT_NEAR(f.weight({3.0, 2.0, M_PI}, one_beam(0.925)), f.weight(robot, one_beam(1.025)), 1e-6);
 }
 
 TEST(LikelihoodField, BeamStepFollowsAmcl)

@@ -75,11 +75,22 @@ public:
   bool plausible(const Pose2D& pose, const LaserScanData& scan);
   // The smallest see-through share plausible() found at its last call.
   double lastSeeThrough() const { return last_see_through_; }
+  // Whether the next sensor update weighs particles with the search's wider field (sigma_hit at
+  // least 0.2 m): after global localization and while lost, until one cluster holds 90 % of the
+  // weight.
+  bool searching() const { return searching_; }
 
 private:
+  // Global localization's first step: the best places for this scan over the whole map (an
+  // exhaustive correlative search, Olson 2009, at one resolution), refined with the tracking field.
+  std::vector<Pose2D> candidatePlaces(const LaserScanData& scan) const;
+  // Places max_particles around the candidate places, a tenth of them uniformly.
+  void seedFromScan(const LaserScanData& scan);
+
   AmclParams params_;
   MotionModel motion_;
   LikelihoodField field_;
+  LikelihoodField search_field_;  // the same with a wider sigma_hit, for the search
   ParticleFilter filter_;
   MapInfo map_info_;
   std::vector<int> free_cells_;  // indices of free map cells for random poses
@@ -92,6 +103,8 @@ private:
   bool has_estimate_ = false;
   int updates_ = 0, resamples_ = 0;
   double last_see_through_ = 0.0;
+  bool searching_ = false;
+  bool seed_from_next_scan_ = false;
 };
 
 }  // namespace mybot_navigation

@@ -84,6 +84,11 @@ struct LaserScanData
 // Likelihood field (amcl's LikelihoodFieldModel): p = 1 + sum over beams of
 // (z_hit * exp(-d^2 / 2 sigma_hit^2) + z_rand / range_max)^3, d = distance from the beam end
 // point to the nearest obstacle (capped at likelihood_max_dist; off-map end points use the cap).
+// An end point inside an obstacle is d below the surface the beam entered by, measured back along
+// the beam: the laser stops at that surface, so a pose that pushes end points into a wall ahead
+// is as wrong as one that leaves them short of it. (amcl scores every point inside as a hit; the
+// depth to the nearest surface, whichever side, is at most half a wall's thickness and let the
+// pose lead the robot along its travel by 1-3 cm with a forward-facing laser.)
 class LikelihoodField
 {
 public:
@@ -115,6 +120,9 @@ public:
 private:
   // The map cell index of a beam's end point (sensor pose relative to the map origin), -1 off the map.
   long endCell(const Pose2D& sensor, double inv_res, const LaserReading& r) const;
+  // exp(-d^2 / 2 sigma^2) for an end point at cell coordinates (x, y) inside an obstacle, d its
+  // depth back along the beam (bearing `angle`) to the first cell outside the obstacle.
+  double gaussBehindSurface(double x, double y, double angle) const;
 
   LaserModelParams params_;
   MapInfo info_;
@@ -124,6 +132,7 @@ private:
   std::vector<uint8_t> known_;     // 1 where the map is not unknown
   std::vector<uint8_t> occupied_;  // 1 where the map holds an obstacle
   float gauss_off_map_ = 0.0f;
+  double depth_cap_cells_ = 0.0;  // depth (cells) beyond which gaussBehindSurface is ~0
 };
 
 }  // namespace mybot_navigation

@@ -125,26 +125,45 @@ void LikelihoodField::setMap(const GridMap& map)
   }
   occupied_ = seed;
   dist_ = distanceTransform(seed, info_.width, info_.height);
-  // Inside obstacles use the depth below the surface: amcl's field is 0 everywhere inside, so
-  // with solid (thick) obstacles end points may sink into walls unpunished, which biases the
-  // pose towards them.
-  std::vector<uint8_t> outside(n);
-  for (size_t i = 0; i < n; ++i)
-    outside[i] = !seed[i];
-  const std::vector<float> depth = distanceTransform(outside, info_.width, info_.height);
   gauss_.resize(n);
   const double max_d = params_.likelihood_max_dist;
   const double denom = 2.0 * params_.sigma_hit * params_.sigma_hit;
   for (size_t i = 0; i < n; ++i)
   {
     // Centre-to-centre distance minus half a cell approximates the distance to the obstacle's
-    // surface (amcl's plain cell distance biases poses by half a cell).
-    const double centres = static_cast<double>(seed[i] ? depth[i] : dist_[i]) * info_.resolution;
-    const double d = std::min(std::max(0.0, centres - 0.5 * info_.resolution), max_d);
+    // surface (amcl's plain cell distance biases poses by half a cell). Cells inside obstacles
+    // read 0 here; weight() scores their end points by gaussBehindSurface.
+    const double centres = static_cast<double>(dist_[i]) * info_.resolution;
+    const double d = seed[i] ? 0.0 : std::min(std::max(0.0, centres - 0.5 * info_.resolution), max_d);
     dist_[i] = static_cast<float>(d);
     gauss_[i] = static_cast<float>(std::exp(-d * d / denom));
   }
   gauss_off_map_ = static_cast<float>(std::exp(-max_d * max_d / denom));
+  // Below 4 sigma the Gaussian is < 4e-4 of a hit: no need to walk further.
+  depth_cap_cells_ = std::min(4.0 * params_.sigma_hit, max_d) / info_.resolution;
+}
+
+double LikelihoodField::gaussBehindSurface(double x, double y, double angle) const
+{
+  // Walk the cells back along the beam until one is outside the obstacle: the depth is where the
+  // beam crossed into the last obstacle cell. Beyond the cap the Gaussian is ~0 anyway.
+  const double cap = depth_cap_cells_;
+  double depth = cap;
+  traceSegmentEntries(x, y, x - cap * std::cos(angle), y - cap * std::sin(angle),
+                      [&](int cx, int cy, double t)
+                      {
+                        if (t == 0.0)
+                          return true;  // the end point's own cell
+                        if (cx < 0 || cy < 0 || cx >= info_.width || cy >= info_.height ||
+                            !occupied_[static_cast<size_t>(cy) * info_.width + cx])
+                        {
+                          depth = t * cap;
+                          return false;
+                        }
+                        return true;
+                      });
+  const double d = depth * info_.resolution;
+  return std::exp(-d * d / (2.0 * params_.sigma_hit * params_.sigma_hit));
 }
 
 double LikelihoodField::distance(double x, double y) const
@@ -264,8 +283,15 @@ double LikelihoodField::weight(const Pose2D& robot, const LaserScanData& scan) c
     const LaserReading& r = scan.readings[i];
     if (!(r.range < scan.range_max))  // also skips NaN
       continue;
-    const long cell = endCell(s, inv_res, r);
-    const float g = cell < 0 ? gauss_off_map_ : gauss_[static_cast<size_t>(cell)];
+    const double a = s.theta + r.bearing;
+    const double ex = (s.x + r.range * std::cos(a)) * inv_res, ey = (s.y + r.range * std::sin(a)) * inv_res;
+    const int cx = static_cast<int>(std::floor(ex)), cy = static_cast<int>(std::floor(ey));
+    double g = gauss_off_map_;
+    if (cx >= 0 && cy >= 0 && cx < info_.width && cy < info_.height)
+    {
+      const size_t cell = static_cast<size_t>(cy) * info_.width + cx;
+      g = occupied_[cell] ? gaussBehindSurface(ex, ey, a) : gauss_[cell];
+    }
     const double pz = params_.z_hit * g + z_rand_term;
     p += pz * pz * pz;
   }

@@ -41,9 +41,11 @@ void traceLine(int x0, int y0, int x1, int y1, Visitor&& visit)
 
 // Visits every cell a segment given in cell units (x / resolution) passes through, however little
 // of it, in order from the first end (Amanatides & Woo); traceLine's Bresenham line between the
-// end cells strays up to a cell off the true segment. The visitor returns false to stop early.
+// end cells strays up to a cell off the true segment. The visitor gets the cell and where the
+// segment enters it, as a fraction of its length (0 for the first cell), and returns false to
+// stop early.
 template <class Visit>
-void traceSegment(double x0, double y0, double x1, double y1, Visit&& visit)
+void traceSegmentEntries(double x0, double y0, double x1, double y1, Visit&& visit)
 {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   int x = static_cast<int>(std::floor(x0)), y = static_cast<int>(std::floor(y0));
@@ -54,17 +56,31 @@ void traceSegment(double x0, double y0, double x1, double y1, Visit&& visit)
   const double t_dx = dx != 0 ? std::abs(1.0 / dx) : kInf, t_dy = dy != 0 ? std::abs(1.0 / dy) : kInf;
   double t_x = dx > 0 ? (x + 1 - x0) * t_dx : dx < 0 ? (x0 - x) * t_dx : kInf;
   double t_y = dy > 0 ? (y + 1 - y0) * t_dy : dy < 0 ? (y0 - y) * t_dy : kInf;
-  if (!visit(x, y))
+  if (!visit(x, y, 0.0))
     return;
   for (int steps = std::abs(x_end - x) + std::abs(y_end - y); steps > 0; --steps)
   {
+    double t;
     if (t_x < t_y)
+    {
+      t = t_x;
       t_x += t_dx, x += sx;
+    }
     else
+    {
+      t = t_y;
       t_y += t_dy, y += sy;
-    if (!visit(x, y))
+    }
+    if (!visit(x, y, t))
       return;
   }
+}
+
+// traceSegmentEntries for a visitor of cells only.
+template <class Visit>
+void traceSegment(double x0, double y0, double x1, double y1, Visit&& visit)
+{
+  traceSegmentEntries(x0, y0, x1, y1, [&visit](int x, int y, double) { return visit(x, y); });
 }
 
 // Range along a ray from a map-frame point until the first cell with value >= occupied_threshold
