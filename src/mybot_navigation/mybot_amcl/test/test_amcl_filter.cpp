@@ -429,8 +429,8 @@ TEST(Amcl, GlobalLocalizationInTheFactoryFindsTheRobot)
       amcl.processScan({0.0, 0.0, 0.25 * step}, toScan(ranges, laser));
     }
     const Pose2D e = amcl.estimate().mean;
-    EXPECT_LT(poseError(e, truth), 0.2) << "seed " << seed << ": settled at (" << e.x << ", " << e.y << ", "
-                                        << e.theta << ")";
+    EXPECT_LT(poseError(e, truth), 0.2) << "seed " << seed << ": settled at (" << e.x << ", " << e.y << ", " << e.theta
+                                        << ")";
     EXPECT_LT(std::abs(wrapAngle(e.theta - truth.theta)), 0.05) << "seed " << seed;
   }
 }

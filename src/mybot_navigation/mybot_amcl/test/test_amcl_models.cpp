@@ -169,10 +169,10 @@ TEST(LikelihoodField, DistanceIsCappedAndOffMapUsesTheCap)
   lp.likelihood_max_dist = 1.0;
   LikelihoodField f(lp);
   f.setMap(world);
-  EXPECT_NEAR(f.distance(0.05, 2.0), 0.0, 1e-6);    // inside the 0.1 m wall
-  EXPECT_NEAR(f.distance(0.5, 2.0), 0.4, 0.06);     // 0.4 m from the wall's inner face
-  EXPECT_NEAR(f.distance(3.0, 2.0), 1.0, 1e-6);     // capped
-  EXPECT_NEAR(f.distance(-10.0, 2.0), 1.0, 1e-6);   // off the map
+  EXPECT_NEAR(f.distance(0.05, 2.0), 0.0, 1e-6);   // inside the 0.1 m wall
+  EXPECT_NEAR(f.distance(0.5, 2.0), 0.4, 0.06);    // 0.4 m from the wall's inner face
+  EXPECT_NEAR(f.distance(3.0, 2.0), 1.0, 1e-6);    // capped
+  EXPECT_NEAR(f.distance(-10.0, 2.0), 1.0, 1e-6);  // off the map
 }
 
 // One beam straight at a wall 0.1 m thick (x 2.0-2.1): the laser stops at the face it meets, so an

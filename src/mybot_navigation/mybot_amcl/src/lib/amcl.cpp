@@ -178,7 +178,8 @@ std::vector<Pose2D> Amcl::candidatePlaces(const LaserScanData& scan) const
     const int cx = idx % map_info_.width, cy = idx / map_info_.width;
     if (cx % kStride != 0 || cy % kStride != 0)
       continue;
-    const Point2D c = transformPoint(map_info_.origin, {(cx + 0.5) * map_info_.resolution, (cy + 0.5) * map_info_.resolution});
+    const Point2D c =
+        transformPoint(map_info_.origin, {(cx + 0.5) * map_info_.resolution, (cy + 0.5) * map_info_.resolution});
     Place best{{c.x, c.y, 0.0}, -1.0};
     for (int k = 0; k < kHeadings; ++k)
     {
