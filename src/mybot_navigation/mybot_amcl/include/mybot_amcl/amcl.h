@@ -76,8 +76,7 @@ public:
   // The smallest see-through share plausible() found at its last call.
   double lastSeeThrough() const { return last_see_through_; }
   // Whether the next sensor update weighs particles with the search's wider field (sigma_hit at
-  // least 0.2 m): after global localization and while lost, until one cluster holds 90 % of the
-  // weight.
+  // least 0.2 m): after global localization, until one cluster holds 90 % of the weight.
   bool searching() const { return searching_; }
 
 private:
