@@ -118,8 +118,10 @@ public:
   std::vector<size_t> beamIndices(size_t count) const;
 
 private:
-  // The map cell index of a beam's end point (sensor pose relative to the map origin), -1 off the map.
-  long endCell(const Pose2D& sensor, double inv_res, const LaserReading& r) const;
+  // The map cell index of a beam's end point (sensor pose relative to the map origin), -1 off the
+  // map; `x`, `y` (if given) receive the end point in cell units.
+  long endCell(const Pose2D& sensor, double inv_res, const LaserReading& r, double* x = nullptr,
+               double* y = nullptr) const;
   // exp(-d^2 / 2 sigma^2) for an end point at cell coordinates (x, y) inside an obstacle, d its
   // depth back along the beam (bearing `angle`) to the first cell outside the obstacle.
   double gaussBehindSurface(double x, double y, double angle) const;

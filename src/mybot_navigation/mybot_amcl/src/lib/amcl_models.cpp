@@ -207,11 +207,13 @@ double LikelihoodField::maxWeight(const LaserScanData& scan) const
   return p;
 }
 
-long LikelihoodField::endCell(const Pose2D& sensor, double inv_res, const LaserReading& r) const
+long LikelihoodField::endCell(const Pose2D& sensor, double inv_res, const LaserReading& r, double* x, double* y) const
 {
   const double a = sensor.theta + r.bearing;
-  const int cx = static_cast<int>(std::floor((sensor.x + r.range * std::cos(a)) * inv_res));
-  const int cy = static_cast<int>(std::floor((sensor.y + r.range * std::sin(a)) * inv_res));
+  const double ex = (sensor.x + r.range * std::cos(a)) * inv_res, ey = (sensor.y + r.range * std::sin(a)) * inv_res;
+  if (x && y)
+    *x = ex, *y = ey;
+  const int cx = static_cast<int>(std::floor(ex)), cy = static_cast<int>(std::floor(ey));
   if (cx < 0 || cy < 0 || cx >= info_.width || cy >= info_.height)
     return -1;
   return static_cast<long>(cy) * info_.width + cx;
@@ -283,15 +285,11 @@ double LikelihoodField::weight(const Pose2D& robot, const LaserScanData& scan) c
     const LaserReading& r = scan.readings[i];
     if (!(r.range < scan.range_max))  // also skips NaN
       continue;
-    const double a = s.theta + r.bearing;
-    const double ex = (s.x + r.range * std::cos(a)) * inv_res, ey = (s.y + r.range * std::sin(a)) * inv_res;
-    const int cx = static_cast<int>(std::floor(ex)), cy = static_cast<int>(std::floor(ey));
-    double g = gauss_off_map_;
-    if (cx >= 0 && cy >= 0 && cx < info_.width && cy < info_.height)
-    {
-      const size_t cell = static_cast<size_t>(cy) * info_.width + cx;
-      g = occupied_[cell] ? gaussBehindSurface(ex, ey, a) : gauss_[cell];
-    }
+    double ex, ey;
+    const long cell = endCell(s, inv_res, r, &ex, &ey);
+    const double g = cell < 0                               ? gauss_off_map_
+                     : occupied_[static_cast<size_t>(cell)] ? gaussBehindSurface(ex, ey, s.theta + r.bearing)
+                                                            : gauss_[static_cast<size_t>(cell)];
     const double pz = params_.z_hit * g + z_rand_term;
     p += pz * pz * pz;
   }
