@@ -4,6 +4,11 @@ Subscribes lwheel_angular_vel_motor / rwheel_angular_vel_motor (std_msgs/Float32
 rad/s), publishes joint_states (sensor_msgs/JointState) and battery_voltage
 (std_msgs/Float32). Safety stops: stale commands (ROS time), shutdown, any
 exception in the loop, an unreachable master, and a wall-clock net for a stalled clock.
+
+In a lockstep simulation (gopigo.launch lockstep:=true, simulated motors) the driver takes part
+(mybot_lockstep): the motors are integrated period by period in simulated time, so a drive gives
+the same wheel angles on an idle and on a busy machine. The wall-clock net is off there: the
+clock stands whenever a participant is slow, and simulated motors do not turn while it stands.
 """
 import sys
 import threading
@@ -14,6 +19,8 @@ import rosgraph
 import rospy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32
+
+from mybot_lockstep import lockstep_requested, participant
 
 from .config import ConfigError, HardwareError, create_backend, read_config
 from .driver import LEFT, RIGHT, DriverCore
@@ -44,21 +51,24 @@ class DriverNode:
         self._last_cmd_wall = None
         self._last_ros_time = 0.0
         self._exit = threading.Event()
-        self.js_pub = rospy.Publisher("joint_states", JointState, queue_size=10)
+        self.ls = participant()
+        pub = self.ls.Publisher
+        self.js_pub = pub("joint_states", JointState, queue_size=10)
         self.batt_pub = rospy.Publisher("battery_voltage", Float32, queue_size=1)
         self.enc_pubs = None
         if cfg.publish_enc:
-            self.enc_pubs = (rospy.Publisher("lwheel_angular_vel_enc", Float32, queue_size=10),
-                             rospy.Publisher("rwheel_angular_vel_enc", Float32, queue_size=10))
+            self.enc_pubs = (pub("lwheel_angular_vel_enc", Float32, queue_size=10),
+                             pub("rwheel_angular_vel_enc", Float32, queue_size=10))
         # Simulated backend only: the model's true wheel angles/speeds (unquantised),
         # the ground truth tests and benchmarks compare against; effort = motor command.
         self.truth_pub = None
         if hasattr(core.backend, "true_state"):
-            self.truth_pub = rospy.Publisher("~sim_truth", JointState, queue_size=10)
+            self.truth_pub = pub("~sim_truth", JointState, queue_size=10)
         self.joint_state = JointState()
         self.joint_state.name = [cfg.left_joint, cfg.right_joint]
-        rospy.Subscriber("lwheel_angular_vel_motor", Float32, self._on_cmd, LEFT, queue_size=1)
-        rospy.Subscriber("rwheel_angular_vel_motor", Float32, self._on_cmd, RIGHT, queue_size=1)
+        # A queue of a few: under lockstep every command of a period is waited for and handled.
+        self.ls.Subscriber("lwheel_angular_vel_motor", Float32, lambda m: self._on_cmd(m, LEFT), queue_size=5)
+        self.ls.Subscriber("rwheel_angular_vel_motor", Float32, lambda m: self._on_cmd(m, RIGHT), queue_size=5)
         self._next_battery = 0.0
 
     def _on_cmd(self, msg, wheel):
@@ -76,7 +86,7 @@ class DriverNode:
         while not self._exit.wait(period):
             now = time.monotonic()
             try:
-                if (self._last_cmd_wall is not None and not self.core.stopped
+                if (not self.ls.active and self._last_cmd_wall is not None and not self.core.stopped
                         and now - self._last_cmd_wall > self.cfg.wall_timeout):
                     self.core.emergency_stop("no command for %.1f s of wall-clock time" % self.cfg.wall_timeout,
                                              self._last_ros_time)
@@ -131,14 +141,24 @@ class DriverNode:
             except Exception as e2:
                 rospy.logerr_throttle(1.0, "gopigo_driver: stopping the motors failed too: %r" % e2)
 
+    def _time_went_back(self):
+        self.core.emergency_stop("ROS time moved backwards", None)
+        self._next_battery = 0.0
+
     def spin(self):
         watchdog = threading.Thread(target=self._watchdog, name="gopigo_watchdog", daemon=True)
         watchdog.start()
         period = 1.0 / self.cfg.rate
         next_tick = None
+        last_t = None
         try:
             while not rospy.is_shutdown():
                 t = rospy.get_rostime().to_sec()
+                if last_t is not None and t < last_t:
+                    # Under lockstep the sleep below returns instead of raising.
+                    self._time_went_back()
+                    next_tick = None
+                last_t = t
                 if next_tick is None or t >= next_tick:
                     self._cycle(t)
                     next_tick = t + period if next_tick is None or t - next_tick > period else next_tick + period
@@ -151,11 +171,11 @@ class DriverNode:
                 if deadline is not None and deadline < wake:
                     wake = deadline + 1e-3
                 try:
-                    rospy.sleep(max(0.0, wake - rospy.get_rostime().to_sec()))
+                    self.ls.sleep(max(0.0, wake - rospy.get_rostime().to_sec()))
                 except rospy.ROSTimeMovedBackwardsException:
-                    self.core.emergency_stop("ROS time moved backwards", None)
+                    self._time_went_back()
                     next_tick = None
-                    self._next_battery = 0.0
+                    last_t = None
         except rospy.ROSInterruptException:
             pass
         finally:
@@ -166,6 +186,9 @@ def main(argv=None):
     rospy.init_node("gopigo_driver")
     try:
         cfg = read_config(lambda name, default: rospy.get_param("~" + name, default))
+        if cfg.gopigo_on and lockstep_requested():
+            raise ConfigError("~gopigo_on is true (real motors) but /lockstep is on: a simulation's clock "
+                              "must not pace real motors; lockstep is for the simulated backend only")
         backend = create_backend(cfg, _rospy_log)
     except (ConfigError, HardwareError) as e:
         rospy.logfatal("gopigo_driver: %s" % e)

@@ -20,6 +20,8 @@ from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32
 
+from mybot_lockstep import participant
+
 R = 0.03325
 B = 0.117
 
@@ -34,9 +36,12 @@ def wait_until(pred, timeout, what):
 
 
 class Recorder:
+    """Every message of a topic with the ROS time it was handled at: under lockstep (drift,
+    open_loop) the time of its period, whatever the load."""
+
     def __init__(self, topic, cls, convert):
         self.samples = []
-        rospy.Subscriber(topic, cls, lambda m: self.samples.append((rospy.get_time(), convert(m))), queue_size=200)
+        participant().Subscriber(topic, cls, lambda m: self.samples.append((rospy.get_time(), convert(m))), queue_size=200)
 
     def between(self, t0, t1):
         return [v for t, v in self.samples if t0 <= t <= t1]

@@ -24,9 +24,11 @@ import warnings
 import rospy
 from rospy.impl.registration import get_topic_manager
 
+from tf2_msgs.msg import TFMessage
+
 from mybot_lockstep.msg import Ack, LinkCount, Tick
 
-__all__ = ['Participant', 'participant', 'lockstep_requested']
+__all__ = ['Participant', 'participant', 'lockstep_requested', 'TransformListener']
 
 
 def lockstep_requested():
@@ -72,6 +74,7 @@ class Participant:
         self._wake = None  # rospy.Time the main thread sleeps until
         self._held = None  # the tick the main thread was woken for and has not finished
         self._last_ack = None
+        self._last_stamp = None  # the last tick's stamp
         self._forgive_after = forgive_after
         if not self.active:
             return
@@ -129,7 +132,8 @@ class Participant:
         self.sleep_until(rospy.get_rostime() + d)
 
     def sleep_until(self, t):
-        """Finishes the current period (if the main thread held one) and waits for sim time t."""
+        """Finishes the current period (if the main thread held one) and waits for sim time t.
+        Returns at once when the clock jumps back (a reset), where rospy.sleep would raise."""
         if not self.active:
             rospy.sleep(max(0.0, (t - rospy.get_rostime()).to_sec()))
             return
@@ -232,7 +236,11 @@ class Participant:
                 ev = rospy.timer.TimerEvent(None, None, rospy.Time(due // 10**9, due % 10**9), tick.stamp, None)
                 t[2](ev)
         with self._cond:
-            if self._wake is not None and tick.stamp >= self._wake:
+            # A main thread sleeping until a time the clock has jumped back from (a simulation
+            # reset) wakes at once, as rospy.sleep raises then: it must notice the jump itself.
+            went_back = self._last_stamp is not None and tick.stamp < self._last_stamp
+            self._last_stamp = tick.stamp
+            if self._wake is not None and (tick.stamp >= self._wake or went_back):
                 self._wake = None
                 self._held = tick  # the main thread runs this period; it acks when it sleeps again
                 self._cond.notify_all()
@@ -251,6 +259,39 @@ class Participant:
                 raise
             return
         self._last_ack = ack
+
+
+class TransformListener:
+    """Fills a tf2_ros.Buffer from /tf and /tf_static received through the participant (the twin
+    of transform_listener.h): under lockstep a transform published for period k is in the buffer
+    when this node handles period k+1, never earlier or later, so a lookup at rospy.Time(0) gives
+    the same answer on an idle and on a loaded machine. tf2_ros's own listener fills the buffer
+    from rospy's threads whenever messages arrive. Never wait for a transform with a timeout while
+    the main thread holds a period (time cannot move): look up without one and sleep through the
+    helper. As tf2_ros's listener, it clears the buffer when ROS time goes back."""
+
+    def __init__(self, buffer, ls=None):
+        self.buffer = buffer
+        self._last_now = None
+        ls = ls or participant()
+        # 1000 messages, as transform_listener.h: every message a period owes is waited for.
+        ls.Subscriber('/tf', TFMessage, lambda m: self._received(m, 'tf', False), queue_size=1000,
+                      tcp_nodelay=True)
+        ls.Subscriber('/tf_static', TFMessage, lambda m: self._received(m, 'tf_static', True),
+                      queue_size=1000, tcp_nodelay=True)
+
+    def _received(self, msg, authority, is_static):
+        now = rospy.get_rostime()
+        if self._last_now is not None and now < self._last_now:
+            rospy.logwarn('tf: time went backwards (%.3f -> %.3f s); clearing the transform buffer',
+                          self._last_now.to_sec(), now.to_sec())
+            self.buffer.clear()
+        self._last_now = now
+        for t in msg.transforms:
+            if is_static:
+                self.buffer.set_transform_static(t, authority)
+            else:
+                self.buffer.set_transform(t, authority)
 
 
 _instance = None

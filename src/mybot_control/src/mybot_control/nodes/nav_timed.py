@@ -1,6 +1,8 @@
 """nav_timed / twist_publisher: publish a timed twist profile on cmd_vel, then one zero twist.
 
-All timing is ROS time, so it runs unchanged against a simulator at any real-time factor.
+All timing is ROS time, so it runs unchanged against a simulator at any real-time factor. In a
+lockstep simulation it takes part (mybot_lockstep): each twist belongs to the period it was
+meant for, however busy the machine is.
 """
 import math
 import signal
@@ -9,6 +11,7 @@ import rospy
 from geometry_msgs.msg import Twist
 
 from mybot_common import params
+from mybot_lockstep import participant
 from mybot_control import timed_moves
 from mybot_control.nodes import common
 
@@ -32,7 +35,8 @@ class Node:
             duration=g("duration", 0.0, params.number, low=0))
         self.rate = g("rate", 10.0, params.number, low=0, low_open=True)
         self.wait = g("wait_for_subscribers", 5.0, params.number, low=0)
-        self.pub = rospy.Publisher("cmd_vel", Twist, queue_size=1)
+        self.ls = participant()
+        self.pub = self.ls.Publisher("cmd_vel", Twist, queue_size=1)
         self.stop = False
 
     def publish(self, twist):
@@ -41,9 +45,8 @@ class Node:
         self.pub.publish(msg)
 
     def _sleep_until(self, t):
-        dt = t - rospy.get_time()
-        if dt > 0:
-            rospy.sleep(dt)
+        if t > rospy.get_time():
+            self.ls.sleep_until(rospy.Time.from_sec(t))
 
     def run(self):
         # With use_sim_time, time is 0 until the first /clock message.
@@ -75,6 +78,7 @@ class Node:
             if not rospy.is_shutdown():
                 self.publish(timed_moves.ZERO)
                 rospy.loginfo("nav_timed: stopped after %.2f s", rospy.get_time() - t0)
+                self.ls.release()  # the wall-time linger must not hold simulated time
                 common.linger()
         return 0
 
