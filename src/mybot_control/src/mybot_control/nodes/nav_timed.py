@@ -45,8 +45,13 @@ class Node:
         self.pub.publish(msg)
 
     def _sleep_until(self, t):
-        if t > rospy.get_time():
+        dt = t - rospy.get_time()
+        if dt <= 0:
+            return
+        if self.ls.active:
             self.ls.sleep_until(rospy.Time.from_sec(t))
+        else:
+            rospy.sleep(dt)
 
     def run(self):
         # With use_sim_time, time is 0 until the first /clock message.
