@@ -86,6 +86,25 @@ void OccupancyGrid::update(int gx, int gy, float delta)
   cells_[i] = std::clamp(cells_[i] + delta, l_min_, l_max_);
 }
 
+namespace
+{
+// How many cells before a hit its beam may not clear: 1 / sin of the angle between the beam and
+// the surface through its neighbours a and b (capped at kMaxKeepCells), or 1 (the hit's own cell)
+// where the neighbours are too far apart to lie on the hit's surface.
+double grazingKeepCells(const Point2D& origin, const Point2D& a, const Point2D& h, const Point2D& b)
+{
+  constexpr double kMaxKeepCells = 20.0;
+  const double sx = b.x - a.x, sy = b.y - a.y, sl = std::hypot(sx, sy);
+  const double rx = h.x - origin.x, ry = h.y - origin.y, rl = std::hypot(rx, ry);
+  // Beams 0.25 deg apart meet a surface at 5 degrees 0.05 * r apart: a gap of more than 0.1 m
+  // plus 0.15 * r is an edge or another object.
+  if (sl < 1e-6 || rl < 1e-6 || sl > 0.1 + 0.15 * rl)
+    return 1.0;
+  const double sin_angle = std::abs(sx * ry - sy * rx) / (sl * rl);
+  return std::min(kMaxKeepCells, 1.0 / std::max(sin_angle, 1.0 / kMaxKeepCells));
+}
+}  // namespace
+
 void OccupancyGrid::insertScan(const Pose2D& pose, const RangeScan& scan)
 {
   const Point2D o = transformPoint(pose, scan.origin);
@@ -124,8 +143,29 @@ void OccupancyGrid::insertScan(const Pose2D& pose, const RangeScan& scan)
                 return true;
               });
   };
-  for (const auto& h : hits)
-    free_ray(h, false);
+  // A beam that meets a surface at a grazing angle runs within a cell of it for the last
+  // 1 / sin(angle) cells of its length, through the surface's own cells: that is no evidence
+  // that they are free, and counting it erased walls seen only from far along them (in the demo,
+  // a rack's face; AMCL then put the robot on the rack's far face, 0.8 m off, and the scan
+  // matcher's local maps lost the walls that hold the heading). With keep_grazing_surfaces those
+  // cells are left alone; the surface's direction at a hit comes from its two neighbours in the
+  // scan.
+  for (size_t i = 0; i < hits.size(); ++i)
+  {
+    const double keep = params_.keep_grazing_surfaces && i > 0 && i + 1 < hits.size()
+                            ? grazingKeepCells(scan.origin, scan.hits[i - 1], scan.hits[i], scan.hits[i + 1])
+                            : 1.0;
+    const auto& end = hits[i];
+    traceLine(ox, oy, end.first, end.second,
+              [&](int x, int y)
+              {
+                const double dx = x - end.first, dy = y - end.second;
+                if (dx * dx + dy * dy < keep * keep)
+                  return false;
+                update(x, y, l_miss_);
+                return true;
+              });
+  }
   for (const auto& m : misses)
     free_ray(m, true);
 }

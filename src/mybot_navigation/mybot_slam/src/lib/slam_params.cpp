@@ -55,6 +55,12 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           "a number (s; < 0 disables)"),
       number(
           "occ_thresh", [](P& p) -> double& { return p.slam.occ_thresh; }, openUnit, "a probability in (0, 1)"),
+      number(
+          "hit_probability", [](P& p) -> double& { return p.slam.grid.prob_hit; },
+          [](double v) { return v > 0.5 && v < 1.0; }, "a probability in (0.5, 1)"),
+      number(
+          "miss_probability", [](P& p) -> double& { return p.slam.grid.prob_miss; },
+          [](double v) { return v > 0.0 && v < 0.5; }, "a probability in (0, 0.5)"),
       integer(
           "local_map_scans", [](P& p) -> int& { return p.slam.local_map_scans; }, 2, "an integer >= 2"),
       number(
@@ -86,6 +92,8 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
       number(
           "track_min_gain", [](P& p) -> double& { return p.slam.track_min_gain; },
           [](double v) { return v >= 0 && v < 1; }, "in [0, 1)"),
+      {"keep_grazing_surfaces", T::Boolean, nullptr, nullptr,
+       [](P& p) -> bool& { return p.slam.grid.keep_grazing_surfaces; }, [](double) { return true; }, "a bool"},
       {"loop_closure", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.loop_closure; },
        [](double) { return true; }, "a bool"},
       number(
