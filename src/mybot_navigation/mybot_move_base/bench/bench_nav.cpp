@@ -57,6 +57,16 @@ GridMap warehouse()
   return makeWorld(20.0, 15.0, 0.05, obs);
 }
 
+// AMCL's input for a 720-beam, 180-degree, 30 m laser at `pose` (no returns read as 30 m).
+LaserScanData scanAt(const GridMap& map, const Pose2D& pose)
+{
+  const std::vector<float> r = simulateScan(map, pose, -M_PI / 2, M_PI / 719, 720, 30.0);
+  LaserScanData s;
+  for (int k = 0; k < 720; ++k)
+    s.readings.push_back({std::isfinite(r[k]) ? r[k] : 30.0, -M_PI / 2 + M_PI / 719 * k});
+  return s;
+}
+
 }  // namespace
 
 int main()
@@ -173,10 +183,7 @@ int main()
     for (int i = 0; i < 15; ++i)
     {
       const Pose2D pose{3.0 + 0.25 * i, 1.8, 0.0};
-      const std::vector<float> r = simulateScan(map, pose, -M_PI / 2, M_PI / 719, 720, 30.0);
-      LaserScanData s;
-      for (int k = 0; k < 720; ++k)
-        s.readings.push_back({std::isfinite(r[k]) ? r[k] : 30.0, -M_PI / 2 + M_PI / 719 * k});
+      const LaserScanData s = scanAt(map, pose);
       const double t = timeMs([&] { amcl.processScan(pose, s); });
       if (i > 0)
         (particles == 500 ? t_amcl_small : t_amcl_large).push_back(t);
@@ -198,10 +205,7 @@ int main()
     Amcl amcl(ap);
     amcl.setMap(map);
     amcl.globalLocalization();
-    const std::vector<float> r = simulateScan(map, truth, -M_PI / 2, M_PI / 719, 720, 30.0);
-    LaserScanData s;
-    for (int k = 0; k < 720; ++k)
-      s.readings.push_back({std::isfinite(r[k]) ? r[k] : 30.0, -M_PI / 2 + M_PI / 719 * k});
+    const LaserScanData s = scanAt(map, truth);
     t_global.push_back(timeMs([&] { amcl.processScan(truth, s); }));
   }
 
