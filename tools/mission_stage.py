@@ -3,7 +3,8 @@
 master (the orchestrator, tools/demo.py, starts one per stage):
 
   mapping:    runs the frontier explorer until the map is complete (or the
-              budget is spent), then saves the map with map_saver;
+              budget is spent), finishes the SLAM trajectory (its final
+              optimisation), then saves the map with map_saver;
   navigation: gives AMCL an initial pose, lets it localize, then visits goals.
 
 Both record ground truth (ground_truth/odom, world frame), the estimated pose
@@ -28,6 +29,7 @@ from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from rosgraph_msgs.msg import Clock
+from std_srvs.srv import Trigger
 
 from mybot_gazebo_lite.msg import ModelContacts
 from mybot_move_base.action_client import SimpleActionClient
@@ -219,6 +221,14 @@ def run_mapping(args, rec, result):
     result["explored_completely"] = explore.returncode == 0
     log("exploration ended (%s) after %.0f s of sim time" %
         ("no frontier left" if explore.returncode == 0 else "exit %d" % explore.returncode, result["explore_sim_s"]))
+    # As with Cartographer: finish the trajectory (the final optimisation ties every keyframe to
+    # every earlier pass through its place) and save the map it publishes.
+    rospy.wait_for_service("finish_trajectory", timeout=30)
+    finish = rospy.ServiceProxy("finish_trajectory", Trigger)()
+    result["finish_trajectory"] = finish.message
+    if not finish.success:
+        raise RuntimeError("finish_trajectory failed: " + finish.message)
+    log("trajectory finished: " + finish.message)
     saver = subprocess.run(["rosrun", "mybot_map_server", "map_saver", "-f", args.map_out],
                            capture_output=True, text=True, timeout=120)
     result["map_saved"] = saver.returncode == 0

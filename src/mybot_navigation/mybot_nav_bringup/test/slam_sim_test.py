@@ -27,6 +27,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry, Path
 from nav_msgs.srv import GetMap
 from std_msgs.msg import Float64
+from std_srvs.srv import Trigger
 
 from mybot_map_server.map_saver import save_map, yaw_from_quaternion
 from mybot_common.geometry import wrap as normalize
@@ -189,6 +190,19 @@ class SlamSimTest(unittest.TestCase):
             self.assertGreaterEqual(closed["precision"], rospy.get_param("~min_precision", 0.9))
             self.assertGreaterEqual(closed["recall"], rospy.get_param("~min_recall", 0.9))
             self.assertLess(closed["ate_rmse_m"], rospy.get_param("~max_ate", 0.05))
+            # finish_trajectory (Cartographer's name): the final optimisation, after which the
+            # map no longer changes; scored on the keyframes it was rendered from.
+            rospy.wait_for_service("finish_trajectory", timeout=30)
+            finish = rospy.ServiceProxy("finish_trajectory", Trigger)
+            done = finish()
+            self.assertTrue(done.success, done.message)
+            final = self.score(self.fetch_map("dynamic_map"), "final", self.keyframe_samples("slam/trajectory"))
+            self.assertGreaterEqual(final["precision"], rospy.get_param("~min_precision", 0.9))
+            self.assertGreaterEqual(final["recall"], rospy.get_param("~min_recall", 0.9))
+            self.assertLess(final["ate_rmse_m"], rospy.get_param("~max_ate", 0.05))
+            again = finish()
+            self.assertFalse(again.success)
+            self.assertIn("already finished", again.message)
         else:
             # Each node's own keyframes: the online estimate of the closed-loop node is only
             # corrected after a closure, and the open-loop node publishes no tf.

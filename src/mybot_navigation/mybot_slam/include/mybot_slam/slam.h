@@ -104,7 +104,9 @@ struct SlamParams
   // in a small window around its pose; each good match becomes a robust edge and the whole graph
   // is optimised once more. Online, a revisit is tied to one candidate every
   // loop_check_interval keyframes; this ties every keyframe to every visit before it.
-  double final_match_radius = 2.0;    // m, keyframe to the nearest keyframe of a submap
+  // 6 m: a 30 m laser in the factory sees a place again from aisles apart (recorded demo runs:
+  // ATE 0.077 -> 0.008, 0.076 -> 0.017, 0.059 -> 0.018 m against 2 m); neutral on the real logs.
+  double final_match_radius = 6.0;    // m, keyframe to the nearest keyframe of a submap
   double final_window_linear = 0.3;   // m
   double final_window_angular = 0.1;  // rad
 };

@@ -11,6 +11,7 @@
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
+#include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
 
@@ -83,6 +84,7 @@ public:
     map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
     meta_pub_ = nh_.advertise<nav_msgs::MapMetaData>("map_metadata", 1, true);
     map_srv_ = nh_.advertiseService("dynamic_map", &SlamNode::mapService, this);
+    finish_srv_ = nh_.advertiseService("finish_trajectory", &SlamNode::finishTrajectory, this);
     // The keyframe poses as the pose graph now has them (after every loop closure): what the map
     // was rendered from, for scoring a run against ground truth and for rviz.
     path_pub_ = pnh_.advertise<nav_msgs::Path>("trajectory", 1, true);
@@ -199,6 +201,8 @@ private:
     const Pose2D odom = toPose2D(odom_tf.transform);
     std::lock_guard<std::mutex> lock(mutex_);
     startOverIfTimeWentBack();
+    if (finished_)
+      return;  // the map is final; map -> odom stays where the final optimisation left it
     if (!slam_->wantsScan(stamp, odom))
     {
       if (stamp <= last_stamp_)
@@ -284,6 +288,35 @@ private:
     path_pub_.publish(path);
   }
 
+  // Cartographer's finish_trajectory: the final optimisation of slam_replay (every keyframe tied
+  // to every earlier pass through its place, the whole graph optimised once more), then the map
+  // and trajectory are published and no longer change; map -> odom keeps its last value. Online
+  // loop closure ties a revisit to one candidate every few keyframes, only where the drift it
+  // removes is worth it; call this when mapping is over, before saving the map.
+  bool finishTrajectory(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (finished_)
+    {
+      res.message = "the trajectory is already finished";
+      return true;
+    }
+    if (slam_->keyframes().empty())
+    {
+      res.message = "no map yet: no scan has been processed";
+      return true;
+    }
+    slam_->runFinalOptimization();
+    finished_ = true;
+    const SlamStats& st = slam_->stats();
+    res.success = true;
+    res.message = std::to_string(slam_->keyframes().size()) + " keyframes, " + std::to_string(st.final_edges) +
+                  " revisit edges in the final optimisation (" + std::to_string(st.final_edges_dropped) + " dropped)";
+    ROS_INFO("slam: trajectory finished: %s; the map no longer changes", res.message.c_str());
+    publishMap(ros::Time::now());
+    return true;
+  }
+
   bool mapService(nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& res)
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -307,6 +340,7 @@ private:
       return;
     ROS_WARN("slam: time went backwards (to %.3f s); starting a new map", now.toSec());
     slam_ = std::make_unique<Slam>(params_);
+    finished_ = false;
     last_stamp_ = -1e300;
     published_ = false;
     published_version_ = 0;
@@ -341,7 +375,7 @@ private:
   ros::Subscriber scan_sub_;
   TfGate<sensor_msgs::LaserScan> scans_{"slam", ros::NodeHandle().resolveName("scan"), 100};
   ros::Publisher map_pub_, meta_pub_, path_pub_;
-  ros::ServiceServer map_srv_;
+  ros::ServiceServer map_srv_, finish_srv_;
   mybot_lockstep::Timer tf_timer_;
   std::string base_frame_, odom_frame_, map_frame_;
   double map_update_interval_, transform_publish_period_, max_urange_, max_range_;
@@ -352,6 +386,7 @@ private:
   std::mutex mutex_;
   double last_stamp_ = -1e300;
   bool published_ = false;
+  bool finished_ = false;  // finish_trajectory was called: scans are no longer used
   uint64_t published_version_ = 0;
   double last_map_publish_ = 0.0;
   ros::Time last_tf_stamp_, last_now_;
