@@ -1,6 +1,7 @@
 // slam_node: thin ROS wrapper around mybot_navigation::Slam with gmapping's interface
 // (scan + tf odom->base in; map, map_metadata, tf map->odom, dynamic_map out).
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -312,6 +313,10 @@ private:
     res.success = true;
     res.message = std::to_string(slam_->keyframes().size()) + " keyframes, " + std::to_string(st.final_edges) +
                   " revisit edges in the final optimisation (" + std::to_string(st.final_edges_dropped) + " dropped)";
+    char consistency[96];
+    std::snprintf(consistency, sizeof(consistency), "; map consistency %.3f -> %.3f%s", st.final_consistency_before,
+                  st.final_consistency_after, st.final_reverted ? ": less consistent, undone" : "");
+    res.message += consistency;
     ROS_INFO("slam: trajectory finished: %s; the map no longer changes", res.message.c_str());
     publishMap(ros::Time::now());
     return true;
