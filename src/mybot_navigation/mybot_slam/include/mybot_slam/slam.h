@@ -158,10 +158,9 @@ struct SlamStats
   int final_edges = 0;                 // edges the final optimisation added (and kept)
   int final_edges_dropped = 0;         // its matches the optimised graph disagreed with
   // The keyframes' mean match score against the map they render, before and after the final
-  // optimisation; it is undone (final_reverted) when the map it gives is less consistent.
+  // optimisation (a diagnostic: see runFinalOptimization).
   double final_consistency_before = 0.0;
   double final_consistency_after = 0.0;
-  bool final_reverted = false;
 };
 
 class Slam
@@ -200,8 +199,7 @@ public:
 
   // Ties every keyframe to every earlier visit of its place and optimises the whole graph (see
   // SlamParams::final_match_radius); then re-renders the maps. For the end of an offline run:
-  // its cost grows with the number of revisits (a few seconds for an hour of log). Undone when
-  // the keyframes agree less with the map it gives than before (stats().final_reverted).
+  // its cost grows with the number of revisits (a few seconds for an hour of log).
   void runFinalOptimization();
   // The mean match score of every keyframe's points against the global map: misaligned
   // keyframes double and blur its walls, and their points then fall off them.

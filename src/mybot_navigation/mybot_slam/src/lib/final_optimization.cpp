@@ -141,12 +141,6 @@ void Slam::runFinalOptimization()
     return;
   renderGlobalMap();
   stats_.final_consistency_before = mapConsistency();
-  const std::vector<PoseGraphEdge> old_edges = graph_.edges();
-  std::vector<Pose2D> old_poses;
-  old_poses.reserve(keyframes_.size());
-  for (const Keyframe& k : keyframes_)
-    old_poses.push_back(k.pose);
-
   const size_t first_new_edge = graph_.edges().size();
   for (const PoseGraphEdge& e : edges)
     graph_.addEdge(e);
@@ -154,25 +148,11 @@ void Slam::runFinalOptimization()
   for (size_t i = 0; i < keyframes_.size(); ++i)
     keyframes_[i].pose = graph_.node(static_cast<int>(i));
   renderGlobalMap();
+  // Reported, not acted on: in slam_loop_closure.test (3.5 m usable range, 15 % odometry noise,
+  // seed 1) the optimised map was worse against ground truth (precision 0.71 -> 0.56) while its
+  // keyframes agreed slightly better with it (0.976 -> 0.980): wrong matches bend the map
+  // consistently, so this score cannot tell when to undo the optimisation.
   stats_.final_consistency_after = mapConsistency();
-  // With a short usable range and heavy drift (slam_loop_closure.test: 3.5 m, 15 % odometry
-  // noise) a keyframe's small window around its pose holds wrong matches the residual test
-  // does not catch, and the optimised map was worse (precision 0.71 -> 0.56): keep the graph
-  // as it was when the keyframes agree less with the map.
-  stats_.final_reverted = stats_.final_consistency_after < stats_.final_consistency_before;
-  if (stats_.final_reverted)
-  {
-    while (graph_.edges().size() > 0)
-      graph_.popEdge();
-    for (const PoseGraphEdge& e : old_edges)
-      graph_.addEdge(e);
-    for (size_t i = 0; i < keyframes_.size(); ++i)
-    {
-      keyframes_[i].pose = old_poses[i];
-      graph_.setNode(static_cast<int>(i), old_poses[i]);
-    }
-    renderGlobalMap();
-  }
   current_pose_ = tracked_ = compose(keyframes_.back().pose, last_scan_in_keyframe_);
   map_to_odom_ = compose(tracked_, inverse(tracked_odom_));
   rebuildLocalMaps();

@@ -314,8 +314,8 @@ private:
     res.message = std::to_string(slam_->keyframes().size()) + " keyframes, " + std::to_string(st.final_edges) +
                   " revisit edges in the final optimisation (" + std::to_string(st.final_edges_dropped) + " dropped)";
     char consistency[96];
-    std::snprintf(consistency, sizeof(consistency), "; map consistency %.3f -> %.3f%s", st.final_consistency_before,
-                  st.final_consistency_after, st.final_reverted ? ": less consistent, undone" : "");
+    std::snprintf(consistency, sizeof(consistency), "; map consistency %.3f -> %.3f", st.final_consistency_before,
+                  st.final_consistency_after);
     res.message += consistency;
     ROS_INFO("slam: trajectory finished: %s; the map no longer changes", res.message.c_str());
     publishMap(ros::Time::now());

@@ -208,11 +208,10 @@ int main(int argc, char** argv)
   if (!opt.quiet)
     std::fprintf(stderr,
                  "slam_replay: %zu scans, %zu keyframes, %d loop closures, %d revisit edges in the final "
-                 "optimisation (%d dropped; map consistency %.3f -> %.3f%s); %.1f s of log in %.1f s of CPU "
+                 "optimisation (%d dropped; map consistency %.3f -> %.3f); %.1f s of log in %.1f s of CPU "
                  "(%.0fx)\n",
                  r.scans, slam.keyframes().size(), slam.stats().loop_closures, slam.stats().final_edges,
                  slam.stats().final_edges_dropped, slam.stats().final_consistency_before,
-                 slam.stats().final_consistency_after, slam.stats().final_reverted ? ", undone" : "", span, cpu,
-                 cpu > 0 ? span / cpu : 0.0);
+                 slam.stats().final_consistency_after, span, cpu, cpu > 0 ? span / cpu : 0.0);
   return 0;
 }
