@@ -137,10 +137,10 @@ void Slam::runFinalOptimization()
   std::vector<PoseGraphEdge> edges;
   for (const Submap& s : partitionIntoSubmaps())
     matchKeyframesAgainstSubmap(s, edges);
+  // The global map is always rendered from the keyframes' current poses (closures re-render it).
+  stats_.final_consistency_before = stats_.final_consistency_after = mapConsistency();
   if (edges.empty())
     return;
-  renderGlobalMap();
-  stats_.final_consistency_before = mapConsistency();
   const size_t first_new_edge = graph_.edges().size();
   for (const PoseGraphEdge& e : edges)
     graph_.addEdge(e);

@@ -311,12 +311,13 @@ private:
     finished_ = true;
     const SlamStats& st = slam_->stats();
     res.success = true;
-    res.message = std::to_string(slam_->keyframes().size()) + " keyframes, " + std::to_string(st.final_edges) +
-                  " revisit edges in the final optimisation (" + std::to_string(st.final_edges_dropped) + " dropped)";
-    char consistency[96];
-    std::snprintf(consistency, sizeof(consistency), "; map consistency %.3f -> %.3f", st.final_consistency_before,
+    char message[160];
+    std::snprintf(message, sizeof(message),
+                  "%zu keyframes, %d revisit edges in the final optimisation (%d dropped); map consistency %.3f -> "
+                  "%.3f",
+                  slam_->keyframes().size(), st.final_edges, st.final_edges_dropped, st.final_consistency_before,
                   st.final_consistency_after);
-    res.message += consistency;
+    res.message = message;
     ROS_INFO("slam: trajectory finished: %s; the map no longer changes", res.message.c_str());
     publishMap(ros::Time::now());
     return true;
