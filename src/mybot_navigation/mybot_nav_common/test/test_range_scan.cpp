@@ -25,6 +25,8 @@ TEST(RangeScan, InvalidReadingsAreClassified)
   EXPECT_EQ(s.misses.size(), 3u);
   for (const Point2D& m : s.misses)
     EXPECT_NEAR(std::hypot(m.x - 0.1, m.y), 10.0, 1e-6);
+  EXPECT_DOUBLE_EQ(s.usable_range, 10.0);  // no hit beyond it: a map from this scan ends there
+  EXPECT_DOUBLE_EQ(convertRanges(ranges, 0.0, 0.1, 0.1, 8.0, 10.0, g).usable_range, 8.0);
 }
 
 TEST(RangeScan, UpsideDownSensorMirrorsAngles)

@@ -14,6 +14,9 @@ struct RangeScan
   Point2D origin;               // sensor position in the base frame
   std::vector<Point2D> hits;    // beam end points that hit something (base frame)
   std::vector<Point2D> misses;  // end points of beams that only observed free space (base frame)
+  // m from origin: no hit lies beyond it (the usable range it was converted with; 0 = unknown).
+  // A map built from the scan cannot show a wall farther away, whatever is there.
+  double usable_range = 0.0;
 };
 
 struct ScanConversionStats

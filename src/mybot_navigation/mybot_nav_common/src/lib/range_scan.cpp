@@ -16,6 +16,7 @@ RangeScan convertRanges(const std::vector<float>& ranges, double angle_min, doub
   scan.origin = {geometry.sensor_in_base.x, geometry.sensor_in_base.y};
   scan.hits.reserve(ranges.size());
   const double usable = std::min(range_max, max_usable_range);
+  scan.usable_range = usable;
   const double dir = geometry.upside_down ? -1.0 : 1.0;
   for (size_t i = 0; i < ranges.size(); ++i)
   {

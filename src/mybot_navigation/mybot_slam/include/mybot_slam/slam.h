@@ -217,6 +217,12 @@ private:
   const MatchField& localField(const Pose2D& around, const std::vector<Point2D>& points);
   // The pose of one scan's points against the local map, starting from `predicted`.
   MatchResult matchLocal(const Pose2D& predicted, const std::vector<Point2D>& points);
+  // The points (base frame) that, with the base at `pose`, lie within the usable range of one of
+  // the keyframes a map was rendered from (less the lookup field's fall-off): the others have
+  // nothing to match there. localPointsInReach: for the local map the match will use.
+  std::vector<Point2D> pointsInReach(const std::vector<int>& map_keyframes, const Pose2D& pose,
+                                     const std::vector<Point2D>& points) const;
+  std::vector<Point2D> localPointsInReach(const Pose2D& predicted, const std::vector<Point2D>& points);
   void rebuildLocalMaps();
   bool tryLoopClosure(int current);
   // The stages of tryLoopClosure, in order.

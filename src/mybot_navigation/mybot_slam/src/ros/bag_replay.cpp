@@ -190,7 +190,8 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
   }
   bag.close();
   result.scans = scans.size();
-  slam.runFinalOptimization();
+  if (opt.final_optimization)
+    slam.runFinalOptimization();
   // Every scan's pose after the last optimisation: its keyframe's, moved as tracked.
   const auto& kfs = slam.keyframes();
   for (const ScanRecord& s : scans)

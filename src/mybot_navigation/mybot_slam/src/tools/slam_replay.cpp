@@ -2,13 +2,16 @@
 // slam_gmapping_replay: the same Slam as slam_node over every scan, at full speed, no roscore.
 //
 //   rosrun mybot_slam slam_replay --bag FILE --out DIR [--params slam.yaml]
-//        [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate] [--laser-pose X,Y,YAW] [--quiet]
+//        [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate] [--laser-pose X,Y,YAW]
+//        [--no-final-optimization] [--quiet]
 //
 // Odometry at a scan: `last` (default) takes the pose of the last odometry message before the
 // scan in bag order, which is what CARMEN logs embed in each FLASER (ACES, Intel); `interpolate`
 // interpolates between the odometry messages around the scan's stamp (FR079, whose CARMEN
 // odometry was interpolated). The laser's mounting comes from /tf_static (base -> the scan's frame),
 // or from --laser-pose (m, m, rad in the base frame) where the log's is known to be wrong.
+// --no-final-optimization leaves out the last step (slam_node's finish_trajectory): the result is
+// then what the online node has while it still maps.
 //
 // Writes, each file replaced atomically: DIR/map.pgm + map.yaml (map_server), DIR/map.png,
 // DIR/trajectory.tum (every scan's pose, after the last optimisation, in the map frame: "stamp x y
@@ -39,16 +42,18 @@ struct Options
 {
   std::string bag, out, params, scan_topic = "/scan", odom_topic = "/odom", odom = "last";
   bool quiet = false;
+  bool final_optimization = true;
   bool override_mount = false;
   mybot_navigation::Pose2D mount;
 };
 
 [[noreturn]] void usage(const std::string& error)
 {
-  std::fprintf(stderr,
-               "slam_replay: %s\nusage: slam_replay --bag FILE --out DIR [--params slam.yaml] [--scan-topic /scan] "
-               "[--odom-topic /odom] [--odom last|interpolate] [--laser-pose X,Y,YAW] [--quiet]\n",
-               error.c_str());
+  std::fprintf(
+      stderr,
+      "slam_replay: %s\nusage: slam_replay --bag FILE --out DIR [--params slam.yaml] [--scan-topic /scan] "
+      "[--odom-topic /odom] [--odom last|interpolate] [--laser-pose X,Y,YAW] [--no-final-optimization] [--quiet]\n",
+      error.c_str());
   std::exit(2);
 }
 
@@ -87,6 +92,8 @@ Options parseArgs(int argc, char** argv)
     }
     else if (a == "--quiet")
       o.quiet = true;
+    else if (a == "--no-final-optimization")
+      o.final_optimization = false;
     else
       usage("unknown argument " + a);
   }
@@ -138,6 +145,7 @@ int main(int argc, char** argv)
   ro.odom = opt.odom;
   ro.override_mount = opt.override_mount;
   ro.mount = opt.mount;
+  ro.final_optimization = opt.final_optimization;
   int percent = -1;
   BagReplayResult r;
   try

@@ -20,6 +20,9 @@ struct BagReplayOptions
   // logs embed in each FLASER); "interpolate" = between the messages around its stamp.
   std::string odom = "last";
   double max_log_seconds = 0.0;  // > 0: stop after this much log from the first scan
+  // The final optimisation at the end of the log (Slam::runFinalOptimization); off, the result is
+  // the map and trajectory an online node has before finish_trajectory is called.
+  bool final_optimization = true;
   // The laser's pose in the base frame, for every scan, instead of /tf_static's (a log whose
   // recorded mounting is known to be wrong, or that has none).
   bool override_mount = false;
