@@ -4,10 +4,13 @@ records the SLAM pose (tf map -> base) against ground truth, and scores the fina
 world rendered by mybot_gazebo_lite's world_to_map.
 
 ~mode: accuracy      -> occupied precision/recall >= ~min_precision/~min_recall, ATE < ~max_ate
-       loop_closure  -> the SLAM node with loop closure (`slam`) beats the one without (`open/slam`):
-                        its keyframe trajectory (`~trajectory`, after optimisation) has the smaller
-                        ATE and its map the better precision and recall, each map placed by its
-                        own trajectory's best fit to ground truth
+       loop_closure  -> the SLAM node with loop closure (`slam`) meets ~min_precision, ~min_recall
+                        and ~max_ate, and where the one without (`open/slam`) drifted below
+                        ~min_precision it beats it: its keyframe trajectory (`~trajectory`, after
+                        optimisation) has the smaller ATE and its map the better precision and
+                        recall, each map placed by its own trajectory's best fit to ground truth;
+                        where the open loop did not drift, it is no worse within ~ate_tolerance
+                        and ~precision_tolerance
 ~drive: plugin (cmd_vel) | joints (wheel velocity commands)
 ~base_frame: frame whose map pose is recorded (base_footprint)"""
 import bisect
@@ -210,13 +213,28 @@ class SlamSimTest(unittest.TestCase):
             open_loop = self.score(self.fetch_map("open/dynamic_map"), "open",
                                    self.keyframe_samples("open/slam/trajectory"))
             rospy.loginfo("slam_sim_test: closed %s, open %s", closed, open_loop)
-            # Margins (defaults: just "better"): the gating test asks for a clear win, as the
-            # library test does, so that noise in either run cannot decide it.
-            self.assertLess(closed["ate_rmse_m"], rospy.get_param("~max_ate_ratio", 1.0) * open_loop["ate_rmse_m"])
-            self.assertGreater(closed["precision"], open_loop["precision"] + rospy.get_param("~min_precision_gain", 0.0))
-            self.assertGreater(closed["recall"], open_loop["recall"] + rospy.get_param("~min_recall_gain", 0.0))
-            self.assertGreaterEqual(closed["precision"], rospy.get_param("~min_precision", 0.8))
+            # The closed-loop map, whatever the open loop did.
+            min_precision = rospy.get_param("~min_precision", 0.8)
+            self.assertGreaterEqual(closed["precision"], min_precision)
             self.assertGreaterEqual(closed["recall"], rospy.get_param("~min_recall", 0.0))
+            self.assertLess(closed["ate_rmse_m"], rospy.get_param("~max_ate", float("inf")))
+            if open_loop["precision"] < min_precision:
+                # The open loop drifted out of what is asked of a map: closing loops must pull it
+                # back with a clear win (margins; defaults: just "better"), so that noise in
+                # either run cannot decide it.
+                self.assertLess(closed["ate_rmse_m"],
+                                rospy.get_param("~max_ate_ratio", 1.0) * open_loop["ate_rmse_m"])
+                self.assertGreater(closed["precision"],
+                                   open_loop["precision"] + rospy.get_param("~min_precision_gain", 0.0))
+                self.assertGreater(closed["recall"], open_loop["recall"] + rospy.get_param("~min_recall_gain", 0.0))
+            else:
+                # The odometry's noise left the open loop a good map (it happens for some seeds):
+                # there is no drift to remove, and closing loops must not make the map worse than
+                # a tolerance (its closures are matches too, each a little off).
+                self.assertLess(closed["ate_rmse_m"],
+                                open_loop["ate_rmse_m"] + rospy.get_param("~ate_tolerance", 0.0))
+                self.assertGreater(closed["precision"],
+                                   open_loop["precision"] - rospy.get_param("~precision_tolerance", 0.0))
 
 
 if __name__ == "__main__":
