@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <unistd.h>
 
 using namespace mybot_gazebo_lite;
 
@@ -88,15 +90,19 @@ std::string imageWorldError(const std::string& yaml,
   const std::string d = mkdtemp(tmpl);
   std::ofstream(d + "/m.pgm", std::ios::binary) << image_bytes;
   std::ofstream(d + "/w.yaml") << yaml;
+  std::string error = "no error";
   try
   {
     loadWorldFile(d + "/w.yaml");
   }
   catch (const LoadError& e)
   {
-    return e.what();
+    error = e.what();
   }
-  return "no error";
+  std::remove((d + "/m.pgm").c_str());
+  std::remove((d + "/w.yaml").c_str());
+  rmdir(d.c_str());
+  return error;
 }
 }  // namespace
 

@@ -18,6 +18,7 @@ Exit 0 when every check passes; a message per failure otherwise.
 """
 import os
 import signal
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -224,7 +225,9 @@ def main():
                 if os.path.exists(p):
                     log("---- %s ----\n%s" % (name, open(p).read()[-3000:]))
     if failures:
+        log("logs kept in " + tmp)
         return 1
+    shutil.rmtree(tmp, ignore_errors=True)  # the logs are only worth keeping when it failed
     log("PASS")
     return 0
 
