@@ -61,14 +61,45 @@ class Stage:
                                      env=self.env, stdout=self.logfile, stderr=subprocess.STDOUT,
                                      start_new_session=True)
 
-    def run(self, *runner_args, timeout):
+    def run(self, *runner_args, stall_timeout, timeout=0.0):
+        """Runs the stage to its end. Its length is bounded in sim time (the exploration
+        budget, the goal timeouts), so a busy machine only makes it slower; it is stopped
+        when sim time has not advanced for stall_timeout s of wall time (a hang), or after
+        timeout s of wall time if one is set."""
         cmd = [sys.executable, os.path.join(TOOLS, "mission_stage.py")] + list(runner_args) + \
               ["--name", self.name, "--out", self.out]
-        try:
-            rc = subprocess.run(cmd, env=self.env, timeout=timeout).returncode
-        except subprocess.TimeoutExpired:
-            log("%s: stage timed out after %.0f s of wall time" % (self.name, timeout))
-            rc = 124
+        progress = os.path.join(self.out, self.name + ".progress")
+        if os.path.exists(progress):
+            os.remove(progress)
+        proc = subprocess.Popen(cmd, env=self.env)
+        start = last_change = time.monotonic()
+        sim = None
+        while proc.poll() is None:
+            time.sleep(1.0)
+            now = time.monotonic()
+            try:
+                with open(progress) as f:
+                    t = float(f.read())
+            except (OSError, ValueError):
+                t = sim
+            if t != sim:
+                sim, last_change = t, now
+            why = None
+            if now - last_change > stall_timeout:
+                why = "sim time has not advanced for %.0f s of wall time (%s)" % (
+                    stall_timeout, "stuck at %.1f s" % sim if sim is not None else "the stage never started recording")
+            elif timeout > 0 and now - start > timeout:
+                why = "stage timed out after %.0f s of wall time (--stage-timeout)" % timeout
+            if why:
+                log("%s: %s; stopping it" % (self.name, why))
+                proc.send_signal(2)
+                try:
+                    proc.wait(timeout=20)
+                except subprocess.TimeoutExpired:
+                    proc.kill()
+                    proc.wait()
+                break
+        rc = proc.returncode
         if self.proc.poll() is not None:
             log("%s: roslaunch exited early with %s; see %s" % (self.name, self.proc.returncode, self.logfile.name))
         return rc
@@ -436,7 +467,7 @@ def run_mapping(robot, args, world, truth_yaml, out, common, summary):
         stage.run("mapping", "--map-out", map_prefix, "--budget", str(args.explore_budget),
                   "--boundary", *["%.3f" % v for v in boundary],
                   "--robot-radius", str(ROBOT_RADIUS[robot] + 0.15), "--map-origin", *numbers((mx, my, myaw)),
-                  timeout=args.stage_timeout)
+                  stall_timeout=args.stall_timeout, timeout=args.stage_timeout)
     finally:
         stage.close()
     mapping = load_json(os.path.join(out, robot + "_mapping.json"))
@@ -512,7 +543,7 @@ def run_robot(robot, args, world, truth_yaml, out):
     try:
         stage.run("navigation", "--initial-pose", *numbers(init), "--goals", json.dumps(goals_map),
                   "--map-origin", *numbers(frame), "--goal-timeout", str(args.goal_timeout),
-                  timeout=args.stage_timeout)
+                  stall_timeout=args.stall_timeout, timeout=args.stage_timeout)
     finally:
         stage.close()
     nav = load_json(os.path.join(out, robot + "_navigation.json"))
@@ -613,7 +644,10 @@ def main():
     ap.add_argument("--goals", type=int, default=5, help="goals to visit per robot")
     ap.add_argument("--explore-budget", type=float, default=900.0, help="sim seconds of exploration per robot")
     ap.add_argument("--goal-timeout", type=float, default=240.0, help="sim seconds per goal")
-    ap.add_argument("--stage-timeout", type=float, default=600.0, help="wall seconds per stage")
+    ap.add_argument("--stall-timeout", type=float, default=300.0,
+                    help="stop a stage when sim time has not advanced for this many wall seconds (a hang)")
+    ap.add_argument("--stage-timeout", type=float, default=0.0,
+                    help="wall seconds per stage (default 0: none; a stage's length is bounded in sim time)")
     ap.add_argument("--worlds-dir", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.worlds_dir is None:

@@ -15,6 +15,7 @@ import argparse
 import collections
 import json
 import math
+import os
 import subprocess
 import sys
 import threading
@@ -48,8 +49,11 @@ class Recorder:
     compared at different instants, a robot driving at 0.5 m/s would show
     errors that are only the sampling lag of a busy machine."""
 
-    def __init__(self, world_to_map, map_frame="map", base_frame="base_footprint", rate=5.0):
+    def __init__(self, world_to_map, map_frame="map", base_frame="base_footprint", rate=5.0, progress_file=None):
         self.map_frame, self.base_frame = map_frame, base_frame
+        # The orchestrator's watchdog reads the sim time from here: a stage is stopped only when
+        # sim time stops advancing, never because a busy machine makes it slow.
+        self.progress_file, self.progress_written = progress_file, -1e9
         wx, wy, wyaw = world_to_map  # pose of the map frame in the world
         self.T = (wx, wy, wyaw)
         self.gt = None
@@ -148,6 +152,10 @@ class Recorder:
         # rospy.Time cannot go negative, and an exception here would end the timer's thread
         # for good (every later sample lost): the first 0.3 s of sim time are not sampled.
         now = rospy.Time.now()
+        if self.progress_file and now.to_sec() - self.progress_written >= 1.0:
+            self.progress_written = now.to_sec()
+            with open(self.progress_file, "w") as f:
+                f.write("%.3f\n" % self.progress_written)
         if now.to_sec() < 0.3:
             self.skipped["no ground truth yet"] += 1
             return
@@ -350,7 +358,7 @@ def main():
     try:
         wait_for(sim_started, args.startup_timeout, "/clock from the simulator")
         sim0 = rospy.Time.now().to_sec()
-        rec = Recorder(args.map_origin)
+        rec = Recorder(args.map_origin, progress_file=os.path.join(args.out, args.name + ".progress"))
         wait_for(lambda: rec.gt is not None, args.startup_timeout, "ground_truth/odom")
         wait_for(lambda: rospy.wait_for_message("map", OccupancyGrid, timeout=2.0) is not None,
                  args.startup_timeout, "a map")
