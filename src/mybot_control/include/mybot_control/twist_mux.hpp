@@ -36,8 +36,10 @@ public:
   int active(double t) const;
   // Whether a message that just arrived on `index` at t should be forwarded.
   bool shouldForward(int index, double t);
-  // Call periodically: true exactly once when the active source is lost (timeout or lock),
-  // i.e. when the output should be zeroed.
+  // Call periodically, and before shouldForward on each message: true exactly once when the
+  // source last forwarded is lost (timeout or lock), i.e. when the output should be zeroed.
+  // Checked on each message too, so that the stop between a source that timed out and the one
+  // that takes over does not depend on whether the timer or the message comes first.
   bool checkStop(double t);
 
   const std::vector<MuxSource>& topics() const { return topics_; }

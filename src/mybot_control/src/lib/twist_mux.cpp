@@ -113,10 +113,13 @@ bool TwistMux::checkStop(double t)
 {
   if (last_forwarded_ < 0)
     return false;
-  if (active(t) == last_forwarded_)
+  // Only a source that lost control (timed out or locked) calls for a stop; one overridden by a
+  // higher priority is replaced by that source's message, forwarded as it arrives.
+  const bool locked = topics_[last_forwarded_].priority <= lockPriority(t);
+  if (topicAlive(last_forwarded_, t) && !locked)
     return false;
-  // The source we were forwarding lost control (timed out or locked). If another source
-  // takes over, its next message is forwarded anyway; stopping in between is the safe side.
+  // If another source takes over, its next message is forwarded anyway; stopping in between
+  // is the safe side.
   last_forwarded_ = -1;
   return true;
 }

@@ -130,15 +130,18 @@ private:
   {
     const double now = ros::Time::now().toSec();
     mux_.topicReceived(k, now);
+    stopIfLost(now);  // before a lower priority takes over, as the timer would have
     if (!mux_.shouldForward(k, now))
       return;
     out_pub_.publish(m);
     announce(mux_.topics()[k].name);
   }
 
-  void check()
+  void check() { stopIfLost(ros::Time::now().toSec()); }
+
+  void stopIfLost(double now)
   {
-    if (!mux_.checkStop(ros::Time::now().toSec()))
+    if (!mux_.checkStop(now))
       return;
     if (zero_on_timeout_)
       out_pub_.publish(geometry_msgs::Twist());

@@ -91,6 +91,34 @@ TEST(TwistMux, ZeroWhenOverriddenSourceFallsBack)
   EXPECT_TRUE(mux.shouldForward(NAV, 0.7));
 }
 
+// The joystick times out while navigation is alive, and navigation's next message comes before
+// the check timer's tick (a busy machine): the stop is still there, before navigation resumes.
+TEST(TwistMux, StopBeforeFallBackWhateverComesFirst)
+{
+  TwistMux mux = exampleMux();
+  mux.topicReceived(NAV, 0.0);
+  mux.shouldForward(NAV, 0.0);
+  mux.topicReceived(JOY, 0.1);
+  mux.shouldForward(JOY, 0.1);
+  mux.topicReceived(NAV, 0.5);
+  EXPECT_FALSE(mux.checkStop(0.5));  // overridden, still alive: no stop
+  EXPECT_FALSE(mux.shouldForward(NAV, 0.5));
+  mux.topicReceived(NAV, 0.65);      // joystick silent since 0.1: lost at 0.6
+  EXPECT_TRUE(mux.checkStop(0.65));  // what the node asks first, on this message
+  EXPECT_TRUE(mux.shouldForward(NAV, 0.65));
+  EXPECT_FALSE(mux.checkStop(0.66));  // the timer's tick after it: no second stop
+}
+
+TEST(TwistMux, NoStopWhenAHigherPriorityOverrides)
+{
+  TwistMux mux = exampleMux();
+  mux.topicReceived(NAV, 0.0);
+  mux.shouldForward(NAV, 0.0);
+  mux.topicReceived(JOY, 0.1);
+  EXPECT_FALSE(mux.checkStop(0.1));  // navigation is alive, only outranked
+  EXPECT_TRUE(mux.shouldForward(JOY, 0.1));
+}
+
 TEST(TwistMux, LockBlocksLowerOrEqualPriority)
 {
   TwistMux mux = exampleMux();
