@@ -76,7 +76,9 @@ TEST(TwistMux, TimeGoingBackwardsLeavesNoSourceAlive)
   EXPECT_TRUE(mux.shouldForward(NAV, 0.2));  // the joystick's stale stamp does not outrank it
 }
 
-TEST(TwistMux, ZeroWhenOverriddenSourceFallsBack)
+// Navigation forwarded from 0, the joystick's one message at 0.1 outranks it; navigation is
+// heard again at 0.5 (not forwarded: the joystick is alive until 0.6).
+TwistMux navOverriddenByJoystick()
 {
   TwistMux mux = exampleMux();
   mux.topicReceived(NAV, 0.0);
@@ -84,7 +86,14 @@ TEST(TwistMux, ZeroWhenOverriddenSourceFallsBack)
   mux.topicReceived(JOY, 0.1);
   mux.shouldForward(JOY, 0.1);
   mux.topicReceived(NAV, 0.5);
+  EXPECT_FALSE(mux.checkStop(0.5));  // overridden, still alive: no stop
   EXPECT_FALSE(mux.shouldForward(NAV, 0.5));
+  return mux;
+}
+
+TEST(TwistMux, ZeroWhenOverriddenSourceFallsBack)
+{
+  TwistMux mux = navOverriddenByJoystick();
   // Joystick times out at 0.6 while navigation is alive: stop, then navigation resumes.
   EXPECT_TRUE(mux.checkStop(0.65));
   mux.topicReceived(NAV, 0.7);
@@ -95,14 +104,7 @@ TEST(TwistMux, ZeroWhenOverriddenSourceFallsBack)
 // the check timer's tick (a busy machine): the stop is still there, before navigation resumes.
 TEST(TwistMux, StopBeforeFallBackWhateverComesFirst)
 {
-  TwistMux mux = exampleMux();
-  mux.topicReceived(NAV, 0.0);
-  mux.shouldForward(NAV, 0.0);
-  mux.topicReceived(JOY, 0.1);
-  mux.shouldForward(JOY, 0.1);
-  mux.topicReceived(NAV, 0.5);
-  EXPECT_FALSE(mux.checkStop(0.5));  // overridden, still alive: no stop
-  EXPECT_FALSE(mux.shouldForward(NAV, 0.5));
+  TwistMux mux = navOverriddenByJoystick();
   mux.topicReceived(NAV, 0.65);      // joystick silent since 0.1: lost at 0.6
   EXPECT_TRUE(mux.checkStop(0.65));  // what the node asks first, on this message
   EXPECT_TRUE(mux.shouldForward(NAV, 0.65));
