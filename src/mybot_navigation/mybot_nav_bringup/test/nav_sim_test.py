@@ -118,6 +118,23 @@ class NavSimTest(unittest.TestCase):
                 self.fail("timed out (%.0f s wall) waiting for %s" % (timeout, what))
             time.sleep(0.02)
 
+    def wait_until(self, cond, sim_timeout, what, stall=120.0):
+        """Waits up to sim_timeout s of sim time: a busy machine makes the wait longer, never
+        different. Fails early only on a hang: sim time not advancing for `stall` s of wall time."""
+        end = rospy.Time.now().to_sec() + sim_timeout
+        last_sim, last_change = rospy.Time.now().to_sec(), time.monotonic()
+        while not cond():
+            now = rospy.Time.now().to_sec()
+            if now >= end:
+                self.fail("timed out (%.0f s of sim time) waiting for %s" % (sim_timeout, what))
+            if now != last_sim:
+                last_sim, last_change = now, time.monotonic()
+            elif time.monotonic() - last_change > stall:
+                self.fail("sim time stuck at %.2f s for %.0f s of wall time waiting for %s" % (now, stall, what))
+            if rospy.is_shutdown():
+                self.fail("shut down (the test's time-limit?) waiting for %s" % what)
+            time.sleep(0.02)
+
     def wait_sim(self, seconds):
         end = rospy.Time.now() + rospy.Duration(seconds)
         self.wait(lambda: rospy.Time.now() >= end, 60 + 10 * seconds, "%.1f s of sim time" % seconds)
@@ -301,8 +318,8 @@ class NavSimTest(unittest.TestCase):
                             "start or goal not in the eroded free space" % (start[0], start[1], gx, gy))
             i0 = len(self.log)
             client.send_goal(self.goal(gx, gy, gyaw))
-            self.wait(lambda: client.get_state() not in (GoalStatus.PENDING, GoalStatus.ACTIVE), 600,
-                      "goal (%.1f, %.1f)" % (gx, gy))
+            self.wait_until(lambda: client.get_state() not in (GoalStatus.PENDING, GoalStatus.ACTIVE),
+                            rospy.get_param("~goal_timeout", 240.0), "goal (%.1f, %.1f)" % (gx, gy))
             if client.get_state() != GoalStatus.SUCCEEDED:
                 t, est = self.truth, self.amcl_pose() or (float("nan"),) * 3
                 self.fail("goal (%.1f, %.1f): %s; robot at truth (%.2f, %.2f, %.2f), AMCL (%.2f, %.2f, %.2f)"
