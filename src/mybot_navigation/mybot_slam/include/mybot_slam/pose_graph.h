@@ -18,6 +18,9 @@ struct PoseGraphEdge
   double sigma_xy = 0.05;     // m
   double sigma_theta = 0.02;  // rad
   bool robust = false;        // Huber loss (loop closures)
+  // Cauchy loss instead (steps the scan matcher could not confirm): its cost hardly grows beyond
+  // a few sigma, so one such step takes a whole jump rather than sharing it with the others.
+  bool redescending = false;
 };
 
 struct OptimizationSummary

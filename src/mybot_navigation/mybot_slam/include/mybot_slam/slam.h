@@ -98,6 +98,27 @@ struct SlamParams
   double loop_confirm_tolerance = 0.1;  // m (and 0.05 rad)
   int loop_confirm_attempts = 2;        // later attempts a held closure waits for its confirmation
 
+  // Global loop search (global_search.cpp): every loop_global_interval of path, once the drift
+  // possible since an older keyframe (loop_max_correction*) exceeds the local window, the last
+  // loop_global_query_travel m of keyframes are matched as one rigid piece against everything
+  // mapped before them, in a window as large as that drift, on a coarse grid. In the Freiburg
+  // hospital the robot came back to its start 45-55 m and 11-18 degrees off after 1400 m, where
+  // the local search (loop_search_radius around the estimate) had nothing to look at. A hit
+  // beyond the local window becomes a held closure, kept for loop_global_confirmations global
+  // intervals of travel, and is applied only when loop_global_confirmations attempts (global hits
+  // from their own stretch of path, or local matches) agree on where the robot is, within
+  // loop_global_resolution. Local matches rarely can: coming back the other way with a
+  // forward-looking laser, the hospital's true place scored 0.17-0.49 against the first pass's
+  // keyframes. Two, not three: by a third, a displaced trajectory is itself old enough to be in
+  // the searched map, and the estimate fits it. 0 turns the global search off.
+  double loop_global_interval = 10.0;       // m travelled between global attempts
+  double loop_global_query_travel = 20.0;   // m of path rendered into the query
+  double loop_global_resolution = 0.2;      // m, cell of the coarse grid
+  double loop_global_window_linear = 80.0;  // m, cap of the translation window
+  double loop_global_window_angular = 0.5;  // rad
+  double loop_global_min_score = 0.5;       // coarse match acceptance (mean field value)
+  int loop_global_confirmations = 2;        // agreeing attempts in all, the global one included
+
   // Final optimisation (runFinalOptimization, as Cartographer's at the end of an offline run):
   // every keyframe is matched against each earlier submap (loop_submap_scans * 2 consecutive
   // keyframes) it comes within final_match_radius of, at least loop_min_travel of path later,
@@ -149,9 +170,12 @@ struct SlamStats
   int weak_matches = 0;  // matcher below min_match_score: odometry used
   int loop_attempts = 0;
   int loop_closures = 0;
-  int loop_rejected = 0;     // matched, but implausible or inconsistent with the graph
-  int loop_held = 0;         // large closures held for confirmation
-  int loop_unconfirmed = 0;  // held closures dropped: no later attempt confirmed them
+  int loop_rejected = 0;         // matched, but implausible or inconsistent with the graph
+  int loop_held = 0;             // large closures held for confirmation
+  int loop_unconfirmed = 0;      // held closures dropped: no later attempt confirmed them
+  int loop_global_attempts = 0;  // global searches run
+  int loop_global_matches = 0;   // of which found a place beyond the local window
+  int loop_global_closures = 0;  // closures applied that a global search had proposed
   double last_match_score = 0.0;
   LoopClosureRecord last_closure;      // the last matched closure, accepted, held or rejected
   LoopClosureRecord last_unconfirmed;  // the last held closure that was dropped
@@ -226,13 +250,34 @@ private:
   void rebuildLocalMaps();
   bool tryLoopClosure(int current);
   // The stages of tryLoopClosure, in order.
-  struct LoopMatch;
-  int findLoopCandidate(int current) const;  // the nearest keyframe far enough back, or -1
-  void expireHeldClosures();                 // a held closure not seen again in time is dropped
+  // A scan match of the current keyframe against the submap around a loop candidate, or of the
+  // recent path against the whole older map (global).
+  struct LoopMatch
+  {
+    MatchResult result;
+    double score_at_estimate = 0.0;  // the submap's score of the current estimate
+    double constraint_ratio = 0.0;   // translationConstraintRatio: low along a corridor
+    Pose2D correction;               // the matched pose in the estimate's frame
+    bool global = false;             // found by a global search (or agreeing with one)
+  };
+  // The nearest keyframe far enough back within loop_search_radius of `around`, or -1.
+  int findLoopCandidate(int current, const Pose2D& around) const;
+  void expireHeldClosures();  // a held closure not seen again in time is dropped
+  // Global search (global_search.cpp), when drift may have carried the estimate beyond the
+  // local search: the current keyframe's pose in the older map, or false if nothing matched.
+  bool globalSearchDue(int current, double& window) const;
+  bool searchGlobally(int current, double window, LoopMatch& match);
+  void updateCoarseMap(int last);
+  std::vector<Point2D> globalQuery(int current) const;
+  // Before a closure far beyond the local reach is optimised, its correction is spread along the
+  // path since `first` (the optimiser then starts near the answer instead of 50 m from it).
+  void spreadCorrection(int first, const Pose2D& map_correction);
+  // The stages after the candidate was chosen: match (local), test, confirm, apply.
+  bool closeLoop(int current, int candidate, LoopMatch& match);
   bool matchCandidateSubmap(int current, int candidate, LoopMatch& match) const;
   const char* implausibleClosure(int current, int candidate, const LoopMatch& match) const;  // why, or null
-  bool confirmClosure(int current, int candidate, const LoopMatch& match, std::vector<PoseGraphEdge>& added);
-  bool applyClosure(const std::vector<PoseGraphEdge>& added, const Pose2D& correction);
+  bool confirmClosure(int current, int candidate, LoopMatch& match, std::vector<PoseGraphEdge>& added);
+  bool applyClosure(const std::vector<PoseGraphEdge>& added, const LoopMatch& match);
   bool rejectClosure(const char* reason);
   // The stages of runFinalOptimization, in order.
   struct Submap;
@@ -267,11 +312,18 @@ private:
     Pose2D map_correction;  // estimate -> closure pose, as a map-frame transform
     LoopClosureRecord record;
     int attempts_left = 0;
-    bool strong = false;  // scored at least loop_min_score_large (or a small correction)
+    bool strong = false;     // scored at least loop_min_score_large (or a small correction)
+    bool global = false;     // proposed by a global search, or agreeing with one
+    double travelled = 0.0;  // path length at the attempt (global ones wait by distance)
   };
   std::vector<HeldClosure> held_;  // large closures waiting for an agreeing attempt
   SlamStats stats_;
   uint64_t map_version_ = 0;
+  // The global search's coarse map of keyframes [0, coarse_count_), stale after a closure.
+  OccupancyGrid coarse_;
+  int coarse_count_ = 0;
+  bool coarse_stale_ = false;
+  double last_global_travelled_ = -1e300;
 };
 
 }  // namespace mybot_navigation

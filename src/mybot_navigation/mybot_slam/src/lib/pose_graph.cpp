@@ -71,7 +71,11 @@ OptimizationSummary PoseGraph::optimize(int max_iterations, double huber_scale)
   {
     auto* cost = new ceres::AutoDiffCostFunction<RelativePoseError, 3, 3, 3>(
         new RelativePoseError(e.measurement, e.sigma_xy, e.sigma_theta));
-    ceres::LossFunction* loss = e.robust ? new ceres::HuberLoss(huber_scale) : nullptr;
+    ceres::LossFunction* loss = nullptr;
+    if (e.redescending)
+      loss = new ceres::CauchyLoss(huber_scale);
+    else if (e.robust)
+      loss = new ceres::HuberLoss(huber_scale);
     problem.AddResidualBlock(cost, loss, &x[3 * static_cast<size_t>(e.from)], &x[3 * static_cast<size_t>(e.to)]);
   }
   problem.SetParameterBlockConstant(&x[0]);

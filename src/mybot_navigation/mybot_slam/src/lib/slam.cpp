@@ -30,6 +30,9 @@ Slam::Slam(const SlamParams& params) : params_(params), global_(params.grid)
 {
   local_[0].grid = OccupancyGrid(params.grid);
   local_[1].grid = OccupancyGrid(params.grid);
+  OccupancyGridParams coarse = params.grid;
+  coarse.resolution = params.loop_global_resolution;
+  coarse_ = OccupancyGrid(coarse);
 }
 
 size_t Slam::memoryBytes() const
@@ -250,11 +253,14 @@ void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, 
   }
   else
   {
-    // Nothing reliable to match against (e.g. open space): trust odometry, loosely.
+    // Nothing reliable to match against (e.g. open space), or the odometry jumped beyond the
+    // window (wheels spinning, the robot pushed): trust odometry, loosely, and robustly, so a
+    // loop closure that finds the robot metres from where this step put it can overrule it.
     ++stats_.weak_matches;
     kf.pose = predicted;
     edge.sigma_xy *= 5.0;
     edge.sigma_theta *= 5.0;
+    edge.redescending = true;
   }
   edge.measurement = between(last.pose, kf.pose);
   const bool odom_edges = params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0;
@@ -326,25 +332,41 @@ void Slam::renderGlobalMap()
   ++map_version_;
 }
 
-// A scan match of the current keyframe against the submap around a loop candidate.
-struct Slam::LoopMatch
-{
-  MatchResult result;
-  double score_at_estimate = 0.0;  // the submap's score of the current estimate
-  double constraint_ratio = 0.0;   // translationConstraintRatio: low along a corridor
-  Pose2D correction;               // the matched pose in the estimate's frame
-};
-
 bool Slam::tryLoopClosure(int current)
 {
-  const int candidate = findLoopCandidate(current);
+  const Keyframe& kf = keyframes_[static_cast<size_t>(current)];
+  LoopMatch match;
+  int candidate = findLoopCandidate(current, kf.pose);
+  // Every loop_global_interval of path, wherever the estimate is: drift may have put it among
+  // no walls, or among the wrong ones, where the recent path agrees with itself.
+  double window = 0.0;
+  if (globalSearchDue(current, window))
+  {
+    last_global_travelled_ = kf.travelled;
+    ++stats_.loop_global_attempts;
+    if (searchGlobally(current, window, match))
+    {
+      const int place = findLoopCandidate(current, match.result.pose);
+      if (place >= 0)
+      {
+        candidate = place;
+        ++stats_.loop_global_matches;
+      }
+      else
+        match.global = false;
+    }
+  }
   if (candidate < 0)
     return false;
   last_loop_attempt_ = current;
   ++stats_.loop_attempts;
   expireHeldClosures();
-  LoopMatch match;
-  if (!matchCandidateSubmap(current, candidate, match))
+  return closeLoop(current, candidate, match);
+}
+
+bool Slam::closeLoop(int current, int candidate, LoopMatch& match)
+{
+  if (!match.global && !matchCandidateSubmap(current, candidate, match))
     return false;
   stats_.last_closure = {
       candidate, current, match.result.score, match.score_at_estimate, match.constraint_ratio, match.correction,
@@ -354,10 +376,10 @@ bool Slam::tryLoopClosure(int current)
   std::vector<PoseGraphEdge> added;
   if (!confirmClosure(current, candidate, match, added))
     return false;
-  return applyClosure(added, match.correction);
+  return applyClosure(added, match);
 }
 
-int Slam::findLoopCandidate(int current) const
+int Slam::findLoopCandidate(int current, const Pose2D& around) const
 {
   const Keyframe& kf = keyframes_[static_cast<size_t>(current)];
   int best = -1;
@@ -367,7 +389,7 @@ int Slam::findLoopCandidate(int current) const
     const Keyframe& k = keyframes_[static_cast<size_t>(i)];
     if (kf.travelled - k.travelled < params_.loop_min_travel)
       break;  // travelled grows with the index
-    const double d = std::hypot(k.pose.x - kf.pose.x, k.pose.y - kf.pose.y);
+    const double d = std::hypot(k.pose.x - around.x, k.pose.y - around.y);
     if (d < best_d)
     {
       best_d = d;
@@ -379,9 +401,11 @@ int Slam::findLoopCandidate(int current) const
 
 void Slam::expireHeldClosures()
 {
+  // Global hits come one per loop_global_interval of travel, local attempts every few keyframes.
+  const double global_wait = params_.loop_global_interval * params_.loop_global_confirmations;
   for (auto it = held_.begin(); it != held_.end();)
   {
-    if (it->attempts_left-- > 0)
+    if (it->global ? keyframes_.back().travelled - it->travelled <= global_wait : it->attempts_left-- > 0)
     {
       ++it;
       continue;
@@ -455,7 +479,7 @@ const char* Slam::implausibleClosure(int current, int candidate, const LoopMatch
 // A large correction is held until a later attempt finds the same one (a one-off match in a
 // repetitive place is not seen again; a weak one needs loop_weak_confirmations attempts in all);
 // then the edges of all agreeing attempts go in. False while held.
-bool Slam::confirmClosure(int current, int candidate, const LoopMatch& match, std::vector<PoseGraphEdge>& added)
+bool Slam::confirmClosure(int current, int candidate, LoopMatch& match, std::vector<PoseGraphEdge>& added)
 {
   const Keyframe& kf = keyframes_[static_cast<size_t>(current)];
   PoseGraphEdge edge;
@@ -465,6 +489,8 @@ bool Slam::confirmClosure(int current, int candidate, const LoopMatch& match, st
   edge.sigma_xy = params_.loop_sigma_xy;
   edge.sigma_theta = params_.loop_sigma_theta;
   edge.robust = true;
+  if (match.global)  // matched on the coarse grid
+    edge.sigma_xy = std::max(edge.sigma_xy, 0.5 * params_.loop_global_resolution);
 
   const double moved = translationNorm(match.correction);
   if (params_.loop_confirm_correction > 0.0 && moved > params_.loop_confirm_correction)
@@ -475,6 +501,8 @@ bool Slam::confirmClosure(int current, int candidate, const LoopMatch& match, st
     now.record = stats_.last_closure;
     now.attempts_left = params_.loop_confirm_attempts;
     now.strong = moved <= params_.loop_large_correction || match.result.score >= params_.loop_min_score_large;
+    now.global = match.global;
+    now.travelled = kf.travelled;
     // Attempts agree when their corrections, applied to the current pose, land in the same
     // place: the drift they remove grows only slowly between two attempts a few keyframes apart.
     const Pose2D a = compose(now.map_correction, kf.pose);
@@ -483,18 +511,28 @@ bool Slam::confirmClosure(int current, int candidate, const LoopMatch& match, st
     for (size_t i = 0; i < held_.size(); ++i)
     {
       const Pose2D b = compose(held_[i].map_correction, kf.pose);
-      if (std::hypot(a.x - b.x, a.y - b.y) <= params_.loop_confirm_tolerance &&
-          std::abs(wrapAngle(a.theta - b.theta)) <= 0.05)
+      // Global hits are a coarse cell apart at best, and loop_global_interval of path apart.
+      const double tolerance = match.global || held_[i].global
+                                   ? std::max(params_.loop_confirm_tolerance, params_.loop_global_resolution)
+                                   : params_.loop_confirm_tolerance;
+      if (std::hypot(a.x - b.x, a.y - b.y) <= tolerance && std::abs(wrapAngle(a.theta - b.theta)) <= 0.05)
       {
         agreeing.push_back(i);
         strong = strong || held_[i].strong;
+        match.global = match.global || held_[i].global;
       }
     }
-    const size_t needed = strong ? 2 : static_cast<size_t>(std::max(2, params_.loop_weak_confirmations));
+    now.global = match.global;
+    // A global hit is scored on the coarse grid (0.5-0.75 for the hospital's true place), so the
+    // weak-match rule does not apply; its own count does.
+    const size_t needed = match.global ? static_cast<size_t>(params_.loop_global_confirmations)
+                          : strong     ? 2
+                                       : static_cast<size_t>(std::max(2, params_.loop_weak_confirmations));
     if (agreeing.size() + 1 < needed)
     {
-      now.record.reason = now.strong ? "held until a later attempt finds the same correction"
-                                     : "held: a large correction from a weak match, until more attempts agree";
+      now.record.reason = match.global ? "held: a place a global search found, until more attempts agree"
+                          : now.strong ? "held until a later attempt finds the same correction"
+                                       : "held: a large correction from a weak match, until more attempts agree";
       stats_.last_closure.reason = now.record.reason;
       held_.push_back(now);
       ++stats_.loop_held;
@@ -513,15 +551,24 @@ bool Slam::confirmClosure(int current, int candidate, const LoopMatch& match, st
 
 // The edges go into the graph, which is optimised and the map re-rendered; a closure the
 // optimised graph cannot honour is undone.
-bool Slam::applyClosure(const std::vector<PoseGraphEdge>& added, const Pose2D& correction)
+bool Slam::applyClosure(const std::vector<PoseGraphEdge>& added, const LoopMatch& match)
 {
   for (const PoseGraphEdge& e : added)
     graph_.addEdge(e);
+  const Pose2D& correction = match.correction;
   if (translationNorm(correction) < params_.grid.resolution && std::abs(correction.theta) < 0.01)
   {
     ++stats_.loop_closures;
     stats_.last_closure.accepted = true;
     return true;  // already consistent: keep the constraint, skip the expensive re-render
+  }
+  if (match.global)
+  {
+    int first = added.front().from;
+    for (const PoseGraphEdge& e : added)
+      first = std::min(first, e.from);
+    const Keyframe& kf = keyframes_[static_cast<size_t>(added.back().to)];
+    spreadCorrection(first, compose(match.result.pose, inverse(kf.pose)));
   }
   graph_.optimize();
   // The robust loss lets a wrong closure sit in the graph half-satisfied while it bends the
@@ -540,9 +587,12 @@ bool Slam::applyClosure(const std::vector<PoseGraphEdge>& added, const Pose2D& c
     }
   }
   ++stats_.loop_closures;
+  if (match.global)
+    ++stats_.loop_global_closures;
   stats_.last_closure.accepted = true;
   for (size_t i = 0; i < keyframes_.size(); ++i)
     keyframes_[i].pose = graph_.node(static_cast<int>(i));
+  coarse_stale_ = true;
   renderGlobalMap();
   rebuildLocalMaps();
   return true;

@@ -138,6 +138,26 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
       integer(
           "loop_confirm_attempts", [](P& p) -> int& { return p.slam.loop_confirm_attempts; }, 1, "an integer >= 1"),
       number(
+          "loop_global_interval", [](P& p) -> double& { return p.slam.loop_global_interval; }, nonNegative,
+          "a distance >= 0 (m; 0 turns the global search off)"),
+      number(
+          "loop_global_query_travel", [](P& p) -> double& { return p.slam.loop_global_query_travel; }, positive,
+          "a positive distance (m)"),
+      number(
+          "loop_global_resolution", [](P& p) -> double& { return p.slam.loop_global_resolution; }, positive,
+          "a positive cell size (m)"),
+      number(
+          "loop_global_window_linear", [](P& p) -> double& { return p.slam.loop_global_window_linear; }, positive,
+          "a positive distance (m)"),
+      number(
+          "loop_global_window_angular", [](P& p) -> double& { return p.slam.loop_global_window_angular; }, positive,
+          "a positive angle (rad)"),
+      number(
+          "loop_global_min_score", [](P& p) -> double& { return p.slam.loop_global_min_score; }, openUnit, "in (0, 1)"),
+      integer(
+          "loop_global_confirmations", [](P& p) -> int& { return p.slam.loop_global_confirmations; }, 2,
+          "an integer >= 2"),
+      number(
           "final_match_radius", [](P& p) -> double& { return p.slam.final_match_radius; }, positive,
           "a positive distance (m)"),
       number(

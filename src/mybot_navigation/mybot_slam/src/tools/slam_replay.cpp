@@ -187,10 +187,12 @@ int main(int argc, char** argv)
   char timing[1024];
   std::snprintf(timing, sizeof timing,
                 "{\n  \"bag\": \"%s\",\n  \"scans\": %zu,\n  \"keyframes\": %zu,\n  \"loop_closures\": %d,\n"
+                "  \"global_searches\": %d,\n  \"global_matches\": %d,\n  \"global_closures\": %d,\n"
                 "  \"log_span_s\": %.3f,\n  \"cpu_s\": %.3f,\n  \"wall_s\": %.3f,\n  \"realtime_factor\": %.2f,\n"
                 "  \"peak_rss_mb\": %.1f\n}\n",
-                opt.bag.c_str(), r.scans, slam.keyframes().size(), slam.stats().loop_closures, span, cpu, wall,
-                cpu > 0 ? span / cpu : 0.0, u.ru_maxrss / 1024.0);
+                opt.bag.c_str(), r.scans, slam.keyframes().size(), slam.stats().loop_closures,
+                slam.stats().loop_global_attempts, slam.stats().loop_global_matches, slam.stats().loop_global_closures,
+                span, cpu, wall, cpu > 0 ? span / cpu : 0.0, u.ru_maxrss / 1024.0);
   try
   {
     const GridMap map = slam.map();
@@ -215,11 +217,13 @@ int main(int argc, char** argv)
   }
   if (!opt.quiet)
     std::fprintf(stderr,
-                 "slam_replay: %zu scans, %zu keyframes, %d loop closures, %d revisit edges in the final "
+                 "slam_replay: %zu scans, %zu keyframes, %d loop closures (%d of them found by %d global searches), "
+                 "%d revisit edges in the final "
                  "optimisation (%d dropped; map consistency %.3f -> %.3f); %.1f s of log in %.1f s of CPU "
                  "(%.0fx)\n",
-                 r.scans, slam.keyframes().size(), slam.stats().loop_closures, slam.stats().final_edges,
-                 slam.stats().final_edges_dropped, slam.stats().final_consistency_before,
-                 slam.stats().final_consistency_after, span, cpu, cpu > 0 ? span / cpu : 0.0);
+                 r.scans, slam.keyframes().size(), slam.stats().loop_closures, slam.stats().loop_global_closures,
+                 slam.stats().loop_global_attempts, slam.stats().final_edges, slam.stats().final_edges_dropped,
+                 slam.stats().final_consistency_before, slam.stats().final_consistency_after, span, cpu,
+                 cpu > 0 ? span / cpu : 0.0);
   return 0;
 }
