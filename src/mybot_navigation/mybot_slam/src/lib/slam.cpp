@@ -254,13 +254,13 @@ void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, 
   else
   {
     // Nothing reliable to match against (e.g. open space), or the odometry jumped beyond the
-    // window (wheels spinning, the robot pushed): trust odometry, loosely, and robustly, so a
-    // loop closure that finds the robot metres from where this step put it can overrule it.
+    // window: trust odometry, loosely (and with weak_step_cauchy so that a closure can overrule
+    // it whole).
     ++stats_.weak_matches;
     kf.pose = predicted;
     edge.sigma_xy *= 5.0;
     edge.sigma_theta *= 5.0;
-    edge.redescending = true;
+    edge.redescending = params_.weak_step_cauchy;
   }
   edge.measurement = between(last.pose, kf.pose);
   const bool odom_edges = params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0;
