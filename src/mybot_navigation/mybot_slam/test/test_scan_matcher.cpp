@@ -103,3 +103,28 @@ TEST(ScanMatcher, RejectsBelowMinimumScore)
   EXPECT_FALSE(r.ok);
   EXPECT_FALSE(matchScan(field, {}, req).ok);
 }
+
+// A wall seen from the origin: its cells ahead of the face are observed free, the ones behind it
+// never observed. With unobserved_weight the fall-off behind the face is scaled, not in front.
+TEST(MatchField, UnobservedWeightScalesTheFallOffBehindAMappedFaceOnly)
+{
+  OccupancyGrid grid;
+  RangeScan scan;
+  for (double y = -1.0; y <= 1.0; y += 0.02)
+    scan.hits.push_back({2.025, y});  // the centre of lattice column 40
+  grid.insertScan(Pose2D{}, scan);
+  const int front = 39, wall = 40, behind = 41, row = 0;
+  ASSERT_LT(grid.logOdds(front, row), 0.0f);  // observed free
+  ASSERT_GT(grid.logOdds(wall, row), 0.0f);
+  ASSERT_EQ(grid.logOdds(behind, row), 0.0f);  // never observed
+
+  const MatchField plain(grid, 0.05, 1, -10, -30, 50, 30);
+  const MatchField weighted(grid, 0.05, 3, -10, -30, 50, 30, 0.5);
+  EXPECT_FLOAT_EQ(plain.value(0, front, row), plain.value(0, behind, row));  // symmetric Gaussian
+  EXPECT_FLOAT_EQ(weighted.value(0, wall, row), 1.0f);
+  EXPECT_FLOAT_EQ(weighted.value(0, front, row), plain.value(0, front, row));
+  EXPECT_NEAR(weighted.value(0, behind, row), 0.5 * plain.value(0, behind, row), 1.0 / 255.0);
+  // The coarser levels are pooled from the weighted level 0: still upper bounds of it.
+  for (int x = front - 4; x <= behind + 4; ++x)
+    EXPECT_GE(weighted.value(2, x - 3, row - 3), weighted.value(0, x, row));
+}

@@ -18,8 +18,11 @@ class MatchField
 public:
   MatchField() = default;
   // Occupied cells: P(occ) > 0.5 in the grid, restricted to lattice box [x0,x1]x[y0,y1] if given.
+  // In cells the grid never observed (log-odds still 0: behind a wall's mapped face, past where
+  // its beams ended) the fall-off is multiplied by unobserved_weight (1 = no difference).
   MatchField(const OccupancyGrid& grid, double sigma, int levels);
-  MatchField(const OccupancyGrid& grid, double sigma, int levels, int x0, int y0, int x1, int y1);
+  MatchField(const OccupancyGrid& grid, double sigma, int levels, int x0, int y0, int x1, int y1,
+             double unobserved_weight = 1.0);
   // Occupied cells: value >= occupied_threshold in a static map (origin yaw must be 0).
   MatchField(const GridMap& map, double sigma, int levels, int occupied_threshold = 65);
 
@@ -38,8 +41,11 @@ public:
   double interpolate(double wx, double wy, double* dfdx, double* dfdy) const;
 
 private:
-  void build(const std::vector<std::pair<int, int>>& occupied, int bx0, int by0, int bx1, int by1, double sigma,
+  // Level 0: 1 at the occupied cells and the Gaussian fall-off around them.
+  void splat(const std::vector<std::pair<int, int>>& occupied, int bx0, int by0, int bx1, int by1, double sigma,
              int levels);
+  // Levels 1.. from level 0 by max-pooling.
+  void pool(int levels);
 
   double resolution_ = 0.05;
   int min_x_ = 0, min_y_ = 0, width_ = 0, height_ = 0;

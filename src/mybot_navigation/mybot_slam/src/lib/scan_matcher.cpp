@@ -17,7 +17,8 @@ MatchField::MatchField(const OccupancyGrid& grid, double sigma, int levels)
 {
 }
 
-MatchField::MatchField(const OccupancyGrid& grid, double sigma, int levels, int x0, int y0, int x1, int y1)
+MatchField::MatchField(const OccupancyGrid& grid, double sigma, int levels, int x0, int y0, int x1, int y1,
+                       double unobserved_weight)
 {
   resolution_ = grid.resolution();
   x0 = std::max(x0, grid.minCellX());
@@ -29,7 +30,19 @@ MatchField::MatchField(const OccupancyGrid& grid, double sigma, int levels, int 
     for (int x = x0; x <= x1; ++x)
       if (grid.logOdds(x, y) > 0.0f)
         occupied.emplace_back(x, y);
-  build(occupied, x0, y0, x1, y1, sigma, levels);
+  splat(occupied, x0, y0, x1, y1, sigma, levels);
+  if (unobserved_weight < 1.0 && !levels_.empty())
+  {
+    std::vector<uint8_t>& base = levels_[0];
+    for (int y = 0; y < height_; ++y)
+      for (int x = 0; x < width_; ++x)
+      {
+        uint8_t& v = base[static_cast<size_t>(y) * width_ + x];
+        if (v > 0 && grid.logOdds(x + min_x_, y + min_y_) == 0.0f)
+          v = static_cast<uint8_t>(v * unobserved_weight);
+      }
+  }
+  pool(levels);
 }
 
 MatchField::MatchField(const GridMap& map, double sigma, int levels, int occupied_threshold)
@@ -42,10 +55,11 @@ MatchField::MatchField(const GridMap& map, double sigma, int levels, int occupie
     for (int x = 0; x < map.info.width; ++x)
       if (map.at(x, y) >= occupied_threshold)
         occupied.emplace_back(x + ox, y + oy);
-  build(occupied, ox, oy, ox + map.info.width - 1, oy + map.info.height - 1, sigma, levels);
+  splat(occupied, ox, oy, ox + map.info.width - 1, oy + map.info.height - 1, sigma, levels);
+  pool(levels);
 }
 
-void MatchField::build(const std::vector<std::pair<int, int>>& occupied, int bx0, int by0, int bx1, int by1,
+void MatchField::splat(const std::vector<std::pair<int, int>>& occupied, int bx0, int by0, int bx1, int by1,
                        double sigma, int levels)
 {
   levels = std::max(1, levels);
@@ -79,6 +93,13 @@ void MatchField::build(const std::vector<std::pair<int, int>>& occupied, int bx0
   }
   levels_.clear();
   levels_.push_back(std::move(base));
+}
+
+void MatchField::pool(int levels)
+{
+  if (levels_.empty())
+    return;
+  const size_t n = levels_[0].size();
   for (int h = 1; h < levels; ++h)
   {
     const int half = 1 << (h - 1);

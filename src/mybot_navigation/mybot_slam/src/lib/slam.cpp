@@ -71,7 +71,8 @@ const MatchField& Slam::localField(const Pose2D& around, const std::vector<Point
     const double reach = maxRange(points) + params_.search_window_linear + params_.linear_update + 1.0;
     local_field_ = MatchField(g, params_.match_sigma, matchFieldLevels(params_.search_window_linear, g.resolution()),
                               g.worldToLattice(around.x - reach), g.worldToLattice(around.y - reach),
-                              g.worldToLattice(around.x + reach), g.worldToLattice(around.y + reach));
+                              g.worldToLattice(around.x + reach), g.worldToLattice(around.y + reach),
+                              params_.match_unobserved_weight);
     local_field_source_ = source;
     local_field_dirty_ = false;
   }

@@ -79,6 +79,9 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           "match_prior_cap", [](P& p) -> double& { return p.slam.match_prior_cap; }, nonNegative,
           "a distance >= 0 (m; 0 = never capped)"),
       number(
+          "match_unobserved_weight", [](P& p) -> double& { return p.slam.match_unobserved_weight; },
+          [](double v) { return v >= 0 && v <= 1; }, "in [0, 1]"),
+      number(
           "odom_edge_sigma_xy", [](P& p) -> double& { return p.slam.odom_edge_sigma_xy; }, nonNegative,
           "a distance >= 0 (m per keyframe; 0 = no odometry edges)"),
       number(
