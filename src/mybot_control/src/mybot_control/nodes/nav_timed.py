@@ -45,13 +45,13 @@ class Node:
         self.pub.publish(msg)
 
     def _sleep_until(self, t):
-        dt = t - rospy.get_time()
-        if dt <= 0:
+        """Sleeps until ROS time t (rospy.Time), period by period under lockstep."""
+        if t <= rospy.get_rostime():
             return
         if self.ls.active:
-            self.ls.sleep_until(rospy.Time.from_sec(t))
+            self.ls.sleep_until(t)
         else:
-            rospy.sleep(dt)
+            rospy.sleep(t - rospy.get_rostime())
 
     def run(self):
         # With use_sim_time, time is 0 until the first /clock message.
@@ -61,12 +61,21 @@ class Node:
         while (not self.stop and self.pub.get_num_connections() == 0
                and rospy.get_time() - start_wait < self.wait):
             rospy.sleep(0.05)
-        t0 = rospy.get_time()
+        if self.ls.active:
+            # Start on a period's boundary, holding it: the first twist then belongs to a period
+            # as every later one does (time read between periods lies anywhere inside one).
+            self.ls.sleep(rospy.Duration(0, 1))
+        t0 = rospy.get_rostime()
         period = 1.0 / self.rate
         current = -1
         try:
             while not self.stop and not rospy.is_shutdown():
-                t = rospy.get_time() - t0
+                # Time since the start from integer nanoseconds, plus 1 us: a wake-up at a segment
+                # boundary counts as at it, whichever way the boundary's float sum rounded. Without
+                # it, t could sit a hair before the boundary while the wake-up time t0 + boundary
+                # rounds to now, and under lockstep (time frozen while this thread holds the
+                # period) the loop would spin without ever sleeping.
+                t = (rospy.get_rostime() - t0).to_sec() + 1e-6
                 k, twist = timed_moves.command_at(self.profile, t)
                 if k is None:
                     break
@@ -76,13 +85,13 @@ class Node:
                     current = k
                 self.publish(twist)
                 # next tick on a fixed grid (a late wake-up does not shift later ticks), or the
-                # segment boundary if that comes first
-                tick = (math.floor(t / period + 1e-9) + 1) * period
-                self._sleep_until(t0 + min(tick, timed_moves.next_boundary(self.profile, t)))
+                # segment boundary if that comes first; both lie more than 1 us after now
+                tick = (math.floor(t / period) + 1) * period
+                self._sleep_until(t0 + rospy.Duration.from_sec(min(tick, timed_moves.next_boundary(self.profile, t))))
         finally:
             if not rospy.is_shutdown():
                 self.publish(timed_moves.ZERO)
-                rospy.loginfo("nav_timed: stopped after %.2f s", rospy.get_time() - t0)
+                rospy.loginfo("nav_timed: stopped after %.2f s", (rospy.get_rostime() - t0).to_sec())
                 self.ls.release()  # the wall-time linger must not hold simulated time
                 common.linger()
         return 0
