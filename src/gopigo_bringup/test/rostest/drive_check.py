@@ -12,6 +12,7 @@ import math
 import os
 import subprocess
 import sys
+import time
 import unittest
 
 import rospy
@@ -138,18 +139,28 @@ class GoPiGoChain(unittest.TestCase):
         # Judged by the driver's own stamps: this node's callback scheduling on a loaded machine is not
         # part of the driver's stop delay.
         stamped = Recorder("gopigo_driver/sim_truth", JointState, lambda m: (m.header.stamp.to_sec(), tuple(m.effort)))
-        lp = rospy.Publisher("lwheel_angular_vel_motor", Float32, queue_size=1)
-        rp = rospy.Publisher("rwheel_angular_vel_motor", Float32, queue_size=1)
-        wait_until(lambda: lp.get_num_connections() and rp.get_num_connections(), 10, "the driver to subscribe")
+        ls = participant()
+        lp = ls.Publisher("lwheel_angular_vel_motor", Float32, queue_size=1)
+        rp = ls.Publisher("rwheel_angular_vel_motor", Float32, queue_size=1)
+        # Connections are a matter of wall time; simulated time may run fast meanwhile.
+        deadline = time.monotonic() + 30.0
+        while not (lp.get_num_connections() and rp.get_num_connections()):
+            self.assertLess(time.monotonic(), deadline, "the driver did not subscribe")
+            time.sleep(0.01)
+        ls.sleep(rospy.Duration(0, 1))  # from a period's start: each command belongs to one period
         end = rospy.get_time() + 1.0
         while rospy.get_time() < end:
             lp.publish(Float32(3.0))
             rp.publish(Float32(3.0))
             last = rospy.get_time()
-            rospy.sleep(0.05)
+            ls.sleep(0.05)
         self.assertTrue(any(e[0] != 0 for t, (_, _, e) in self.truth.samples if t > end - 0.5), "motors never driven")
-        wait_until(lambda: self.truth.samples[-1][1][2] == (0.0, 0.0), 2.0, "the motor commands to drop to 0")
-        wait_until(lambda: stamped.samples and stamped.samples[-1][1][1] == (0.0, 0.0), 2.0, "the stamped stop")
+        # Waiting period by period, as a participant: the 2 s are simulated time this node saw.
+        self.assertTrue(ls.wait_for(lambda: self.truth.samples[-1][1][2] == (0.0, 0.0), 2.0),
+                        "the motor commands did not drop to 0")
+        self.assertTrue(ls.wait_for(lambda: stamped.samples and stamped.samples[-1][1][1] == (0.0, 0.0), 2.0),
+                        "no stamped stop")
+        ls.release()
         stopped = next(stamp for _, (stamp, e) in stamped.samples if stamp > last and e == (0.0, 0.0))
         rospy.loginfo("motors stopped %.3f s after the last command", stopped - last)
         self.assertLess(stopped - last, max_delay)
