@@ -6,6 +6,8 @@
 // constraint builder does the same for every node and every nearby submap, Hess et al. 2016).
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "mybot_slam/slam.h"
 
@@ -167,6 +169,55 @@ void Slam::runFinalOptimization()
   current_pose_ = tracked_ = compose(keyframes_.back().pose, last_scan_in_keyframe_);
   map_to_odom_ = compose(tracked_, inverse(tracked_odom_));
   rebuildLocalMaps();
+}
+
+// Slam::placeScans. Tracking placed each scan against the local map of the keyframes before it,
+// as they stood then; after the final optimisation the keyframes on both sides of it are where
+// they will stay, and a small search against them places the scan as well as a keyframe (on
+// Intel, relations between two keyframes scored 0.0217 m, those between tracked scans 0.0249).
+std::vector<Pose2D> Slam::placeScans(const std::vector<ScanToPlace>& scans) const
+{
+  // A tracked scan is within centimetres of where it belongs: a small window suffices.
+  constexpr double kWindowLinear = 0.1, kWindowAngular = 0.05;
+  // Keyframes are taken in blocks that share one map (the maps of neighbouring keyframes are
+  // nearly the same): a block of 4 costs a quarter of the maps.
+  constexpr int kBlock = 4;
+  const int nk = static_cast<int>(keyframes_.size());
+  const int w = params_.final_scan_keyframes;
+  std::vector<Pose2D> out(scans.size());
+  std::vector<std::vector<size_t>> by_block(static_cast<size_t>(nk / kBlock + 1));
+  for (size_t i = 0; i < scans.size(); ++i)
+  {
+    const ScanToPlace& s = scans[i];
+    if (s.keyframe < 0 || s.keyframe >= nk)
+      throw std::out_of_range("placeScans: no keyframe " + std::to_string(s.keyframe));
+    out[i] = compose(keyframes_[static_cast<size_t>(s.keyframe)].pose, s.in_keyframe);
+    if (w > 0 && !s.points.empty())
+      by_block[static_cast<size_t>(s.keyframe / kBlock)].push_back(i);
+  }
+  for (size_t b = 0; b < by_block.size(); ++b)
+  {
+    if (by_block[b].empty())
+      continue;
+    const int first = static_cast<int>(b) * kBlock, last = std::min(nk - 1, first + kBlock - 1);
+    OccupancyGrid grid(params_.grid);
+    for (int j = std::max(0, first - w); j <= std::min(nk - 1, last + w); ++j)
+      grid.insertScan(keyframes_[static_cast<size_t>(j)].pose, keyframes_[static_cast<size_t>(j)].scan);
+    const MatchField field(grid, params_.match_sigma, matchFieldLevels(kWindowLinear, grid.resolution()));
+    for (size_t i : by_block[b])
+    {
+      MatchRequest req;
+      req.initial = out[i];
+      req.linear_window = kWindowLinear;
+      req.angular_window = kWindowAngular;
+      req.min_score = params_.min_match_score;
+      const MatchResult res = matchScan(field, scans[i].points, req);
+      // A corridor pins nothing along it: there the tracked pose (odometry's) stays.
+      if (res.ok && translationConstraintRatio(field, scans[i].points, res.pose) >= params_.loop_min_constraint_ratio)
+        out[i] = res.pose;
+    }
+  }
+  return out;
 }
 
 }  // namespace mybot_navigation

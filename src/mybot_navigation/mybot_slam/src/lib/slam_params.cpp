@@ -171,6 +171,9 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
       number(
           "final_window_angular", [](P& p) -> double& { return p.slam.final_window_angular; }, positive,
           "a positive angle (rad)"),
+      integer(
+          "final_scan_keyframes", [](P& p) -> int& { return p.slam.final_scan_keyframes; }, 0,
+          "an integer >= 0 (0: scans stay where tracking put them)"),
   };
   return specs;
 }

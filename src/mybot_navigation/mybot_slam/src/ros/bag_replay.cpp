@@ -24,8 +24,9 @@ struct ScanRecord
 {
   double stamp;
   Pose2D odom;
-  int keyframe;        // the keyframe current after this scan (-1 before the first)
-  Pose2D in_keyframe;  // the scan's pose relative to that keyframe
+  int keyframe;                 // the keyframe current after this scan (-1 before the first)
+  Pose2D in_keyframe;           // the scan's pose relative to that keyframe
+  std::vector<Point2D> points;  // match points of a scan the Slam tracked (for Slam::placeScans)
 };
 
 Pose2D interpolate(const std::vector<std::pair<double, Pose2D>>& odom, double t)
@@ -169,12 +170,14 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
       g.sensor_in_base = mt->second;
     // The scan's place relative to its keyframe: as the Slam tracked it, else by odometry.
     bool tracked = false;
+    std::vector<Point2D> points;
     if (slam.wantsScan(stamp, odom))
     {
       const double range_max = run.max_range > 0.0 ? std::min<double>(run.max_range, scan->range_max) : scan->range_max;
-      tracked = slam.addScan(stamp, odom,
-                             convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min,
-                                           range_max, run.max_urange, g)) != ScanOutcome::OutOfOrder;
+      RangeScan converted = convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min,
+                                          range_max, run.max_urange, g);
+      points = voxelFilter(converted.hits, run.slam.match_point_spacing);
+      tracked = slam.addScan(stamp, odom, converted) != ScanOutcome::OutOfOrder;
     }
     else
     {
@@ -186,22 +189,27 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
       in_keyframe = slam.lastScanInKeyframe();
     else if (keyframe >= 0)
       in_keyframe = between(slam.keyframes().back().odom, odom);
-    scans.push_back({stamp, odom, keyframe, in_keyframe});
+    scans.push_back({stamp, odom, keyframe, in_keyframe, tracked ? std::move(points) : std::vector<Point2D>{}});
   }
   bag.close();
   result.scans = scans.size();
   if (opt.final_optimization)
     slam.runFinalOptimization();
-  // Every scan's pose after the last optimisation: its keyframe's, moved as tracked.
-  const auto& kfs = slam.keyframes();
-  for (const ScanRecord& s : scans)
+  // Every scan's pose after the last optimisation: its keyframe's, moved as tracked, or (after
+  // the final optimisation) matched against the keyframes around it (Slam::placeScans).
+  std::vector<ScanToPlace> to_place;
+  for (ScanRecord& s : scans)
   {
     result.odometry.push_back({s.stamp, s.odom});
-    if (s.keyframe < 0)
-      continue;
-    const Keyframe& k = kfs[static_cast<std::size_t>(s.keyframe)];
-    result.trajectory.push_back({s.stamp, compose(k.pose, s.in_keyframe)});
+    if (s.keyframe >= 0)
+      to_place.push_back(
+          {s.keyframe, s.in_keyframe, opt.final_optimization ? std::move(s.points) : std::vector<Point2D>{}});
   }
+  const std::vector<Pose2D> placed = slam.placeScans(to_place);
+  size_t next = 0;
+  for (const ScanRecord& s : scans)
+    if (s.keyframe >= 0)
+      result.trajectory.push_back({s.stamp, placed[next++]});
   return result;
 }
 

@@ -15,9 +15,9 @@
 //
 // Writes, each file replaced atomically: DIR/map.pgm + map.yaml (map_server), DIR/map.png,
 // DIR/trajectory.tum (every scan's pose, after the last optimisation, in the map frame: "stamp x y
-// z qx qy qz qw" with the scan's own stamp; a scan between keyframes is placed by odometry from
-// its keyframe), DIR/timing.json (scans, keyframes, loop closures, log span, CPU and wall time,
-// peak memory).
+// z qx qy qz qw" with the scan's own stamp; a scan between keyframes is matched against the
+// keyframes around it, Slam::placeScans, else kept where it was tracked), DIR/timing.json (scans, keyframes, loop
+// closures, log span, CPU and wall time, peak memory).
 #include <sys/resource.h>
 
 #include <chrono>
