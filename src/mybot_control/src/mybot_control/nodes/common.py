@@ -1,6 +1,5 @@
 """Helpers shared by the rospy nodes."""
 import sys
-import time
 
 import rospy
 
@@ -24,12 +23,3 @@ def run(node_name, main, **init_kwargs):
     except rospy.ROSInterruptException:
         code = 0
     sys.exit(code or 0)
-
-
-def linger():
-    """Let rospy's connection threads send the last (stop) message before the process exits.
-
-    Publishing is asynchronous; exiting right after publish() can drop the message.
-    This is wall time on purpose: it is about sockets, not robot behaviour.
-    """
-    time.sleep(0.3)

@@ -11,6 +11,7 @@ import rospy
 from geometry_msgs.msg import Twist
 
 from mybot_common import params
+from mybot_common.shutdown import linger
 from mybot_lockstep import participant
 from mybot_control import timed_moves
 from mybot_control.nodes import common
@@ -93,7 +94,7 @@ class Node:
                 self.publish(timed_moves.ZERO)
                 rospy.loginfo("nav_timed: stopped after %.2f s", (rospy.get_rostime() - t0).to_sec())
                 self.ls.release()  # the wall-time linger must not hold simulated time
-                common.linger()
+                linger()
         return 0
 
 
@@ -107,7 +108,7 @@ def _main(name, default_mode):
             node.stop = True
             if not rospy.is_shutdown():
                 node.publish(timed_moves.ZERO)
-                common.linger()
+                linger()
                 rospy.signal_shutdown("interrupted")
         signal.signal(signal.SIGINT, on_signal)
         signal.signal(signal.SIGTERM, on_signal)

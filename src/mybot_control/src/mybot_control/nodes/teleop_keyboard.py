@@ -9,6 +9,7 @@ import rospy
 from geometry_msgs.msg import Twist, TwistStamped
 
 from mybot_common import params
+from mybot_common.shutdown import linger
 from mybot_control import teleop_keyboard as tk
 from mybot_control.nodes import common
 
@@ -109,7 +110,7 @@ class Node:
             termios.tcsetattr(fd, termios.TCSADRAIN, old)
             if not rospy.is_shutdown():
                 self.publish((0.0, 0.0, 0.0, 0.0))
-                common.linger()
+                linger()
                 rospy.signal_shutdown("teleop_keyboard finished")
         return 0
 
