@@ -147,7 +147,7 @@ class GoPiGoChain(unittest.TestCase):
         while not (lp.get_num_connections() and rp.get_num_connections()):
             self.assertLess(time.monotonic(), deadline, "the driver did not subscribe")
             time.sleep(0.01)
-        ls.sleep(rospy.Duration(0, 1))  # from a period's start: each command belongs to one period
+        ls.hold_next_period()  # each command belongs to one period
         end = rospy.get_time() + 1.0
         while rospy.get_time() < end:
             lp.publish(Float32(3.0))

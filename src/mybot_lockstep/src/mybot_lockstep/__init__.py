@@ -147,6 +147,14 @@ class Participant:
         if rospy.is_shutdown():
             raise rospy.ROSInterruptException('shutdown')
 
+    def hold_next_period(self):
+        """Waits for the next period's start and holds it: what the main thread does next (a
+        profile's first command, its start time) belongs to a period, as everything after its
+        later sleeps does; time read between periods lies anywhere inside one. Off lockstep: a
+        no-op."""
+        if self.active:
+            self.sleep(rospy.Duration(0, 1))
+
     def wait_for(self, predicate, timeout, period=0.02):
         """Sleeps in steps of `period` of sim time until predicate() or `timeout` s of sim time."""
         end = rospy.get_rostime() + rospy.Duration(timeout)

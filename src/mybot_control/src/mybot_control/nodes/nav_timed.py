@@ -62,10 +62,7 @@ class Node:
         while (not self.stop and self.pub.get_num_connections() == 0
                and rospy.get_time() - start_wait < self.wait):
             rospy.sleep(0.05)
-        if self.ls.active:
-            # Start on a period's boundary, holding it: the first twist then belongs to a period
-            # as every later one does (time read between periods lies anywhere inside one).
-            self.ls.sleep(rospy.Duration(0, 1))
+        self.ls.hold_next_period()  # the first twist belongs to a period, as every later one
         t0 = rospy.get_rostime()
         period = 1.0 / self.rate
         current = -1
