@@ -336,3 +336,37 @@ TEST(Slam, OdometryEdgesKeepTheHeadingOfTrustedOdometry)
   EXPECT_LT(odom_worst, 0.5 * chain_worst);
   EXPECT_GE(with_odom.map.precision, 0.85);
 }
+
+TEST(Slam, LoopClosureEventsReportWhatOneScanDid)
+{
+  SlamStats before;
+  before.loop_closures = 2;
+  before.loop_held = 1;
+  before.last_closure.reason = "held until a later attempt finds the same correction";
+  EXPECT_TRUE(loopClosureEvents(before, before).empty());
+
+  // The held closure was dropped and another one accepted at the same keyframe: the drop first.
+  SlamStats after = before;
+  after.loop_unconfirmed = 1;
+  after.last_unconfirmed.to = 40;
+  after.last_unconfirmed.reason = "dropped: no later attempt confirmed it";
+  after.loop_closures = 3;
+  after.last_closure.to = 46;
+  after.last_closure.from = 3;
+  after.last_closure.accepted = true;
+  std::vector<LoopClosureRecord> events = loopClosureEvents(before, after);
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].to, 40);
+  EXPECT_STREQ(events[0].reason, "dropped: no later attempt confirmed it");
+  EXPECT_EQ(events[1].to, 46);
+  EXPECT_EQ(events[1].from, 3);
+  EXPECT_STREQ(events[1].reason, "accepted");
+
+  // A rejection carries its reason.
+  after = before;
+  after.loop_rejected = 1;
+  after.last_closure.reason = "rejected: the optimised graph disagrees with it";
+  events = loopClosureEvents(before, after);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_STREQ(events[0].reason, "rejected: the optimised graph disagrees with it");
+}

@@ -192,7 +192,8 @@ struct LoopClosureRecord
   double ratio = 0.0;              // translation constraint ratio (1 = fully constrained)
   Pose2D correction;               // closure pose relative to the estimate before optimisation
   bool accepted = false;
-  const char* reason = "";  // why a matched closure was rejected
+  // What became of it: "accepted", or why it was held, rejected or dropped.
+  const char* reason = "";
 };
 
 struct SlamStats
@@ -218,6 +219,11 @@ struct SlamStats
   double final_consistency_before = 0.0;
   double final_consistency_after = 0.0;
 };
+
+// What one addScan did with loop closures, for a log (slam_node's, slam_replay's
+// loop_closures.tsv), from the stats before and after it: a held closure dropped (the last, if
+// several were), then the closure matched at this keyframe, accepted, held or rejected.
+std::vector<LoopClosureRecord> loopClosureEvents(const SlamStats& before, const SlamStats& after);
 
 class Slam
 {

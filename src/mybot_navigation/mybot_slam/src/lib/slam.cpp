@@ -413,6 +413,7 @@ void Slam::expireHeldClosures()
     }
     ++stats_.loop_unconfirmed;
     stats_.last_unconfirmed = it->record;
+    stats_.last_unconfirmed.reason = "dropped: no later attempt confirmed it";
     it = held_.erase(it);
   }
 }
@@ -543,7 +544,13 @@ bool Slam::confirmClosure(int current, int candidate, LoopMatch& match, std::vec
       added.push_back(held_[i].edge);
     // The others disagree with a closure about to be applied, and their corrections were
     // measured against poses the optimisation is about to move.
-    stats_.loop_unconfirmed += static_cast<int>(held_.size() - agreeing.size());
+    for (size_t i = 0; i < held_.size(); ++i)
+      if (std::find(agreeing.begin(), agreeing.end(), i) == agreeing.end())
+      {
+        ++stats_.loop_unconfirmed;
+        stats_.last_unconfirmed = held_[i].record;
+        stats_.last_unconfirmed.reason = "dropped: a closure that disagrees with it was confirmed";
+      }
     held_.clear();
   }
   added.push_back(edge);
@@ -597,6 +604,21 @@ bool Slam::applyClosure(const std::vector<PoseGraphEdge>& added, const LoopMatch
   renderGlobalMap();
   rebuildLocalMaps();
   return true;
+}
+
+std::vector<LoopClosureRecord> loopClosureEvents(const SlamStats& before, const SlamStats& after)
+{
+  std::vector<LoopClosureRecord> events;
+  if (after.loop_unconfirmed != before.loop_unconfirmed)
+    events.push_back(after.last_unconfirmed);
+  if (after.loop_closures != before.loop_closures || after.loop_rejected != before.loop_rejected ||
+      after.loop_held != before.loop_held)
+  {
+    events.push_back(after.last_closure);
+    if (after.last_closure.accepted)
+      events.back().reason = "accepted";
+  }
+  return events;
 }
 
 bool Slam::rejectClosure(const char* reason)

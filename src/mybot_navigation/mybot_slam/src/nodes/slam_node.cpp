@@ -168,12 +168,13 @@ private:
     return true;
   }
 
-  static void logClosure(const LoopClosureRecord& c, const char* what)
+  static void logClosure(const LoopClosureRecord& c)
   {
     ROS_INFO(
         "slam: loop closure keyframe %d -> %d %s (score %.2f, %.2f at the estimate, constraint ratio %.2f, "
         "correction %.3f m %.3f m %.3f rad)",
-        c.to, c.from, what, c.score, c.score_at_estimate, c.ratio, c.correction.x, c.correction.y, c.correction.theta);
+        c.to, c.from, c.reason, c.score, c.score_at_estimate, c.ratio, c.correction.x, c.correction.y,
+        c.correction.theta);
   }
 
   void scanCallback(const sensor_msgs::LaserScan::ConstPtr& scan)
@@ -226,11 +227,8 @@ private:
     const SlamStats before = slam_->stats();
     const ScanOutcome outcome = slam_->addScan(stamp, odom, rs);
     const SlamStats& after = slam_->stats();
-    if (after.loop_unconfirmed != before.loop_unconfirmed)
-      logClosure(after.last_unconfirmed, "dropped: no later attempt confirmed it");
-    if (after.loop_closures != before.loop_closures || after.loop_rejected != before.loop_rejected ||
-        after.loop_held != before.loop_held)
-      logClosure(after.last_closure, after.last_closure.accepted ? "accepted" : after.last_closure.reason);
+    for (const LoopClosureRecord& c : loopClosureEvents(before, after))
+      logClosure(c);
     last_stamp_ = std::max(last_stamp_, stamp);
     switch (outcome)
     {

@@ -177,7 +177,10 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
       RangeScan converted = convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min,
                                           range_max, run.max_urange, g);
       points = voxelFilter(converted.hits, run.slam.match_point_spacing);
+      const SlamStats before = slam.stats();
       tracked = slam.addScan(stamp, odom, converted) != ScanOutcome::OutOfOrder;
+      for (const LoopClosureRecord& c : loopClosureEvents(before, slam.stats()))
+        result.closures.push_back(c);
     }
     else
     {

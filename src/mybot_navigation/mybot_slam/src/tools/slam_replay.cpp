@@ -17,7 +17,8 @@
 // DIR/trajectory.tum (every scan's pose, after the last optimisation, in the map frame: "stamp x y
 // z qx qy qz qw" with the scan's own stamp; a scan between keyframes is matched against the
 // keyframes around it, Slam::placeScans, else kept where it was tracked), DIR/timing.json (scans, keyframes, loop
-// closures, log span, CPU and wall time, peak memory).
+// closures, log span, CPU and wall time, peak memory), DIR/loop_closures.tsv (every loop closure
+// matched, and whether it was accepted, held, rejected or dropped, as slam_node logs them).
 #include <sys/resource.h>
 
 #include <chrono>
@@ -182,6 +183,18 @@ int main(int argc, char** argv)
   const double cpu = cpuSeconds() - cpu0;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const double span = r.last_stamp - r.first_stamp;
+  // slam_node logs the same events: keyframe stamps, so they line up with trajectory.tum.
+  std::ostringstream closures;
+  closures << "# stamp\tkeyframe\tcandidate\toutcome\tscore\tscore_at_estimate\tconstraint_ratio\t"
+              "correction_x\tcorrection_y\tcorrection_theta\n";
+  for (const LoopClosureRecord& c : r.closures)
+  {
+    char line[512];
+    std::snprintf(line, sizeof line, "%.6f\t%d\t%d\t%s\t%.3f\t%.3f\t%.3f\t%.4f\t%.4f\t%.4f\n",
+                  slam.keyframes()[static_cast<size_t>(c.to)].stamp, c.to, c.from, c.reason, c.score,
+                  c.score_at_estimate, c.ratio, c.correction.x, c.correction.y, c.correction.theta);
+    closures << line;
+  }
   rusage u;
   getrusage(RUSAGE_SELF, &u);
   char timing[1024];
@@ -208,6 +221,7 @@ int main(int argc, char** argv)
     cv::imencode(".png", img, png);
     mybot_common::writeFilesAtomically({{opt.out + "/map.png", std::string(png.begin(), png.end())},
                                         {opt.out + "/trajectory.tum", tum.str()},
+                                        {opt.out + "/loop_closures.tsv", closures.str()},
                                         {opt.out + "/timing.json", timing}});
   }
   catch (const std::exception& e)

@@ -31,8 +31,9 @@ struct BagReplayOptions
 
 struct BagReplayResult
 {
-  std::vector<StampedPose> trajectory;  // every scan, after the last optimisation, map frame
-  std::vector<StampedPose> odometry;    // every scan's odometry pose (the raw estimate)
+  std::vector<StampedPose> trajectory;      // every scan, after the last optimisation, map frame
+  std::vector<StampedPose> odometry;        // every scan's odometry pose (the raw estimate)
+  std::vector<LoopClosureRecord> closures;  // every closure matched, held, dropped or rejected, in order
   std::size_t scans = 0;
   double first_stamp = 0.0, last_stamp = 0.0;
 };
