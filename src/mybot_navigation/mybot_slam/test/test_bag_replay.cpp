@@ -3,6 +3,8 @@
 // replay is deterministic (one thread, bag order), so the figures are the same every run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 
 #include "mybot_slam/ros/bag_replay.h"
@@ -54,4 +56,47 @@ TEST(BagReplay, IntelFirstMinutesOnTheirRelations)
   EXPECT_LT(slam_score.translation.mean, 0.9 * odom_score.translation.mean);
   // Kuemmerle et al.'s published figure for the whole log, RBPF (gmapping class): 0.070 m.
   EXPECT_LT(slam_score.translation.mean, 0.070);
+}
+
+// The same log with the odometry from its /tf (odom -> base_link, which repeats every /odom pose)
+// instead of its /odom topic: the poses tf gives at each scan's stamp are the ones "interpolate"
+// computes from the messages, and the laser's mounting is tf's.
+TEST(BagReplay, OdometryFromTfEqualsTheOdometryTopic)
+{
+  if (!std::ifstream(kData + "intel.orig.bag"))
+    GTEST_SKIP() << "no " << kData << "intel.orig.bag (the shared datasets sit beside the workspace)";
+  const SlamRunParams params = loadSlamParams(MYBOT_SLAM_SOURCE "/config/slam.yaml");
+  BagReplayOptions topic;
+  topic.bag = kData + "intel.orig.bag";
+  topic.max_log_seconds = 30.0;
+  topic.odom = "interpolate";
+  topic.final_optimization = false;
+  BagReplayOptions tf = topic;
+  tf.odom_frame = "odom";
+  tf.base_frame = "base_link";
+  Slam slam_topic(params.slam), slam_tf(params.slam);
+  const BagReplayResult a = replayBag(topic, slam_topic, params);
+  const BagReplayResult b = replayBag(tf, slam_tf, params);
+  ASSERT_GT(a.scans, 100u);
+  EXPECT_EQ(b.scans_without_odometry, 0u);
+  ASSERT_EQ(a.scans, b.scans);
+  double worst = 0.0;
+  for (size_t i = 0; i < a.odometry.size(); ++i)
+  {
+    EXPECT_EQ(a.odometry[i].stamp, b.odometry[i].stamp);
+    worst = std::max(
+        {worst, std::hypot(a.odometry[i].pose.x - b.odometry[i].pose.x, a.odometry[i].pose.y - b.odometry[i].pose.y),
+         std::abs(wrapAngle(a.odometry[i].pose.theta - b.odometry[i].pose.theta))});
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_EQ(slam_topic.keyframes().size(), slam_tf.keyframes().size());
+
+  // A base frame the bag's tf does not have: every scan is skipped, none is mapped by a guess.
+  BagReplayOptions wrong = tf;
+  wrong.base_frame = "base_footprint";
+  Slam slam_wrong(params.slam);
+  const BagReplayResult c = replayBag(wrong, slam_wrong, params);
+  EXPECT_EQ(c.scans, 0u);
+  EXPECT_GT(c.scans_without_odometry, 100u);
+  EXPECT_TRUE(slam_wrong.keyframes().empty());
 }

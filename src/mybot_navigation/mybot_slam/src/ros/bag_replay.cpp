@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <stdexcept>
 
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/LaserScan.h>
+#include <tf2/buffer_core.h>
+#include <tf2/exceptions.h>
 #include <tf2_msgs/TFMessage.h>
 #include <yaml-cpp/yaml.h>
 
@@ -130,8 +133,22 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
   }
   std::stable_sort(odom_by_stamp.begin(), odom_by_stamp.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
+  // With odom_frame, the whole bag's tf in one buffer that keeps all of it (the log's span).
+  const bool from_tf = !opt.odom_frame.empty();
+  std::unique_ptr<tf2::BufferCore> tf;
+  if (from_tf)
+  {
+    rosbag::View all(bag);
+    tf = std::make_unique<tf2::BufferCore>(all.getEndTime() - all.getBeginTime() + ros::Duration(3600.0));
+    for (const rosbag::MessageInstance& m :
+         rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{"/tf", "/tf_static"})))
+      if (auto msg = m.instantiate<tf2_msgs::TFMessage>())
+        for (const auto& t : msg->transforms)
+          tf->setTransform(t, "bag", m.getTopic() == "/tf_static");
+  }
 
-  rosbag::View view(bag, rosbag::TopicQuery({opt.scan_topic, opt.odom_topic}));
+  rosbag::View view(bag, rosbag::TopicQuery(from_tf ? std::vector<std::string>{opt.scan_topic}
+                                                    : std::vector<std::string>{opt.scan_topic, opt.odom_topic}));
   const std::size_t total = view.size();
   std::vector<ScanRecord> scans;
   BagReplayResult result;
@@ -149,9 +166,35 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
       continue;
     }
     auto scan = m.instantiate<sensor_msgs::LaserScan>();
-    if (!scan || scan->ranges.empty() || !have_odom)
+    if (!scan || scan->ranges.empty() || (!from_tf && !have_odom))
       continue;
     const double stamp = scan->header.stamp.toSec();
+    Pose2D odom;
+    ScanGeometry g;
+    if (from_tf)
+    {
+      try
+      {
+        odom = toPose2D(tf->lookupTransform(opt.odom_frame, opt.base_frame, scan->header.stamp).transform);
+        if (!opt.override_mount)
+          g.sensor_in_base =
+              toPose2D(tf->lookupTransform(opt.base_frame, scan->header.frame_id, ros::Time(0)).transform);
+      }
+      catch (const tf2::TransformException&)
+      {
+        ++result.scans_without_odometry;
+        continue;
+      }
+    }
+    else
+    {
+      odom = opt.odom == "last" ? last_odom : interpolate(odom_by_stamp, stamp);
+      auto mt = mount.find(scan->header.frame_id);
+      if (mt != mount.end())
+        g.sensor_in_base = mt->second;
+    }
+    if (opt.override_mount)
+      g.sensor_in_base = opt.mount;
     if (!started)
     {
       result.first_stamp = result.last_stamp = stamp;
@@ -161,13 +204,6 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
       break;
     result.first_stamp = std::min(result.first_stamp, stamp);
     result.last_stamp = std::max(result.last_stamp, stamp);
-    const Pose2D odom = opt.odom == "last" ? last_odom : interpolate(odom_by_stamp, stamp);
-    ScanGeometry g;
-    auto mt = mount.find(scan->header.frame_id);
-    if (opt.override_mount)
-      g.sensor_in_base = opt.mount;
-    else if (mt != mount.end())
-      g.sensor_in_base = mt->second;
     // The scan's place relative to its keyframe: as the Slam tracked it, else by odometry.
     bool tracked = false;
     std::vector<Point2D> points;

@@ -2,7 +2,8 @@
 // slam_gmapping_replay: the same Slam as slam_node over every scan, at full speed, no roscore.
 //
 //   rosrun mybot_slam slam_replay --bag FILE --out DIR [--params slam.yaml]
-//        [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate] [--laser-pose X,Y,YAW]
+//        [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate]
+//        [--odom-frame odom [--base-frame base_link]] [--laser-pose X,Y,YAW]
 //        [--no-final-optimization] [--quiet]
 //
 // Odometry at a scan: `last` (default) takes the pose of the last odometry message before the
@@ -10,6 +11,8 @@
 // interpolates between the odometry messages around the scan's stamp (FR079, whose CARMEN
 // odometry was interpolated). The laser's mounting comes from /tf_static (base -> the scan's frame),
 // or from --laser-pose (m, m, rad in the base frame) where the log's is known to be wrong.
+// --odom-frame takes the odometry from the bag's tf instead, as slam_node does: odom -> base frame
+// at each scan's stamp (a robot's bag often has /tf and no odometry topic), and the mounting from tf.
 // --no-final-optimization leaves out the last step (slam_node's finish_trajectory): the result is
 // then what the online node has while it still maps.
 //
@@ -42,6 +45,8 @@ namespace
 struct Options
 {
   std::string bag, out, params, scan_topic = "/scan", odom_topic = "/odom", odom = "last";
+  std::string odom_frame, base_frame = "base_link";
+  bool odom_given = false;
   bool quiet = false;
   bool final_optimization = true;
   bool override_mount = false;
@@ -50,11 +55,11 @@ struct Options
 
 [[noreturn]] void usage(const std::string& error)
 {
-  std::fprintf(
-      stderr,
-      "slam_replay: %s\nusage: slam_replay --bag FILE --out DIR [--params slam.yaml] [--scan-topic /scan] "
-      "[--odom-topic /odom] [--odom last|interpolate] [--laser-pose X,Y,YAW] [--no-final-optimization] [--quiet]\n",
-      error.c_str());
+  std::fprintf(stderr,
+               "slam_replay: %s\nusage: slam_replay --bag FILE --out DIR [--params slam.yaml] [--scan-topic /scan] "
+               "[--odom-topic /odom] [--odom last|interpolate] [--odom-frame odom [--base-frame base_link]] "
+               "[--laser-pose X,Y,YAW] [--no-final-optimization] [--quiet]\n",
+               error.c_str());
   std::exit(2);
 }
 
@@ -79,9 +84,19 @@ Options parseArgs(int argc, char** argv)
     else if (a == "--scan-topic")
       o.scan_topic = value();
     else if (a == "--odom-topic")
+    {
       o.odom_topic = value();
+      o.odom_given = true;
+    }
     else if (a == "--odom")
+    {
       o.odom = value();
+      o.odom_given = true;
+    }
+    else if (a == "--odom-frame")
+      o.odom_frame = value();
+    else if (a == "--base-frame")
+      o.base_frame = value();
     else if (a == "--laser-pose")
     {
       const std::string v = value();
@@ -102,6 +117,10 @@ Options parseArgs(int argc, char** argv)
     usage("--bag and --out are required");
   if (o.odom != "last" && o.odom != "interpolate")
     usage("--odom must be last or interpolate, got " + o.odom);
+  if (!o.odom_frame.empty() && o.odom_given)
+    usage("--odom-frame takes the odometry from tf at each scan's stamp: --odom-topic and --odom do not apply");
+  if (o.odom_frame.empty() && o.base_frame != "base_link")
+    usage("--base-frame goes with --odom-frame");
   return o;
 }
 
@@ -144,6 +163,8 @@ int main(int argc, char** argv)
   ro.scan_topic = opt.scan_topic;
   ro.odom_topic = opt.odom_topic;
   ro.odom = opt.odom;
+  ro.odom_frame = opt.odom_frame;
+  ro.base_frame = opt.base_frame;
   ro.override_mount = opt.override_mount;
   ro.mount = opt.mount;
   ro.final_optimization = opt.final_optimization;
@@ -171,10 +192,18 @@ int main(int argc, char** argv)
     std::fprintf(stderr, "\n");
   if (slam.keyframes().empty())
   {
-    std::fprintf(stderr, "slam_replay: %s: no scans on %s with odometry on %s before them\n", opt.bag.c_str(),
-                 opt.scan_topic.c_str(), opt.odom_topic.c_str());
+    if (opt.odom_frame.empty())
+      std::fprintf(stderr, "slam_replay: %s: no scans on %s with odometry on %s before them\n", opt.bag.c_str(),
+                   opt.scan_topic.c_str(), opt.odom_topic.c_str());
+    else
+      std::fprintf(stderr, "slam_replay: %s: no scans on %s with tf %s -> %s at their stamps\n", opt.bag.c_str(),
+                   opt.scan_topic.c_str(), opt.odom_frame.c_str(), opt.base_frame.c_str());
     return 1;
   }
+  if (r.scans_without_odometry > 0)
+    std::fprintf(stderr,
+                 "slam_replay: %zu scans on %s had no tf %s -> %s at their stamp (or no laser mounting): skipped\n",
+                 r.scans_without_odometry, opt.scan_topic.c_str(), opt.odom_frame.c_str(), opt.base_frame.c_str());
   std::ostringstream tum;
   tum.precision(9);
   for (const StampedPose& s : r.trajectory)

@@ -19,6 +19,12 @@ struct BagReplayOptions
   // Odometry at a scan: "last" = the last odometry message before it in bag order (what CARMEN
   // logs embed in each FLASER); "interpolate" = between the messages around its stamp.
   std::string odom = "last";
+  // Non-empty: the odometry is tf's odom_frame -> base_frame at the scan's stamp, from the bag's
+  // /tf and /tf_static, looked up as slam_node does (for bags of a robot, which carry tf and not
+  // always an odometry topic); odom_topic and `odom` then do not apply, and the laser's mounting
+  // is tf's base_frame -> the scan's frame. A scan before the first odometry is skipped.
+  std::string odom_frame;
+  std::string base_frame = "base_link";
   double max_log_seconds = 0.0;  // > 0: stop after this much log from the first scan
   // The final optimisation at the end of the log (Slam::runFinalOptimization); off, the result is
   // the map and trajectory an online node has before finish_trajectory is called.
@@ -35,6 +41,7 @@ struct BagReplayResult
   std::vector<StampedPose> odometry;        // every scan's odometry pose (the raw estimate)
   std::vector<LoopClosureRecord> closures;  // every closure matched, held, dropped or rejected, in order
   std::size_t scans = 0;
+  std::size_t scans_without_odometry = 0;  // odom_frame: no transform at their stamp, skipped
   double first_stamp = 0.0, last_stamp = 0.0;
 };
 
