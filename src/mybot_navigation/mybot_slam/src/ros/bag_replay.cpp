@@ -136,6 +136,7 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
   // With odom_frame, the whole bag's tf in one buffer that keeps all of it (the log's span).
   const bool from_tf = !opt.odom_frame.empty();
   std::unique_ptr<tf2::BufferCore> tf;
+  std::map<std::string, Pose2D> tf_mount;  // laser frame -> its pose in base_frame, looked up once
   if (from_tf)
   {
     rosbag::View all(bag);
@@ -176,9 +177,16 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
       try
       {
         odom = toPose2D(tf->lookupTransform(opt.odom_frame, opt.base_frame, scan->header.stamp).transform);
-        if (!opt.override_mount)
-          g.sensor_in_base =
-              toPose2D(tf->lookupTransform(opt.base_frame, scan->header.frame_id, ros::Time(0)).transform);
+        // The mounting once per laser frame, as slam_node caches it.
+        auto mt = tf_mount.find(scan->header.frame_id);
+        if (mt == tf_mount.end() && !opt.override_mount)
+          mt =
+              tf_mount
+                  .emplace(scan->header.frame_id,
+                           toPose2D(tf->lookupTransform(opt.base_frame, scan->header.frame_id, ros::Time(0)).transform))
+                  .first;
+        if (mt != tf_mount.end())
+          g.sensor_in_base = mt->second;
       }
       catch (const tf2::TransformException&)
       {
