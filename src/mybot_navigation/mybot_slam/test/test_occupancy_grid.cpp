@@ -51,6 +51,32 @@ TEST(OccupancyGrid, GrowsInEveryDirectionAndKeepsContent)
   EXPECT_GT(g.probability(g.worldToLattice(-20.0), g.worldToLattice(0.0)), 0.5);
 }
 
+TEST(OccupancyGrid, AReservedGridDoesNotGrowAndHoldsTheSameCells)
+{
+  // reserve() sizes the grid once for what is about to be inserted (re-rendering a map); the
+  // cells must come out as they do when the grid grows scan by scan.
+  OccupancyGrid grown, reserved;
+  reserved.reserve({-21.0, -21.0}, {21.0, 21.0});
+  const int w = reserved.width(), h = reserved.height();
+  for (double a : {0.0, M_PI / 2, M_PI, -M_PI / 2, 0.3})
+  {
+    grown.insertScan({0.1, -0.2, a}, singleBeam(20.0));
+    reserved.insertScan({0.1, -0.2, a}, singleBeam(20.0));
+  }
+  EXPECT_EQ(reserved.width(), w);
+  EXPECT_EQ(reserved.height(), h);
+  int compared = 0;
+  for (int y = grown.minCellY(); y < grown.minCellY() + grown.height(); ++y)
+    for (int x = grown.minCellX(); x < grown.minCellX() + grown.width(); ++x)
+    {
+      ASSERT_TRUE(reserved.contains(x, y)) << x << " " << y;
+      ASSERT_EQ(reserved.logOdds(x, y), grown.logOdds(x, y)) << x << " " << y;
+      ASSERT_EQ(reserved.observed(x, y), grown.observed(x, y)) << x << " " << y;
+      compared += grown.observed(x, y);
+    }
+  EXPECT_GT(compared, 4 * 390);  // five 20 m beams at 0.05 m
+}
+
 TEST(OccupancyGrid, RepeatedMissesClearAnObstacleWithinClampLimits)
 {
   OccupancyGrid g;

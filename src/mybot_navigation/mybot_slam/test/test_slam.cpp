@@ -135,6 +135,29 @@ TEST(Slam, LoopClosureImprovesMapUnderOdometryDrift)
   EXPECT_GE(closed.map.recall, 0.9);
 }
 
+TEST(Slam, TheMapAfterLoopClosuresShowsEveryKeyframeWhereTheGraphPutIt)
+{
+  // Closures move keyframes and the global map is re-rendered only when read: what map() returns
+  // must be every keyframe's scan at its final pose, not the map as it was drawn before a closure.
+  const Slam& slam = closedDriftRun().slam;
+  ASSERT_GT(slam.stats().loop_closures, 0);
+  OccupancyGrid expected(slam.params().grid);
+  for (const Keyframe& k : slam.keyframes())
+    expected.insertScan(k.pose, k.scan);
+  const GridMap want = expected.toGridMap(slam.params().occ_thresh), got = slam.map();
+  int known = 0;
+  for (int cy = 0; cy < got.info.height; ++cy)
+    for (int cx = 0; cx < got.info.width; ++cx)
+    {
+      const Point2D c = got.cellCenter(cx, cy);
+      int wx, wy;
+      const int8_t w = want.worldToCell(c.x, c.y, wx, wy) ? want.at(wx, wy) : -1;
+      ASSERT_EQ(got.at(cx, cy), w) << "cell " << cx << " " << cy;
+      known += w >= 0;
+    }
+  EXPECT_GT(known, 1000);
+}
+
 TEST(Slam, MapConsistencyRanksMapsAsGroundTruthDoes)
 {
   // The final optimisation is judged without ground truth, by how well the keyframes agree with

@@ -251,13 +251,10 @@ public:
   const PoseGraph& graph() const { return graph_; }
   const SlamParams& params() const { return params_; }
 
-  GridMap map() const { return global_.toGridMap(params_.occ_thresh); }
+  GridMap map() const { return globalMap().toGridMap(params_.occ_thresh); }
   // Incremented whenever the map content changes.
   uint64_t mapVersion() const { return map_version_; }
   size_t memoryBytes() const;
-
-  // Re-renders the global map from every keyframe at its current pose.
-  void renderGlobalMap();
 
   // Ties every keyframe to every earlier visit of its place and optimises the whole graph (see
   // SlamParams::final_match_radius); then re-renders the maps. For the end of an offline run:
@@ -291,6 +288,14 @@ private:
                                      const std::vector<Point2D>& points) const;
   std::vector<Point2D> localPointsInReach(const Pose2D& predicted, const std::vector<Point2D>& points);
   void rebuildLocalMaps();
+  // The global map, rendered from every keyframe at its current pose when a closure or the final
+  // optimisation moved them since it was last asked for. Rendering is deferred to here because
+  // only the map's readers (a map publication, the end of a replay) need it: re-rendering at
+  // every closure cost a 300 m log most of its replay time.
+  const OccupancyGrid& globalMap() const;
+  // Inserts keyframes [first, end) into `grid` at their current poses, sizing it once for all.
+  void insertKeyframes(OccupancyGrid& grid, int first, int end) const;
+  void markGlobalMapStale();
   bool tryLoopClosure(int current);
   // The stages of tryLoopClosure, in order.
   // A scan match of the current keyframe against the submap around a loop candidate, or of the
@@ -337,7 +342,8 @@ private:
   SlamParams params_;
   std::vector<Keyframe> keyframes_;
   PoseGraph graph_;
-  OccupancyGrid global_;
+  mutable OccupancyGrid global_;  // a cache of the keyframes: see globalMap()
+  mutable bool global_stale_ = false;
   LocalMap local_[2];
   MatchField local_field_;
   int local_field_source_ = -1;  // which local map the field was built from

@@ -129,9 +129,9 @@ void Slam::optimizeDroppingDisagreeingEdges(size_t first_new_edge)
 
 double Slam::mapConsistency() const
 {
-  if (global_.empty())
+  if (globalMap().empty())
     return 0.0;
-  const MatchField field(global_, params_.match_sigma, 1);
+  const MatchField field(globalMap(), params_.match_sigma, 1);
   double sum = 0.0;
   size_t n = 0;
   for (const Keyframe& k : keyframes_)
@@ -159,7 +159,7 @@ void Slam::runFinalOptimization()
   optimizeDroppingDisagreeingEdges(first_new_edge);
   for (size_t i = 0; i < keyframes_.size(); ++i)
     keyframes_[i].pose = graph_.node(static_cast<int>(i));
-  renderGlobalMap();
+  markGlobalMapStale();
   // Reported, not acted on: in slam_loop_closure.test (3.5 m usable range, 15 % odometry noise,
   // seed 1) the optimised map was once worse against ground truth (precision 0.71 -> 0.56, before
   // matches used only the points in a map's reach) while its keyframes agreed slightly better with

@@ -72,11 +72,8 @@ void Slam::updateCoarseMap(int last)
     coarse_count_ = 0;
     coarse_stale_ = false;
   }
-  for (; coarse_count_ <= last; ++coarse_count_)
-  {
-    const Keyframe& k = keyframes_[static_cast<size_t>(coarse_count_)];
-    coarse_.insertScan(k.pose, k.scan);
-  }
+  insertKeyframes(coarse_, coarse_count_, last + 1);
+  coarse_count_ = std::max(coarse_count_, last + 1);
 }
 
 std::vector<Point2D> Slam::globalQuery(int current) const

@@ -77,6 +77,11 @@ void OccupancyGrid::growToContain(int gx0, int gy0, int gx1, int gy1)
   height_ = nh;
 }
 
+void OccupancyGrid::reserve(const Point2D& lo, const Point2D& hi)
+{
+  growToContain(worldToLattice(lo.x), worldToLattice(lo.y), worldToLattice(hi.x), worldToLattice(hi.y));
+}
+
 void OccupancyGrid::update(int gx, int gy, float delta)
 {
   const size_t i = idx(gx, gy);

@@ -182,7 +182,8 @@ ScanOutcome Slam::startMap(double stamp, const Pose2D& odom, const RangeScan& sc
   kf.match_points = voxelFilter(scan.hits, params_.match_point_spacing);
   keyframes_.push_back(std::move(kf));
   graph_.addNode(odom);
-  global_.insertScan(odom, scan);
+  if (!global_stale_)
+    global_.insertScan(odom, scan);
   insertIntoLocalMaps(0);
   map_to_odom_ = Pose2D{};
   current_pose_ = tracked_ = tracked_odom_ = odom;
@@ -288,7 +289,8 @@ void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, 
     odom_edge.sigma_theta = params_.odom_edge_sigma_theta;
     graph_.addEdge(odom_edge);
   }
-  global_.insertScan(keyframes_.back().pose, keyframes_.back().scan);
+  if (!global_stale_)
+    global_.insertScan(keyframes_.back().pose, keyframes_.back().scan);
   insertIntoLocalMaps(index);
   ++stats_.keyframes;
   ++map_version_;
@@ -325,11 +327,45 @@ void Slam::rebuildLocalMaps()
   local_field_dirty_ = true;
 }
 
-void Slam::renderGlobalMap()
+const OccupancyGrid& Slam::globalMap() const
 {
-  global_.clear();
-  for (const Keyframe& k : keyframes_)
-    global_.insertScan(k.pose, k.scan);
+  if (global_stale_)
+  {
+    global_.clear();
+    insertKeyframes(global_, 0, static_cast<int>(keyframes_.size()));
+    global_stale_ = false;
+  }
+  return global_;
+}
+
+void Slam::insertKeyframes(OccupancyGrid& grid, int first, int end) const
+{
+  if (first >= end)
+    return;
+  Point2D lo{1e300, 1e300}, hi{-1e300, -1e300};
+  auto extend = [&](const Point2D& p)
+  {
+    lo = Point2D{std::min(lo.x, p.x), std::min(lo.y, p.y)};
+    hi = Point2D{std::max(hi.x, p.x), std::max(hi.y, p.y)};
+  };
+  for (int i = first; i < end; ++i)
+  {
+    const Keyframe& k = keyframes_[static_cast<size_t>(i)];
+    extend(transformPoint(k.pose, k.scan.origin));
+    for (const Point2D& p : k.scan.hits)
+      extend(transformPoint(k.pose, p));
+    for (const Point2D& p : k.scan.misses)
+      extend(transformPoint(k.pose, p));
+  }
+  grid.reserve(lo, hi);
+  for (int i = first; i < end; ++i)
+    grid.insertScan(keyframes_[static_cast<size_t>(i)].pose, keyframes_[static_cast<size_t>(i)].scan);
+}
+
+void Slam::markGlobalMapStale()
+{
+  global_ = OccupancyGrid(params_.grid);  // its memory is not needed until it is rendered again
+  global_stale_ = true;
   ++map_version_;
 }
 
@@ -601,7 +637,7 @@ bool Slam::applyClosure(const std::vector<PoseGraphEdge>& added, const LoopMatch
   for (size_t i = 0; i < keyframes_.size(); ++i)
     keyframes_[i].pose = graph_.node(static_cast<int>(i));
   coarse_stale_ = true;
-  renderGlobalMap();
+  markGlobalMapStale();
   rebuildLocalMaps();
   return true;
 }
