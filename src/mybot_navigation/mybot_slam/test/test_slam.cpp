@@ -158,6 +158,27 @@ TEST(Slam, TheMapAfterLoopClosuresShowsEveryKeyframeWhereTheGraphPutIt)
   EXPECT_GT(known, 1000);
 }
 
+TEST(Slam, AGlobalMatchsCandidateIsAKeyframeOfTheMapItWasMatchedAgainst)
+{
+  // A first corridor along y = 1 (keyframes 0-9), a long tour, and a return drawn 0.9 m off,
+  // over the corridor, by a drifted estimate (keyframes 100-119). A global search at keyframe 119
+  // matched against the keyframes [0, 100) puts the robot at (3, 0): its closure must tie it to
+  // the corridor's keyframe 3, not to the return's own keyframe 105 drawn nearer that pose.
+  std::vector<Keyframe> kfs(120);
+  for (int i = 0; i < 120; ++i)
+  {
+    kfs[static_cast<size_t>(i)].travelled = i < 100 ? i : 1000.0 + (i - 100);
+    kfs[static_cast<size_t>(i)].pose = i < 10    ? Pose2D{double(i), 1.0, 0.0}
+                                       : i < 100 ? Pose2D{100.0 + i, 50.0, 0.0}
+                                                 : Pose2D{double(i - 102), 0.1, 0.0};
+  }
+  const Pose2D matched{3.0, 0.0, 0.0};
+  EXPECT_EQ(nearestLoopCandidate(kfs, 119, matched, 119, 4.0, 8.0), 105);  // every keyframe 8 m back
+  EXPECT_EQ(nearestLoopCandidate(kfs, 119, matched, 100, 4.0, 8.0), 3);    // the coarse map's only
+  EXPECT_EQ(nearestLoopCandidate(kfs, 119, matched, 119, 4.0, 15.0), 3);   // 105 is 14 m back
+  EXPECT_EQ(nearestLoopCandidate(kfs, 119, Pose2D{50.0, 0.0, 0.0}, 119, 4.0, 8.0), -1);
+}
+
 TEST(Slam, MapConsistencyRanksMapsAsGroundTruthDoes)
 {
   // The final optimisation is judged without ground truth, by how well the keyframes agree with

@@ -225,6 +225,11 @@ struct SlamStats
 // several were), then the closure matched at this keyframe, accepted, held or rejected.
 std::vector<LoopClosureRecord> loopClosureEvents(const SlamStats& before, const SlamStats& after);
 
+// The loop-closure candidate for keyframe `current` at `around`: the nearest keyframe within
+// `radius` of it among keyframes [0, end) at least `min_travel` of path before `current`; -1 if none.
+int nearestLoopCandidate(const std::vector<Keyframe>& keyframes, int current, const Pose2D& around, int end,
+                         double radius, double min_travel);
+
 class Slam
 {
 public:
@@ -308,8 +313,8 @@ private:
     Pose2D correction;               // the matched pose in the estimate's frame
     bool global = false;             // found by a global search (or agreeing with one)
   };
-  // The nearest keyframe far enough back within loop_search_radius of `around`, or -1.
-  int findLoopCandidate(int current, const Pose2D& around) const;
+  // nearestLoopCandidate with loop_search_radius and loop_min_travel, among keyframes [0, end).
+  int findLoopCandidate(int current, const Pose2D& around, int end) const;
   void expireHeldClosures();  // a held closure not seen again in time is dropped
   // Global search (global_search.cpp), when drift may have carried the estimate beyond the
   // local search: the current keyframe's pose in the older map, or false if nothing matched.
