@@ -113,17 +113,6 @@ struct SlamParams
   int loop_weak_confirmations = 3;
   double loop_confirm_tolerance = 0.1;  // m (and 0.05 rad)
   int loop_confirm_attempts = 2;        // later attempts a held closure waits for its confirmation
-  // While a closure is held, one is attempted every loop_confirm_check_interval keyframes
-  // instead of every loop_check_interval, and the held one waits as many keyframes as before
-  // (loop_confirm_attempts * loop_check_interval): a closure found as the path ends is confirmed
-  // or dropped before it does (slam_loop_closure seed 15 ended with a true 0.2 m closure held).
-  // An attempt confirms a held closure only from loop_confirm_min_gap keyframes after it: the
-  // next keyframe sees nearly the same scan, which is no second opinion. In the simulator's 60
-  // recorded slam_loop_closure replays 59 passed with 1 / 2 against 56 with 3 / 0, and the
-  // closed loop's ATE fell from 5.3 to 5.0 cm mean (7.9 to 7.0 worst); on the real logs the
-  // figures moved within their own spread when a few first scans are dropped (README).
-  int loop_confirm_check_interval = 1;
-  int loop_confirm_min_gap = 2;
 
   // Global loop search (global_search.cpp): every loop_global_interval of path, once the drift
   // possible since an older keyframe (loop_max_correction*) exceeds the local window, the last
@@ -377,7 +366,6 @@ private:
     Pose2D map_correction;  // estimate -> closure pose, as a map-frame transform
     LoopClosureRecord record;
     int attempts_left = 0;
-    int keyframe = -1;       // where it was found
     bool strong = false;     // scored at least loop_min_score_large (or a small correction)
     bool global = false;     // proposed by a global search, or agreeing with one
     double travelled = 0.0;  // path length at the attempt (global ones wait by distance)

@@ -159,8 +159,7 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   }
   addKeyframe(stamp, odom, scan, predicted);
   const int index = static_cast<int>(keyframes_.size()) - 1;
-  const int interval = held_.empty() ? params_.loop_check_interval : params_.loop_confirm_check_interval;
-  if (params_.loop_closure && index - last_loop_attempt_ >= interval)
+  if (params_.loop_closure && index - last_loop_attempt_ >= params_.loop_check_interval)
     tryLoopClosure(index);
 
   const Keyframe& now = keyframes_.back();
@@ -548,11 +547,7 @@ bool Slam::confirmClosure(int current, int candidate, LoopMatch& match, std::vec
     now.edge = edge;
     now.map_correction = compose(match.result.pose, inverse(kf.pose));
     now.record = stats_.last_closure;
-    // As many keyframes as loop_confirm_attempts attempts at the usual interval would take.
-    now.attempts_left =
-        (params_.loop_confirm_attempts * params_.loop_check_interval + params_.loop_confirm_check_interval - 1) /
-        params_.loop_confirm_check_interval;
-    now.keyframe = current;
+    now.attempts_left = params_.loop_confirm_attempts;
     now.strong = moved <= params_.loop_large_correction || match.result.score >= params_.loop_min_score_large;
     now.global = match.global;
     now.travelled = kf.travelled;
@@ -563,8 +558,6 @@ bool Slam::confirmClosure(int current, int candidate, LoopMatch& match, std::vec
     bool strong = now.strong;
     for (size_t i = 0; i < held_.size(); ++i)
     {
-      if (current - held_[i].keyframe < params_.loop_confirm_min_gap)
-        continue;
       const Pose2D b = compose(held_[i].map_correction, kf.pose);
       // Global hits are a coarse cell apart at best, and loop_global_interval of path apart.
       const double tolerance = match.global || held_[i].global
