@@ -283,6 +283,67 @@ TEST(Slam, PlaceScansPullsATrackedScanOntoTheKeyframesAroundIt)
   EXPECT_THROW(slam.placeScans({{static_cast<int>(kfs.size()), off, {}}}), std::out_of_range);
 }
 
+namespace
+{
+// The office loop with a 2.5 Hz, 181-beam laser whose odometry, between 15 s and 20 s, reports
+// each step's translation backwards while the robot drives on at 0.5 m/s: each scan's odometry
+// prediction lands 0.4 m from where the scan was taken, beyond the matcher's 0.3 m window (as
+// FR079's odometry did for 10 s, at 0.2 m a scan).
+struct BackwardOdometryRun
+{
+  Score score;
+  int motion_fallbacks = 0;
+};
+
+BackwardOdometryRun driveWithBackwardOdometry(bool motion_fallback)
+{
+  const GridMap world = officeWorld(0.01);
+  LaserSpec laser;
+  laser.rate = 2.5;
+  laser.beams = 181;
+  OdometryNoise noise;
+  noise.alpha_trans = 0.02;
+  noise.alpha_rot = 0.02;
+  DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 5);
+  SlamParams p = testParams();
+  p.track_motion_fallback = motion_fallback;
+  Slam slam(p);
+  Pose2D reported, last;
+  bool started = false;
+  const OfflineRun run = runSlamOnDrive(slam, drive, laser, 30.0,
+                                        [&](const DriveSample& s)
+                                        {
+                                          if (!started)
+                                            reported = last = s.odom;
+                                          started = true;
+                                          Pose2D step = between(last, s.odom);
+                                          last = s.odom;
+                                          if (s.stamp >= 15.0 && s.stamp < 20.0)
+                                            step = Pose2D{-step.x, -step.y, step.theta};
+                                          reported = compose(reported, step);
+                                          return reported;
+                                        });
+  return {evaluate(slam, run, world), slam.stats().motion_fallbacks};
+}
+}  // namespace
+
+TEST(Slam, TrackingFollowsTheMapWhereTheOdometryReportsTheWrongDirection)
+{
+  const BackwardOdometryRun without = driveWithBackwardOdometry(false), with = driveWithBackwardOdometry(true);
+  std::printf(
+      "without the motion fallback: ATE %.3f m, precision %.3f; with: ATE %.3f m, precision %.3f "
+      "(%d scans placed by it)\n",
+      without.score.ate, without.score.map.precision, with.score.ate, with.score.map.precision, with.motion_fallbacks);
+  // Measured: ATE 0.886 m, precision 0.165 without; 0.495 m, 0.315 with (4 scans placed by it).
+  // It recovers only part of it here: once a scan has followed the odometry, the map's last step
+  // points the odometry's way too and the fallback no longer applies. On FR079's perturbed
+  // replays it recovered all of it (worst relation 0.565 -> 0.196 m); README, known limits.
+  EXPECT_EQ(without.motion_fallbacks, 0);
+  EXPECT_GT(with.motion_fallbacks, 0);
+  EXPECT_LT(with.score.ate, 0.6 * without.score.ate);
+  EXPECT_GT(with.score.map.precision, without.score.map.precision + 0.1);
+}
+
 TEST(Slam, BadInputIsReportedNotFatal)
 {
   Slam slam(testParams());

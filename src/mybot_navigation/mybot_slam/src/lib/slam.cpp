@@ -152,13 +152,26 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   const bool moved = translationNorm(delta) >= params_.linear_update ||
                      std::abs(delta.theta) >= params_.angular_update ||
                      (params_.temporal_update >= 0.0 && stamp - last.stamp >= params_.temporal_update);
+  Pose2D motion_pose;
+  const Pose2D* from_motion = predictFromMotion(stamp, predicted, motion_pose) ? &motion_pose : nullptr;
+  const Pose2D before = tracked_;
+  const double before_stamp = tracked_stamp_;
+  auto remember = [&](bool valid)
+  {
+    prev_tracked_ = before;
+    prev_tracked_stamp_ = before_stamp;
+    tracked_stamp_ = stamp;
+    have_motion_ = valid && before_stamp > 0.0;
+  };
   if (!moved || scan.hits.size() < 3)
   {
-    trackScan(odom, scan, predicted);
+    trackScan(odom, scan, predicted, from_motion);
+    remember(true);
     return moved ? ScanOutcome::NoValidPoints : ScanOutcome::Skipped;
   }
-  addKeyframe(stamp, odom, scan, predicted);
+  addKeyframe(stamp, odom, scan, predicted, from_motion);
   const int index = static_cast<int>(keyframes_.size()) - 1;
+  const int closures = stats_.loop_closures;
   if (params_.loop_closure && index - last_loop_attempt_ >= params_.loop_check_interval)
     tryLoopClosure(index);
 
@@ -167,6 +180,7 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   current_pose_ = tracked_ = now.pose;
   tracked_odom_ = now.odom;
   last_scan_in_keyframe_ = Pose2D{};
+  remember(stats_.loop_closures == closures);  // a closure moved the poses the step is taken from
   return ScanOutcome::Processed;
 }
 
@@ -193,7 +207,43 @@ ScanOutcome Slam::startMap(double stamp, const Pose2D& odom, const RangeScan& sc
   return ScanOutcome::Processed;
 }
 
-void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted)
+bool Slam::predictFromMotion(double stamp, const Pose2D& predicted, Pose2D& from_motion) const
+{
+  if (!params_.track_motion_fallback || !params_.track_every_scan || !have_motion_ ||
+      tracked_stamp_ <= prev_tracked_stamp_)
+    return false;
+  // The map's last step scaled to this scan's interval (a dropped scan doubles it; after a gap
+  // of more than three steps it says nothing of the motion now).
+  const double ratio = (stamp - tracked_stamp_) / (tracked_stamp_ - prev_tracked_stamp_);
+  if (ratio <= 0.0 || ratio > 3.0)
+    return false;
+  const Pose2D step = between(prev_tracked_, tracked_);
+  from_motion = compose(tracked_, Pose2D{step.x * ratio, step.y * ratio, step.theta * ratio});
+  // Only odometry that reverses what the map just saw: a fallback wherever the odometry's match
+  // fails changed which closures ACES and the hospital found, and lost a loop in each.
+  const Pose2D by_odom = between(tracked_, predicted), by_map = between(tracked_, from_motion);
+  return by_odom.x * by_map.x + by_odom.y * by_map.y < 0.0 && translationNorm(by_odom) > 0.03 &&
+         translationNorm(by_map) > 0.03;
+}
+
+MatchResult Slam::matchFromMotion(const Pose2D& predicted, const Pose2D* from_motion,
+                                  const std::vector<Point2D>& points)
+{
+  MatchResult none;
+  none.ok = false;
+  // Where the two predictions are within the lookup field's fall-off, the first match said all.
+  if (from_motion == nullptr || (translationNorm(between(predicted, *from_motion)) < 2.0 * params_.match_sigma &&
+                                 std::abs(wrapAngle(from_motion->theta - predicted.theta)) < 0.05))
+    return none;
+  const std::vector<Point2D> pts = localPointsInReach(*from_motion, points);
+  const MatchResult res = matchLocal(*from_motion, pts);
+  if (!res.ok || res.score - scorePose(local_field_, pts, predicted) < params_.track_min_gain)
+    return none;
+  ++stats_.motion_fallbacks;
+  return res;
+}
+
+void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted, const Pose2D* from_motion)
 {
   const Keyframe& last = keyframes_.back();
   const Pose2D last_tracked = tracked_;
@@ -208,6 +258,8 @@ void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& pr
     // only where the match explains clearly more of the scan.
     if (res.ok && res.score - scorePose(local_field_, points, predicted) < params_.track_min_gain)
       res.ok = false;
+    if (!res.ok)
+      res = matchFromMotion(predicted, from_motion, voxelFilter(scan.hits, params_.match_point_spacing));
     if (res.ok)
       tracked_ = res.pose;
     if (res.ok && params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0)
@@ -232,7 +284,8 @@ void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& pr
   last_scan_in_keyframe_ = between(last.pose, current_pose_);
 }
 
-void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted)
+void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted,
+                       const Pose2D* from_motion)
 {
   const Keyframe& last = keyframes_.back();
   const Pose2D delta = between(last.odom, odom);
@@ -244,7 +297,9 @@ void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, 
   kf.travelled = last.travelled + translationNorm(delta);
   current_pose_ = predicted;
 
-  const MatchResult res = matchLocal(predicted, localPointsInReach(predicted, kf.match_points));
+  MatchResult res = matchLocal(predicted, localPointsInReach(predicted, kf.match_points));
+  if (!res.ok)
+    res = matchFromMotion(predicted, from_motion, kf.match_points);
   PoseGraphEdge edge;
   edge.from = static_cast<int>(keyframes_.size()) - 1;
   edge.sigma_xy = params_.sigma_xy;

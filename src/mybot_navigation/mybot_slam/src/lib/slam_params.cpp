@@ -95,6 +95,8 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
       number(
           "track_min_gain", [](P& p) -> double& { return p.slam.track_min_gain; },
           [](double v) { return v >= 0 && v < 1; }, "in [0, 1)"),
+      {"track_motion_fallback", T::Boolean, nullptr, nullptr,
+       [](P& p) -> bool& { return p.slam.track_motion_fallback; }, [](double) { return true; }, "a bool"},
       {"weak_step_cauchy", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.weak_step_cauchy; },
        [](double) { return true; }, "a bool"},
       {"keep_grazing_surfaces", T::Boolean, nullptr, nullptr,
