@@ -250,8 +250,8 @@ void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& pr
   tracked_ = predicted;
   if (params_.track_every_scan && scan.hits.size() >= 3)
   {
-    const std::vector<Point2D> points =
-        localPointsInReach(predicted, voxelFilter(scan.hits, params_.match_point_spacing));
+    const std::vector<Point2D> filtered = voxelFilter(scan.hits, params_.match_point_spacing);
+    const std::vector<Point2D> points = localPointsInReach(predicted, filtered);
     MatchResult res = matchLocal(predicted, points);
     // Along a corridor the match is flat but for small bumps, and every scan that followed one
     // would carry its error into the next prediction: the tracked pose leaves the odometry's
@@ -259,7 +259,7 @@ void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& pr
     if (res.ok && res.score - scorePose(local_field_, points, predicted) < params_.track_min_gain)
       res.ok = false;
     if (!res.ok)
-      res = matchFromMotion(predicted, from_motion, voxelFilter(scan.hits, params_.match_point_spacing));
+      res = matchFromMotion(predicted, from_motion, filtered);
     if (res.ok)
       tracked_ = res.pose;
     if (res.ok && params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0)
