@@ -72,6 +72,20 @@ TEST(Relations, MissingStampsAreCountedNotGuessed)
   EXPECT_EQ(s.translation.count, 40);
 }
 
+// Intel's log stamps bursts of scans under 1 ms apart: a relation names one of them, and the
+// scan stamped nearest to it is the one meant, not the first within the tolerance.
+TEST(Relations, AStampTakesTheNearestPoseNotTheFirstWithinTheTolerance)
+{
+  const auto truth = square();
+  auto est = truth;
+  // Another scan 0.9 ms before pose 10's, from 3 m away: within the 1 ms tolerance.
+  est.push_back({truth[10].stamp - 0.0009, compose(truth[10].pose, {3.0, 0.0, 1.0})});
+  const RelationScore s = scoreRelations(est, relationsOf(truth));
+  EXPECT_EQ(s.missing, 0);
+  EXPECT_NEAR(s.translation.max, 0.0, 1e-9);
+  EXPECT_NEAR(s.rotation_deg.max, 0.0, 1e-9);
+}
+
 TEST(Relations, FileIsReadAndBadLinesNamed)
 {
   const std::string path = "/tmp/test_relations.relations";

@@ -72,9 +72,9 @@ struct StampedPose
   Pose2D pose;
 };
 
-// `trajectory`: poses by scan stamp (any order); a relation's stamps must match one within
-// `stamp_tolerance` s. Relations under `local_max_dt` s apart count as local (2 s: consecutive
-// scans and short stretches, where odometry alone does well).
+// `trajectory`: poses by scan stamp (any order); a relation's stamp takes the pose stamped
+// nearest to it, within `stamp_tolerance` s (none there: the relation is missing). Relations under `local_max_dt` s
+// apart count as local (2 s: consecutive scans and short stretches, where odometry alone does well).
 RelationScore scoreRelations(const std::vector<StampedPose>& trajectory, const std::vector<Relation>& relations,
                              double local_max_dt = 2.0, double stamp_tolerance = 1e-3);
 
