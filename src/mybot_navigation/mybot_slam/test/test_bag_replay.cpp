@@ -47,13 +47,14 @@ TEST(BagReplay, IntelFirstMinutesOnTheirRelations)
               slam_score.translation.count, slam_score.translation.mean, slam_score.translation.std,
               slam_score.translation.max, slam_score.rotation_deg.mean, odom_score.translation.mean,
               odom_score.rotation_deg.mean);
-  // The mapper corrects the odometry's heading (0.23 against 1.37 deg on 2026-11-27) and, since
+  // The mapper corrects the odometry's heading (0.19 against 1.36 deg on 2026-11-28) and, since
   // every scan is tracked against the local map and then placed against the keyframes around it
-  // (Slam::placeScans), its translation too (0.0188 against 0.0240 m; 0.0203 with scans as
-  // tracked, 0.026 when only keyframes were matched). The replay is deterministic: same figures
+  // (Slam::placeScans, with its point-to-line step), its translation too: 0.0154 against
+  // 0.0231 m (0.0188 against 0.0240 before that step and before the scorer took the nearest
+  // stamp; 0.026 when only keyframes were matched). The replay is deterministic: same figures
   // every run.
   EXPECT_LT(slam_score.rotation_deg.mean, 0.5 * odom_score.rotation_deg.mean);
-  EXPECT_LT(slam_score.translation.mean, 0.9 * odom_score.translation.mean);
+  EXPECT_LT(slam_score.translation.mean, 0.75 * odom_score.translation.mean);
   // Kuemmerle et al.'s published figure for the whole log, RBPF (gmapping class): 0.070 m.
   EXPECT_LT(slam_score.translation.mean, 0.070);
 }

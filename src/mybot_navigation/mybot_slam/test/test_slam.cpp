@@ -262,10 +262,13 @@ TEST(Slam, PlaceScansPullsATrackedScanOntoTheKeyframesAroundIt)
       "placeScans: %zu of %zu scans matched, translation error median %.4f m, 90th percentile %.4f, "
       "worst %.4f (handed over 0.072 m off)\n",
       errors.size(), scans.size() - 1, median, p90, errors.back());
-  // 2026-11-27: 40 of 48 matched, median 0.0094 m, 90th percentile 0.0167, worst 0.0267.
+  // 2026-11-27, the grid match alone: 40 of 48 matched, median 0.0094 m, 90th percentile 0.0167,
+  // worst 0.0267. 2026-11-28, with the point-to-line step (final_scan_point_to_line), which also
+  // pins the corridors' scans across them: 48 of 48, median 0.0063, 90th percentile 0.0121,
+  // worst 0.0258.
   EXPECT_GE(errors.size(), 3 * (scans.size() - 1) / 4);
-  EXPECT_LT(median, 0.012);
-  EXPECT_LT(p90, 0.02);
+  EXPECT_LT(median, 0.009);
+  EXPECT_LT(p90, 0.016);
   EXPECT_LT(errors.back(), 0.036);  // half the offset it was handed over with
   const Pose2D kept = compose(kfs[3].pose, off);
   EXPECT_NEAR(placed.back().x, kept.x, 1e-12);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "mybot_slam/point_to_line.h"
 #include "mybot_slam/slam.h"
 
 namespace mybot_navigation
@@ -204,6 +205,13 @@ std::vector<Pose2D> Slam::placeScans(const std::vector<ScanToPlace>& scans) cons
     for (int j = std::max(0, first - w); j <= std::min(nk - 1, last + w); ++j)
       grid.insertScan(keyframes_[static_cast<size_t>(j)].pose, keyframes_[static_cast<size_t>(j)].scan);
     const MatchField field(grid, params_.match_sigma, matchFieldLevels(kWindowLinear, grid.resolution()));
+    // The same keyframes' hits as lines, for the sub-cell step (final_scan_point_to_line).
+    std::vector<Point2D> hits;
+    if (params_.final_scan_point_to_line)
+      for (int j = std::max(0, first - w); j <= std::min(nk - 1, last + w); ++j)
+        for (const Point2D& h : keyframes_[static_cast<size_t>(j)].scan.hits)
+          hits.push_back(transformPoint(keyframes_[static_cast<size_t>(j)].pose, h));
+    const LineReference lines(hits);
     for (size_t i : by_block[b])
     {
       MatchRequest req;
@@ -215,6 +223,15 @@ std::vector<Pose2D> Slam::placeScans(const std::vector<ScanToPlace>& scans) cons
       // A corridor pins nothing along it: there the tracked pose (odometry's) stays.
       if (res.ok && translationConstraintRatio(field, scans[i].points, res.pose) >= params_.loop_min_constraint_ratio)
         out[i] = res.pose;
+      // The grid match is as good as its 5 cm lattice; the hits themselves place the scan
+      // within millimetres of the walls they draw. In a corridor the point-to-line prior keeps
+      // the pose along it and the walls pin it across.
+      if (params_.final_scan_point_to_line)
+      {
+        const PointToLineResult fine = refinePointToLine(lines, scans[i].points, out[i]);
+        if (fine.ok)
+          out[i] = fine.pose;
+      }
     }
   }
   return out;

@@ -176,6 +176,8 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
       integer(
           "final_scan_keyframes", [](P& p) -> int& { return p.slam.final_scan_keyframes; }, 0,
           "an integer >= 0 (0: scans stay where tracking put them)"),
+      {"final_scan_point_to_line", T::Boolean, nullptr, nullptr,
+       [](P& p) -> bool& { return p.slam.final_scan_point_to_line; }, [](double) { return true; }, "a bool"},
   };
   return specs;
 }
