@@ -101,3 +101,58 @@ TEST(BagReplay, OdometryFromTfEqualsTheOdometryTopic)
   EXPECT_GT(c.scans_without_odometry, 100u);
   EXPECT_TRUE(slam_wrong.keyframes().empty());
 }
+
+// CARMEN's beam angles for the converter's derived ones, and nothing else.
+TEST(BagReplay, CarmenFlaserStepOnlyForTheConvertersDerivedAngles)
+{
+  EXPECT_DOUBLE_EQ(carmenFlaserStep(-M_PI / 2, M_PI / 179, 180), M_PI / 180);  // Intel, ACES
+  EXPECT_DOUBLE_EQ(carmenFlaserStep(-M_PI / 2, M_PI / 359, 360), M_PI / 360);  // FR079
+  EXPECT_EQ(carmenFlaserStep(-M_PI / 2, M_PI / 180, 181), 0.0);                // a SICK's own 181 readings
+  EXPECT_EQ(carmenFlaserStep(-1.566433, M_PI / 180, 180), 0.0);                // the hospital's ROBOTLASER1
+  EXPECT_EQ(carmenFlaserStep(-M_PI / 2, M_PI / 179, 1), 0.0);
+}
+
+// Intel's first 4 minutes with CARMEN's beam angles (-90 + i deg) instead of the bag's 180/179 deg
+// steps: every scan is re-angled and the relations agree better (the bag's stretch bends walls
+// by up to 0.5 deg at the scan's ends). A bag whose scans do not have the derived angles is
+// refused, not silently left as it is.
+TEST(BagReplay, CarmenAnglesOnIntelAndRefusedWhereTheyDoNotApply)
+{
+  if (!std::ifstream(kData + "intel.orig.bag") || !std::ifstream(kData + "fr-clinic_robotlaser.orig.bag"))
+    GTEST_SKIP() << "no " << kData << " logs (the shared datasets sit beside the workspace)";
+  const SlamRunParams params = loadSlamParams(MYBOT_SLAM_SOURCE "/config/slam.yaml");
+  BagReplayOptions options;
+  options.bag = kData + "intel.orig.bag";
+  options.max_log_seconds = 240.0;
+  BagReplayOptions carmen = options;
+  carmen.carmen_angles = true;
+  Slam slam(params.slam), slam_carmen(params.slam);
+  const BagReplayResult as_bagged = replayBag(options, slam, params);
+  const BagReplayResult r = replayBag(carmen, slam_carmen, params);
+  EXPECT_EQ(as_bagged.scans_reangled, 0u);
+  EXPECT_EQ(r.scans_reangled, r.scans);
+  const auto relations = within(readRelations(kData + "intel.relations"), r.first_stamp, r.last_stamp);
+  const RelationScore bagged_score = scoreRelations(as_bagged.trajectory, relations);
+  const RelationScore carmen_score = scoreRelations(r.trajectory, relations);
+  std::printf("Intel, first 240 s: bag's angles %.4f m, %.3f deg; CARMEN's %.4f m, %.3f deg\n",
+              bagged_score.translation.mean, bagged_score.rotation_deg.mean, carmen_score.translation.mean,
+              carmen_score.rotation_deg.mean);
+  EXPECT_LT(carmen_score.translation.mean, bagged_score.translation.mean);
+  EXPECT_LT(carmen_score.rotation_deg.mean, bagged_score.rotation_deg.mean);
+
+  BagReplayOptions hospital = carmen;
+  hospital.bag = kData + "fr-clinic_robotlaser.orig.bag";
+  hospital.odom = "interpolate";
+  Slam slam_hospital(params.slam);
+  try
+  {
+    replayBag(hospital, slam_hospital, params);
+    ADD_FAILURE() << "the hospital's ROBOTLASER1 angles were taken for a FLASER converter's";
+  }
+  catch (const std::runtime_error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("--carmen-angles"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("fr-clinic_robotlaser.orig.bag"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(slam_hospital.keyframes().empty());
+}

@@ -108,6 +108,15 @@ SlamRunParams loadSlamParams(const std::string& path)
   return run;
 }
 
+double carmenFlaserStep(double angle_min, double angle_increment, std::size_t n)
+{
+  // 181 or 361 readings at 180/(n-1) deg are a SICK's own, -90 to +90 deg: those stay.
+  if (n < 2 || n % 180 != 0 || std::abs(angle_min + M_PI / 2) > 1e-6 ||
+      std::abs(angle_increment - M_PI / static_cast<double>(n - 1)) > 1e-6)
+    return 0.0;
+  return M_PI / static_cast<double>(n);
+}
+
 BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRunParams& run,
                           const std::function<void(std::size_t, std::size_t)>& progress)
 {
@@ -210,6 +219,23 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
     }
     if (opt.max_log_seconds > 0.0 && stamp - result.first_stamp > opt.max_log_seconds)
       break;
+    double angle_increment = scan->angle_increment;
+    if (opt.carmen_angles)
+    {
+      const double step = carmenFlaserStep(scan->angle_min, scan->angle_increment, scan->ranges.size());
+      if (step > 0.0)
+      {
+        angle_increment = step;
+        ++result.scans_reangled;
+      }
+      else if (result.scans_reangled == 0)
+        throw std::runtime_error(opt.bag + ": --carmen-angles: the first scan on " + opt.scan_topic + " (" +
+                                 std::to_string(scan->ranges.size()) + " beams, angle_min " +
+                                 std::to_string(scan->angle_min) + " rad, angle_increment " +
+                                 std::to_string(scan->angle_increment) +
+                                 " rad) does not have the angles a CARMEN FLASER converter derives (-pi/2, "
+                                 "pi/(n-1)): nothing to correct");
+    }
     result.first_stamp = std::min(result.first_stamp, stamp);
     result.last_stamp = std::max(result.last_stamp, stamp);
     // The scan's place relative to its keyframe: as the Slam tracked it, else by odometry.
@@ -218,8 +244,8 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
     if (slam.wantsScan(stamp, odom))
     {
       const double range_max = run.max_range > 0.0 ? std::min<double>(run.max_range, scan->range_max) : scan->range_max;
-      RangeScan converted = convertRanges(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min,
-                                          range_max, run.max_urange, g);
+      RangeScan converted =
+          convertRanges(scan->ranges, scan->angle_min, angle_increment, scan->range_min, range_max, run.max_urange, g);
       points = voxelFilter(converted.hits, run.slam.match_point_spacing);
       const SlamStats before = slam.stats();
       tracked = slam.addScan(stamp, odom, converted) != ScanOutcome::OutOfOrder;

@@ -3,7 +3,7 @@
 //
 //   rosrun mybot_slam slam_replay --bag FILE --out DIR [--params slam.yaml]
 //        [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate]
-//        [--odom-frame odom [--base-frame base_link]] [--laser-pose X,Y,YAW]
+//        [--odom-frame odom [--base-frame base_link]] [--laser-pose X,Y,YAW] [--carmen-angles]
 //        [--no-final-optimization] [--quiet]
 //
 // Odometry at a scan: `last` (default) takes the pose of the last odometry message before the
@@ -11,6 +11,9 @@
 // interpolates between the odometry messages around the scan's stamp (FR079, whose CARMEN
 // odometry was interpolated). The laser's mounting comes from /tf_static (base -> the scan's frame),
 // or from --laser-pose (m, m, rad in the base frame) where the log's is known to be wrong.
+// --carmen-angles: for bags converted from CARMEN FLASER records with derived angles (-90 deg,
+// 180/(n-1) deg steps, as ../shared's Intel, ACES and FR079), each beam at CARMEN's -90 + i*180/n
+// deg instead (carmenFlaserStep); an error if the first scan does not have the derived angles.
 // --odom-frame takes the odometry from the bag's tf instead, as slam_node does: odom -> base frame
 // at each scan's stamp (a robot's bag often has /tf and no odometry topic), and the mounting from tf.
 // --no-final-optimization leaves out the last step (slam_node's finish_trajectory): the result is
@@ -51,6 +54,7 @@ struct Options
   bool final_optimization = true;
   bool override_mount = false;
   mybot_navigation::Pose2D mount;
+  bool carmen_angles = false;
 };
 
 [[noreturn]] void usage(const std::string& error)
@@ -58,7 +62,7 @@ struct Options
   std::fprintf(stderr,
                "slam_replay: %s\nusage: slam_replay --bag FILE --out DIR [--params slam.yaml] [--scan-topic /scan] "
                "[--odom-topic /odom] [--odom last|interpolate] [--odom-frame odom [--base-frame base_link]] "
-               "[--laser-pose X,Y,YAW] [--no-final-optimization] [--quiet]\n",
+               "[--laser-pose X,Y,YAW] [--carmen-angles] [--no-final-optimization] [--quiet]\n",
                error.c_str());
   std::exit(2);
 }
@@ -106,6 +110,8 @@ Options parseArgs(int argc, char** argv)
         usage("--laser-pose must be X,Y,YAW (m, m, rad), got " + v);
       o.override_mount = true;
     }
+    else if (a == "--carmen-angles")
+      o.carmen_angles = true;
     else if (a == "--quiet")
       o.quiet = true;
     else if (a == "--no-final-optimization")
@@ -167,6 +173,7 @@ int main(int argc, char** argv)
   ro.base_frame = opt.base_frame;
   ro.override_mount = opt.override_mount;
   ro.mount = opt.mount;
+  ro.carmen_angles = opt.carmen_angles;
   ro.final_optimization = opt.final_optimization;
   int percent = -1;
   BagReplayResult r;
@@ -230,13 +237,13 @@ int main(int argc, char** argv)
   std::snprintf(timing, sizeof timing,
                 "{\n  \"bag\": \"%s\",\n  \"scans\": %zu,\n  \"keyframes\": %zu,\n  \"loop_closures\": %d,\n"
                 "  \"global_searches\": %d,\n  \"global_matches\": %d,\n  \"global_closures\": %d,\n"
-                "  \"weak_matches\": %d,\n  \"motion_fallbacks\": %d,\n"
+                "  \"weak_matches\": %d,\n  \"motion_fallbacks\": %d,\n  \"scans_reangled\": %zu,\n"
                 "  \"log_span_s\": %.3f,\n  \"cpu_s\": %.3f,\n  \"wall_s\": %.3f,\n  \"realtime_factor\": %.2f,\n"
                 "  \"peak_rss_mb\": %.1f\n}\n",
                 opt.bag.c_str(), r.scans, slam.keyframes().size(), slam.stats().loop_closures,
                 slam.stats().loop_global_attempts, slam.stats().loop_global_matches, slam.stats().loop_global_closures,
-                slam.stats().weak_matches, slam.stats().motion_fallbacks, span, cpu, wall, cpu > 0 ? span / cpu : 0.0,
-                u.ru_maxrss / 1024.0);
+                slam.stats().weak_matches, slam.stats().motion_fallbacks, r.scans_reangled, span, cpu, wall,
+                cpu > 0 ? span / cpu : 0.0, u.ru_maxrss / 1024.0);
   try
   {
     const GridMap map = slam.map();

@@ -33,7 +33,19 @@ struct BagReplayOptions
   // recorded mounting is known to be wrong, or that has none).
   bool override_mount = false;
   Pose2D mount;
+  // Scans whose angles are the ones the shared datasets' converter derived for a CARMEN FLASER
+  // record (carmenFlaserStep) get CARMEN's own: -90 deg + i * 180 / n deg. The first scan must
+  // have them (else std::runtime_error: the option does not apply to this bag).
+  bool carmen_angles = false;
 };
+
+// A CARMEN FLASER record carries n ranges and no angles; CARMEN and GMapping read beam i at
+// -90 deg + i * 180 / n deg (1 deg steps for 180 beams, 0.5 for 360: a SICK's 181 or 361 readings
+// less the last). The shared datasets' converter wrote -90 deg and 180 / (n - 1) deg steps, which
+// stretch the scan by 1 / (n - 1): 0.5 deg at the last of 180 beams, 9 cm at 10 m. Returns
+// CARMEN's step (rad) where a scan of 180 or 360 beams declares that converter's angle_min and
+// angle_increment (to 1e-6 rad), 0 otherwise (181 or 361 readings at 180/(n-1) deg are right).
+double carmenFlaserStep(double angle_min, double angle_increment, std::size_t n);
 
 struct BagReplayResult
 {
@@ -42,6 +54,7 @@ struct BagReplayResult
   std::vector<LoopClosureRecord> closures;  // every closure matched, held, dropped or rejected, in order
   std::size_t scans = 0;
   std::size_t scans_without_odometry = 0;  // odom_frame: no transform at their stamp, skipped
+  std::size_t scans_reangled = 0;          // carmen_angles: scans given CARMEN's beam angles
   double first_stamp = 0.0, last_stamp = 0.0;
 };
 
