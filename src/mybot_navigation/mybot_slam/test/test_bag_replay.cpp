@@ -47,9 +47,9 @@ TEST(BagReplay, IntelFirstMinutesOnTheirRelations)
               slam_score.translation.count, slam_score.translation.mean, slam_score.translation.std,
               slam_score.translation.max, slam_score.rotation_deg.mean, odom_score.translation.mean,
               odom_score.rotation_deg.mean);
-  // The mapper corrects the odometry's heading (0.19 against 1.36 deg on 2026-11-28) and, since
+  // The mapper corrects the odometry's heading (0.17 against 1.36 deg on 2026-11-28) and, since
   // every scan is tracked against the local map and then placed against the keyframes around it
-  // (Slam::placeScans, with its point-to-line step), its translation too: 0.0154 against
+  // (Slam::placeScans, with its point-to-line step), its translation too: 0.0155 against
   // 0.0231 m (0.0188 against 0.0240 before that step and before the scorer took the nearest
   // stamp; 0.026 when only keyframes were matched). The replay is deterministic: same figures
   // every run.

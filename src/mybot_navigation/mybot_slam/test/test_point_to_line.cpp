@@ -67,6 +67,21 @@ TEST(LineReference, FitsTheNormalOfTheWallThroughEachPointAndNoneAtACorner)
   EXPECT_EQ(blob.size(), 0u);
 }
 
+// A far wall, its hits 0.2 m apart (1 deg beams at 11.5 m): no line within 0.15 m of a hit, one
+// within the wider sparse radius.
+TEST(LineReference, ASparseFarWallGetsItsLineFromTheWiderNeighbourhood)
+{
+  std::vector<Point2D> pts;
+  addWall(pts, {11.5, -3}, {11.5, 3}, 0.2);
+  EXPECT_EQ(LineReference(pts, 0.15, 0.05, 0.0).size(), 0u);
+  const LineReference ref(pts);
+  EXPECT_EQ(ref.size(), pts.size() - 2) << "all but the two ends, which have one neighbour";
+  Point2D q, n;
+  ASSERT_TRUE(ref.nearest({11.45, 0.03}, 0.1, q, n));
+  EXPECT_NEAR(std::abs(n.x), 1.0, 1e-9);
+  EXPECT_NEAR(q.x, 11.5, 1e-9);
+}
+
 TEST(PointToLine, RecoversASubCellOffsetThatTheGridCannotSee)
 {
   const std::vector<Point2D> world = room();

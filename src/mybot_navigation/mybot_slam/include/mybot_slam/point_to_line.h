@@ -21,8 +21,13 @@ class LineReference
 {
 public:
   // neighbour_radius: the neighbourhood a normal is fitted to (m); max_flatness: the largest
-  // ratio of the fit's smaller to larger spread (eigenvalue) that still counts as a line.
-  LineReference(const std::vector<Point2D>& points, double neighbour_radius = 0.15, double max_flatness = 0.05);
+  // ratio of the fit's smaller to larger spread (eigenvalue) that still counts as a line;
+  // sparse_radius: where no line fits within neighbour_radius, the wider neighbourhood tried next.
+  // A laser's hits thin out with range (1 deg beams: 0.15 m apart at 8.6 m), and in a corridor
+  // the far walls across it are what pins the pose along it: on ACES (50 m laser, long
+  // corridors) 0.15 alone left them unmatched, 0.3 alone blurred Intel's near corners.
+  LineReference(const std::vector<Point2D>& points, double neighbour_radius = 0.15, double max_flatness = 0.05,
+                double sparse_radius = 0.3);
 
   size_t size() const { return points_.size(); }
   // The reference point with a normal nearest to `w` within max_distance (m); false if none.
@@ -32,7 +37,11 @@ public:
 private:
   using Buckets = std::unordered_map<int64_t, std::vector<int>>;
   template <typename F>
-  void forEachNear(const Buckets& buckets, int cx, int cy, F&& f) const;
+  void forEachNear(const Buckets& buckets, int cx, int cy, int ring, F&& f) const;
+  // The line through p's neighbours within radius: their mean and unit normal; false if they are
+  // fewer than three or not a line.
+  bool fitLine(const std::vector<Point2D>& points, const Buckets& all, const Point2D& p, double radius,
+               double max_flatness, Point2D& mean, Point2D& normal) const;
   int64_t key(int cx, int cy) const
   {
     return (static_cast<int64_t>(cx) << 32) ^ (static_cast<int64_t>(cy) & 0xffffffffLL);

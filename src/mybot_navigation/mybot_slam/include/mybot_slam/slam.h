@@ -165,10 +165,12 @@ struct SlamParams
   int final_scan_keyframes = 10;
   // ... and then refined against those keyframes' hits by point-to-line registration
   // (point_to_line.h: each scan point's distance to the line through the hits near it), which
-  // is not bound to the grid's cells. Real logs (2026-11-28, against off): Intel 0.0179 ->
-  // 0.0148 m, FR079 0.0327 -> 0.0313, ACES 0.0382 -> 0.0381, the hospital 0.1077 -> 0.1076;
-  // Intel with 3 / 7 first scans dropped 0.0183 / 0.0188 -> 0.0150 / 0.0160. Keyframes are not
-  // moved by it, so loop closures and the map are as without it.
+  // is not bound to the grid's cells. Real logs (2026-11-28, against off, the bags' beam angles):
+  // Intel 0.0179 -> 0.0148 m, FR079 0.0327 -> 0.0313, ACES 0.0382 -> 0.0381, the hospital
+  // 0.1077 -> 0.1076; with lines also fitted to sparse far hits (LineReference's sparse_radius)
+  // and CARMEN's beam angles (slam_replay --carmen-angles) Intel 0.0135, ACES 0.0345, FR079
+  // 0.0303 (README). Keyframes are not moved by it, so loop closures and the map are as
+  // without it.
   bool final_scan_point_to_line = true;
 };
 

@@ -7,13 +7,13 @@
 namespace mybot_navigation
 {
 
-// Calls f(index) for every point hashed into the 3 x 3 cells around (cx, cy): with cells as
-// wide as the search radius, every point within it.
+// Calls f(index) for every point hashed into the (2 ring + 1)^2 cells around (cx, cy): with
+// cells as wide as r, every point within ring * r.
 template <typename F>
-void LineReference::forEachNear(const Buckets& buckets, int cx, int cy, F&& f) const
+void LineReference::forEachNear(const Buckets& buckets, int cx, int cy, int ring, F&& f) const
 {
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx)
+  for (int dy = -ring; dy <= ring; ++dy)
+    for (int dx = -ring; dx <= ring; ++dx)
     {
       const auto it = buckets.find(key(cx + dx, cy + dy));
       if (it != buckets.end())
@@ -27,47 +27,57 @@ int LineReference::cellOf(double v) const
   return static_cast<int>(std::floor(v / cell_));
 }
 
-LineReference::LineReference(const std::vector<Point2D>& points, double neighbour_radius, double max_flatness)
+bool LineReference::fitLine(const std::vector<Point2D>& points, const Buckets& all, const Point2D& p, double radius,
+                            double max_flatness, Point2D& mean_out, Point2D& normal_out) const
+{
+  // The neighbourhood's mean and covariance: a line's points spread along it only.
+  const double r2 = radius * radius;
+  int n = 0;
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d sq = Eigen::Matrix2d::Zero();
+  forEachNear(all, cellOf(p.x), cellOf(p.y), static_cast<int>(std::ceil(radius / cell_ - 1e-9)),
+              [&](int j)
+              {
+                const Point2D& q = points[static_cast<size_t>(j)];
+                if ((q.x - p.x) * (q.x - p.x) + (q.y - p.y) * (q.y - p.y) > r2)
+                  return;
+                const Eigen::Vector2d v(q.x, q.y);
+                sum += v;
+                sq += v * v.transpose();
+                ++n;
+              });
+  if (n < 3)
+    return false;
+  const Eigen::Vector2d mean = sum / n;
+  const Eigen::Matrix2d cov = sq / n - mean * mean.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+  const double lo = eig.eigenvalues()(0), hi = eig.eigenvalues()(1);
+  if (hi <= 0.0 || lo > max_flatness * hi)
+    return false;
+  // The line passes through the neighbourhood's mean: the point itself carries its beam's noise,
+  // the mean less of it.
+  mean_out = {mean.x(), mean.y()};
+  normal_out = {eig.eigenvectors()(0, 0), eig.eigenvectors()(1, 0)};
+  return true;
+}
+
+LineReference::LineReference(const std::vector<Point2D>& points, double neighbour_radius, double max_flatness,
+                             double sparse_radius)
     : cell_(neighbour_radius)
 {
   Buckets all;
   for (size_t i = 0; i < points.size(); ++i)
     all[key(cellOf(points[i].x), cellOf(points[i].y))].push_back(static_cast<int>(i));
-  const double r2 = neighbour_radius * neighbour_radius;
-  for (size_t i = 0; i < points.size(); ++i)
+  for (const Point2D& p : points)
   {
-    const Point2D& p = points[i];
-    const int cx = cellOf(p.x), cy = cellOf(p.y);
-    // The neighbourhood's mean and covariance: a line's points spread along it only.
-    int n = 0;
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    Eigen::Matrix2d sq = Eigen::Matrix2d::Zero();
-    forEachNear(all, cx, cy,
-                [&](int j)
-                {
-                  const Point2D& q = points[static_cast<size_t>(j)];
-                  if ((q.x - p.x) * (q.x - p.x) + (q.y - p.y) * (q.y - p.y) > r2)
-                    return;
-                  const Eigen::Vector2d v(q.x, q.y);
-                  sum += v;
-                  sq += v * v.transpose();
-                  ++n;
-                });
-    if (n < 3)
+    Point2D mean, normal;
+    if (!fitLine(points, all, p, neighbour_radius, max_flatness, mean, normal) &&
+        !(sparse_radius > neighbour_radius && fitLine(points, all, p, sparse_radius, max_flatness, mean, normal)))
       continue;
-    const Eigen::Vector2d mean = sum / n;
-    const Eigen::Matrix2d cov = sq / n - mean * mean.transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
-    const double lo = eig.eigenvalues()(0), hi = eig.eigenvalues()(1);
-    if (hi <= 0.0 || lo > max_flatness * hi)
-      continue;
-    const Eigen::Vector2d normal = eig.eigenvectors().col(0);
-    // The line passes through the neighbourhood's mean: the point itself carries its beam's
-    // noise, the mean less of it.
     const int index = static_cast<int>(points_.size());
-    points_.push_back({mean.x(), mean.y()});
-    normals_.push_back({normal.x(), normal.y()});
-    buckets_[key(cellOf(mean.x()), cellOf(mean.y()))].push_back(index);
+    points_.push_back(mean);
+    normals_.push_back(normal);
+    buckets_[key(cellOf(mean.x), cellOf(mean.y))].push_back(index);
   }
 }
 
@@ -76,7 +86,7 @@ bool LineReference::nearest(const Point2D& w, double max_distance, Point2D& poin
   const int cx = cellOf(w.x), cy = cellOf(w.y);
   double best = max_distance * max_distance;
   int found = -1;
-  forEachNear(buckets_, cx, cy,
+  forEachNear(buckets_, cx, cy, 1,
               [&](int j)
               {
                 const Point2D& q = points_[static_cast<size_t>(j)];
