@@ -22,7 +22,8 @@
 // Writes, each file replaced atomically: DIR/map.pgm + map.yaml (map_server), DIR/map.png,
 // DIR/trajectory.tum (every scan's pose, after the last optimisation, in the map frame: "stamp x y
 // z qx qy qz qw" with the scan's own stamp; a scan between keyframes is matched against the
-// keyframes around it, Slam::placeScans, else kept where it was tracked), DIR/timing.json (scans, keyframes, loop
+// keyframes around it, Slam::placeScans, else kept where it was tracked), DIR/odometry.tum (the raw
+// odometry at each scan, the same way: what the mapper is measured against), DIR/timing.json (scans, keyframes, loop
 // closures, log span, CPU and wall time, peak memory), DIR/loop_closures.tsv (every loop closure
 // matched, and whether it was accepted, held, rejected or dropped, as slam_node logs them).
 #include <sys/resource.h>
@@ -211,11 +212,15 @@ int main(int argc, char** argv)
     std::fprintf(stderr,
                  "slam_replay: %zu scans on %s had no tf %s -> %s at their stamp (or no laser mounting): skipped\n",
                  r.scans_without_odometry, opt.scan_topic.c_str(), opt.odom_frame.c_str(), opt.base_frame.c_str());
-  std::ostringstream tum;
-  tum.precision(9);
-  for (const StampedPose& s : r.trajectory)
-    tum << std::fixed << s.stamp << " " << s.pose.x << " " << s.pose.y << " 0 0 0 " << std::sin(s.pose.theta / 2) << " "
-        << std::cos(s.pose.theta / 2) << "\n";
+  auto toTum = [](const std::vector<StampedPose>& poses)
+  {
+    std::ostringstream tum;
+    tum.precision(9);
+    for (const StampedPose& s : poses)
+      tum << std::fixed << s.stamp << " " << s.pose.x << " " << s.pose.y << " 0 0 0 " << std::sin(s.pose.theta / 2)
+          << " " << std::cos(s.pose.theta / 2) << "\n";
+    return tum.str();
+  };
   const double cpu = cpuSeconds() - cpu0;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const double span = r.last_stamp - r.first_stamp;
@@ -258,7 +263,8 @@ int main(int argc, char** argv)
     std::vector<uchar> png;
     cv::imencode(".png", img, png);
     mybot_common::writeFilesAtomically({{opt.out + "/map.png", std::string(png.begin(), png.end())},
-                                        {opt.out + "/trajectory.tum", tum.str()},
+                                        {opt.out + "/trajectory.tum", toTum(r.trajectory)},
+                                        {opt.out + "/odometry.tum", toTum(r.odometry)},
                                         {opt.out + "/loop_closures.tsv", closures.str()},
                                         {opt.out + "/timing.json", timing}});
   }
