@@ -223,9 +223,8 @@ std::vector<Pose2D> Slam::placeScans(const std::vector<ScanToPlace>& scans) cons
       // A corridor pins nothing along it: there the tracked pose (odometry's) stays.
       if (res.ok && translationConstraintRatio(field, scans[i].points, res.pose) >= params_.loop_min_constraint_ratio)
         out[i] = res.pose;
-      // The grid match is as good as its 5 cm lattice; the hits themselves place the scan
-      // within millimetres of the walls they draw. In a corridor the point-to-line prior keeps
-      // the pose along it and the walls pin it across.
+      // The grid match is as fine as its 5 cm lattice; the keyframes' hits are not bound to it.
+      // In a corridor the point-to-line prior keeps the pose along it and the walls pin it across.
       if (params_.final_scan_point_to_line)
       {
         const PointToLineResult fine = refinePointToLine(lines, scans[i].points, out[i]);
