@@ -130,7 +130,9 @@ TEST(BagReplay, CarmenAnglesOnIntelAndRefusedWhereTheyDoNotApply)
   const BagReplayResult as_bagged = replayBag(options, slam, params);
   const BagReplayResult r = replayBag(carmen, slam_carmen, params);
   EXPECT_EQ(as_bagged.scans_reangled, 0u);
+  EXPECT_EQ(as_bagged.scans_converter_angles, as_bagged.scans) << "slam_replay's hint counts them";
   EXPECT_EQ(r.scans_reangled, r.scans);
+  EXPECT_EQ(r.scans_converter_angles, 0u);
   const auto relations = within(readRelations(kData + "intel.relations"), r.first_stamp, r.last_stamp);
   const RelationScore bagged_score = scoreRelations(as_bagged.trajectory, relations);
   const RelationScore carmen_score = scoreRelations(r.trajectory, relations);

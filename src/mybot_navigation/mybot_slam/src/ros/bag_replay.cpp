@@ -220,6 +220,8 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
     if (opt.max_log_seconds > 0.0 && stamp - result.first_stamp > opt.max_log_seconds)
       break;
     double angle_increment = scan->angle_increment;
+    if (!opt.carmen_angles && carmenFlaserStep(scan->angle_min, scan->angle_increment, scan->ranges.size()) > 0.0)
+      ++result.scans_converter_angles;
     if (opt.carmen_angles)
     {
       const double step = carmenFlaserStep(scan->angle_min, scan->angle_increment, scan->ranges.size());

@@ -212,6 +212,13 @@ int main(int argc, char** argv)
     std::fprintf(stderr,
                  "slam_replay: %zu scans on %s had no tf %s -> %s at their stamp (or no laser mounting): skipped\n",
                  r.scans_without_odometry, opt.scan_topic.c_str(), opt.odom_frame.c_str(), opt.base_frame.c_str());
+  // Not acted on, only said: a bag may declare such angles and mean them.
+  if (r.scans_converter_angles > 0)
+    std::fprintf(stderr,
+                 "slam_replay: %zu of %zu scans on %s declare -90 deg and 180/(n-1) deg steps, the angles a CARMEN "
+                 "FLASER converter derives; if this bag came from a CARMEN log, --carmen-angles reads them as CARMEN "
+                 "does (-90 + i*180/n deg)\n",
+                 r.scans_converter_angles, r.scans, opt.scan_topic.c_str());
   auto toTum = [](const std::vector<StampedPose>& poses)
   {
     std::ostringstream tum;

@@ -55,6 +55,7 @@ struct BagReplayResult
   std::size_t scans = 0;
   std::size_t scans_without_odometry = 0;  // odom_frame: no transform at their stamp, skipped
   std::size_t scans_reangled = 0;          // carmen_angles: scans given CARMEN's beam angles
+  std::size_t scans_converter_angles = 0;  // without it: scans that have a converter's derived angles
   double first_stamp = 0.0, last_stamp = 0.0;
 };
 
