@@ -202,15 +202,18 @@ std::vector<Pose2D> Slam::placeScans(const std::vector<ScanToPlace>& scans) cons
       continue;
     const int first = static_cast<int>(b) * kBlock, last = std::min(nk - 1, first + kBlock - 1);
     OccupancyGrid grid(params_.grid);
-    for (int j = std::max(0, first - w); j <= std::min(nk - 1, last + w); ++j)
-      grid.insertScan(keyframes_[static_cast<size_t>(j)].pose, keyframes_[static_cast<size_t>(j)].scan);
-    const MatchField field(grid, params_.match_sigma, matchFieldLevels(kWindowLinear, grid.resolution()));
-    // The same keyframes' hits as lines, for the sub-cell step (final_scan_point_to_line).
+    // The keyframes around the block as a grid, and their hits as lines for the sub-cell step
+    // (final_scan_point_to_line).
     std::vector<Point2D> hits;
-    if (params_.final_scan_point_to_line)
-      for (int j = std::max(0, first - w); j <= std::min(nk - 1, last + w); ++j)
-        for (const Point2D& h : keyframes_[static_cast<size_t>(j)].scan.hits)
-          hits.push_back(transformPoint(keyframes_[static_cast<size_t>(j)].pose, h));
+    for (int j = std::max(0, first - w); j <= std::min(nk - 1, last + w); ++j)
+    {
+      const Keyframe& k = keyframes_[static_cast<size_t>(j)];
+      grid.insertScan(k.pose, k.scan);
+      if (params_.final_scan_point_to_line)
+        for (const Point2D& h : k.scan.hits)
+          hits.push_back(transformPoint(k.pose, h));
+    }
+    const MatchField field(grid, params_.match_sigma, matchFieldLevels(kWindowLinear, grid.resolution()));
     const LineReference lines(hits);
     for (size_t i : by_block[b])
     {
