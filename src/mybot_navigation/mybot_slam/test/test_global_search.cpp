@@ -27,7 +27,7 @@ struct SlipRun
 };
 
 // The odometry jumps by `slip` (in the robot's frame) once the first loop is done.
-SlipRun driveWithSlip(double global_interval)
+SlipRun driveWithSlip(double global_interval, double local_window_max)
 {
   static const GridMap world = officeWorld(0.01);
   LaserSpec laser;
@@ -41,6 +41,7 @@ SlipRun driveWithSlip(double global_interval)
   p.angular_update = 0.25;
   // A robot that can be carried: a closure may move the pose by up to 10 m whatever the path.
   p.loop_max_correction = 10.0;
+  p.loop_window_linear_max = local_window_max;
   p.loop_global_interval = global_interval;
   p.weak_step_cauchy = true;  // the jump shows as a step the matcher could not confirm
   SlipRun r{Slam(p), {}, 0.0, {}};
@@ -66,8 +67,11 @@ SlipRun driveWithSlip(double global_interval)
 
 TEST(GlobalSearch, FindsTheMappedPlaceAfterTheOdometryJumpedMetres)
 {
-  const SlipRun without = driveWithSlip(0.0);
-  const SlipRun with = driveWithSlip(10.0);
+  // The local search's window held at 3 m (it grows with the drift possible, up to
+  // loop_window_linear_max): the jump is beyond it in x, so that only the global search can find
+  // the place.
+  const SlipRun without = driveWithSlip(0.0, 3.0);
+  const SlipRun with = driveWithSlip(10.0, 3.0);
   const SlamStats& s = with.slam.stats();
   std::printf(
       "without the global search: ATE %.3f m, map precision %.3f; with: ATE %.3f m, precision %.3f recall %.3f "
@@ -82,4 +86,19 @@ TEST(GlobalSearch, FindsTheMappedPlaceAfterTheOdometryJumpedMetres)
   EXPECT_GE(with.map.precision, 0.9);
   EXPECT_GE(with.map.recall, 0.9);
   EXPECT_GT(with.map.precision, without.map.precision + 0.2);
+}
+
+TEST(LocalSearch, GrowsItsWindowAndSubmapWithTheDriftPossible)
+{
+  // The same jump (6 m, -5 m, 0.3 rad) with the global search off: a closure may move the pose by
+  // 10 m here, so the local window grows to its 6 m cap and the candidate's submap follows its
+  // pass that far; the jump is then within reach of the local search alone.
+  const SlipRun held = driveWithSlip(0.0, 3.0);
+  const SlipRun grown = driveWithSlip(0.0, 6.0);
+  std::printf("local window held at 3 m: ATE %.3f m, precision %.3f; grown to 6 m: ATE %.3f m, precision %.3f\n",
+              held.ate, held.map.precision, grown.ate, grown.map.precision);
+  ASSERT_GT(held.ate, 0.5);
+  EXPECT_EQ(grown.slam.stats().loop_global_attempts, 0);
+  EXPECT_LT(grown.ate, 0.05);
+  EXPECT_GE(grown.map.precision, 0.9);
 }

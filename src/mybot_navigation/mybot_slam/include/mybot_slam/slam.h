@@ -90,6 +90,11 @@ struct SlamParams
   // m, search window of the closure matcher: on ACES the robot came back to its start 1.5-3 m
   // off after 700 m, and a 1.5 m window never matched (mean error 0.30 m; 0.04 m with 3 m).
   double loop_window_linear = 3.0;
+  // The window grows with the drift possible since the candidate (loop_max_correction +
+  // loop_max_correction_per_m x path since it) up to this, and where it grows the candidate's
+  // submap follows its pass that much further along (matchCandidateSubmap). Cartographer's constraint builder
+  // searches 7 m around each candidate submap.
+  double loop_window_linear_max = 6.0;
   double loop_window_angular = 0.5;        // rad
   double loop_min_score = 0.6;             // acceptance threshold (mean field value)
   double loop_min_constraint_ratio = 0.3;  // reject closures that leave a direction unconstrained

@@ -113,6 +113,9 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           "loop_window_linear", [](P& p) -> double& { return p.slam.loop_window_linear; }, positive,
           "a positive distance (m)"),
       number(
+          "loop_window_linear_max", [](P& p) -> double& { return p.slam.loop_window_linear_max; }, positive,
+          "a positive distance (m)"),
+      number(
           "loop_window_angular", [](P& p) -> double& { return p.slam.loop_window_angular; }, positive,
           "a positive angle (rad)"),
       number(
