@@ -132,13 +132,21 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
   // The laser's mounting, and (for "interpolate") every odometry pose by stamp.
   std::map<std::string, Pose2D> mount;  // child frame -> pose in its parent (the base)
   std::vector<std::pair<double, Pose2D>> odom_by_stamp;
+  // For "last": every odometry message by the time it was recorded. rosbag's C++ View merges
+  // topics by record time alone, so a scan and an odometry message recorded at the same instant
+  // come out in either order; the logs write the odometry first (the hospital's every scan, 53 of
+  // ACES's), and a scan takes the last odometry recorded at or before it.
+  std::vector<std::pair<ros::Time, Pose2D>> odom_by_record_time;
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery({"/tf_static", opt.odom_topic})))
   {
     if (auto tf = m.instantiate<tf2_msgs::TFMessage>())
       for (const auto& t : tf->transforms)
         mount[t.child_frame_id] = toPose2D(t.transform);
     else if (auto o = m.instantiate<nav_msgs::Odometry>())
+    {
       odom_by_stamp.push_back({o->header.stamp.toSec(), toPose2D(o->pose.pose)});
+      odom_by_record_time.push_back({m.getTime(), odom_by_stamp.back().second});
+    }
   }
   std::stable_sort(odom_by_stamp.begin(), odom_by_stamp.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -157,26 +165,21 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
           tf->setTransform(t, "bag", m.getTopic() == "/tf_static");
   }
 
-  rosbag::View view(bag, rosbag::TopicQuery(from_tf ? std::vector<std::string>{opt.scan_topic}
-                                                    : std::vector<std::string>{opt.scan_topic, opt.odom_topic}));
+  rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{opt.scan_topic}));
   const std::size_t total = view.size();
   std::vector<ScanRecord> scans;
   BagReplayResult result;
-  bool have_odom = false, started = false;
-  Pose2D last_odom;
+  bool started = false;
+  std::size_t next_odom = 0;  // odom_by_record_time[next_odom] is the first recorded after the scan
   std::size_t done = 0;
   for (const rosbag::MessageInstance& m : view)
   {
     if (progress)
       progress(++done, total);
-    if (auto o = m.instantiate<nav_msgs::Odometry>())
-    {
-      last_odom = toPose2D(o->pose.pose);
-      have_odom = true;
-      continue;
-    }
+    while (next_odom < odom_by_record_time.size() && odom_by_record_time[next_odom].first <= m.getTime())
+      ++next_odom;
     auto scan = m.instantiate<sensor_msgs::LaserScan>();
-    if (!scan || scan->ranges.empty() || (!from_tf && !have_odom))
+    if (!scan || scan->ranges.empty() || (!from_tf && next_odom == 0))
       continue;
     const double stamp = scan->header.stamp.toSec();
     Pose2D odom;
@@ -205,7 +208,7 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
     }
     else
     {
-      odom = opt.odom == "last" ? last_odom : interpolate(odom_by_stamp, stamp);
+      odom = opt.odom == "last" ? odom_by_record_time[next_odom - 1].second : interpolate(odom_by_stamp, stamp);
       auto mt = mount.find(scan->header.frame_id);
       if (mt != mount.end())
         g.sensor_in_base = mt->second;
