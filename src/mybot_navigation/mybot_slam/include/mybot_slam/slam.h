@@ -92,8 +92,8 @@ struct SlamParams
   double loop_window_linear = 3.0;
   // The window grows with the drift possible since the candidate (loop_max_correction +
   // loop_max_correction_per_m x path since it) up to this, and where it grows the candidate's
-  // submap follows its pass that much further along (matchCandidateSubmap). Cartographer's constraint builder
-  // searches 7 m around each candidate submap.
+  // submap follows its pass that much further along (matchCandidateSubmap). Cartographer's
+  // constraint builder searches 7 m around each candidate submap.
   double loop_window_linear_max = 6.0;
   double loop_window_angular = 0.5;        // rad
   double loop_min_score = 0.6;             // acceptance threshold (mean field value)
