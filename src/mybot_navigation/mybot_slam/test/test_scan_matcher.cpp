@@ -91,6 +91,50 @@ TEST(ScanMatcher, BranchAndBoundEqualsExhaustiveSearch)
   EXPECT_DOUBLE_EQ(a.score, b.score);
 }
 
+// A corner seen from inside it, rendered once or twice (2 m apart): searched again with the best
+// match's surroundings excluded (loop closure's uniqueness test), the matcher finds the other
+// copy, scoring as well, or nothing that scores 0.8 of the best where there is one corner only.
+TEST(ScanMatcher, ExcludingTheBestMatchFindsARepeatedPlaceOnly)
+{
+  RangeScan corner;  // in the frame of a robot 0.5 m from both walls
+  for (double t = -0.5; t <= 0.5; t += 0.02)
+  {
+    corner.hits.push_back({t, 0.5});
+    corner.hits.push_back({-0.5, t});
+  }
+  OccupancyGrid once, twice;
+  once.insertScan(Pose2D{1.0, 1.0, 0.0}, corner);
+  twice.insertScan(Pose2D{1.0, 1.0, 0.0}, corner);
+  twice.insertScan(Pose2D{3.0, 1.0, 0.0}, corner);
+  const std::vector<Point2D> points = voxelFilter(corner.hits, 0.05);
+  MatchRequest req;
+  req.initial = {1.9, 1.1, 0.0};  // between the copies, nearer the first
+  req.linear_window = 2.0;
+  req.angular_window = 0.1;
+  req.refine = false;
+  for (const OccupancyGrid* grid : {&once, &twice})
+  {
+    const MatchField field(*grid, 0.05, matchFieldLevels(req.linear_window, 0.05));
+    const MatchResult best = matchScan(field, points, req);
+    ASSERT_TRUE(best.ok);
+    EXPECT_GT(best.score, 0.9);
+    MatchRequest elsewhere = req;
+    elsewhere.exclude_center = best.pose;
+    elsewhere.exclude_radius = 0.3;
+    elsewhere.min_score = 0.8 * best.score;
+    const MatchResult second = matchScan(field, points, elsewhere);
+    if (grid == &once)
+    {
+      EXPECT_FALSE(second.ok) << "a second place at " << second.pose.x << ", " << second.pose.y;
+      continue;
+    }
+    ASSERT_TRUE(second.ok);
+    EXPECT_NEAR(std::abs(second.pose.x - best.pose.x), 2.0, 0.05);
+    EXPECT_NEAR(second.pose.y, 1.0, 0.05);
+    EXPECT_NEAR(second.score, best.score, 0.02);
+  }
+}
+
 TEST(ScanMatcher, RejectsBelowMinimumScore)
 {
   const GridMap world = officeWorld(0.01);

@@ -135,6 +135,21 @@ TEST(Slam, LoopClosureImprovesMapUnderOdometryDrift)
   EXPECT_GE(closed.map.recall, 0.9);
 }
 
+// Confirmation guards against a one-off match in a repetitive place; a unique match (no second
+// place within loop_unique_ratio of its score) that is strong and not large needs none, so that
+// a true closure found where a route ends is applied (slam_loop_closure seed 15).
+TEST(Slam, OnlyLargeClosuresOrOnesThatAreNotUniqueAndStrongWaitForConfirmation)
+{
+  SlamParams p;  // loop_confirm_correction 0.15, loop_large_correction 0.4, loop_min_score_large 0.75
+  EXPECT_FALSE(closureNeedsConfirmation(p, 0.1, 0.6, false));  // small: applied at once
+  EXPECT_TRUE(closureNeedsConfirmation(p, 0.2, 0.9, false));   // not known to be unique
+  EXPECT_FALSE(closureNeedsConfirmation(p, 0.2, 0.9, true));
+  EXPECT_TRUE(closureNeedsConfirmation(p, 0.2, 0.7, true));  // unique but weak
+  EXPECT_TRUE(closureNeedsConfirmation(p, 0.5, 1.0, true));  // unique and strong but large
+  p.loop_confirm_correction = 0.0;                           // confirmation off
+  EXPECT_FALSE(closureNeedsConfirmation(p, 0.5, 0.6, false));
+}
+
 TEST(Slam, TheMapAfterLoopClosuresShowsEveryKeyframeWhereTheGraphPutIt)
 {
   // Closures move keyframes and the global map is re-rendered only when read: what map() returns

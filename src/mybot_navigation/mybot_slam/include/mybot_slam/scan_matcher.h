@@ -77,6 +77,10 @@ struct MatchRequest
   // Beyond this distance from `initial` the translation penalty stops growing (m; 0: never
   // capped): a pose that fits clearly better still wins when the odometry is far off.
   double translation_prior_cap = 0.0;
+  // Translations within exclude_radius of exclude_center are not candidates (m; 0: none): the
+  // search for a second place that fits, away from the best match (loop closure's uniqueness).
+  Pose2D exclude_center;
+  double exclude_radius = 0.0;
 };
 
 struct MatchResult

@@ -232,6 +232,20 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
            request.rotation_weight * et * et;
   };
 
+  // Whether a block of size x size cells at (dx, dy) lies wholly within the excluded disc (its
+  // farthest corner inside), or, for a single cell, whether that cell does.
+  const double ex0 = (request.exclude_center.x - request.initial.x) / res,
+               ey0 = (request.exclude_center.y - request.initial.y) / res;
+  const double exclude_cells = request.exclude_radius / res;
+  auto excluded = [&](int dx, int dy, int size)
+  {
+    if (exclude_cells <= 0.0)
+      return false;
+    const double fx = std::max(std::abs(dx - ex0), std::abs(dx + size - 1 - ex0)),
+                 fy = std::max(std::abs(dy - ey0), std::abs(dy + size - 1 - ey0));
+    return fx * fx + fy * fy < exclude_cells * exclude_cells;
+  };
+
   std::vector<Candidate> tops;
   for (int k = 0; k < n_rot; ++k)
     for (int dy = -window; dy <= window; dy += top_step)
@@ -243,7 +257,7 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
   bool found = false;
   std::function<void(const Candidate&, int)> descend = [&](const Candidate& c, int level)
   {
-    if (c.score <= best.score)
+    if (c.score <= best.score || excluded(c.dx, c.dy, 1 << level))
       return;
     if (level == 0)
     {

@@ -480,6 +480,13 @@ int Slam::findLoopCandidate(int current, const Pose2D& around, int end) const
   return nearestLoopCandidate(keyframes_, current, around, end, params_.loop_search_radius, params_.loop_min_travel);
 }
 
+bool closureNeedsConfirmation(const SlamParams& params, double moved, double score, bool unique)
+{
+  if (params.loop_confirm_correction <= 0.0 || moved <= params.loop_confirm_correction)
+    return false;
+  return !(unique && moved <= params.loop_large_correction && score >= params.loop_min_score_large);
+}
+
 int nearestLoopCandidate(const std::vector<Keyframe>& keyframes, int current, const Pose2D& around, int end,
                          double radius, double min_travel)
 {
@@ -575,6 +582,17 @@ bool Slam::matchCandidateSubmap(int current, int candidate, LoopMatch& match) co
     return false;
   match.correction = between(kf.pose, match.result.pose);
   match.score_at_estimate = scorePose(field, points, kf.pose);
+  if (params_.loop_unique_ratio > 0.0)
+  {
+    // The best that fits elsewhere: the same search with the best match's surroundings left out,
+    // accepting only what scores loop_unique_ratio of it.
+    MatchRequest elsewhere = req;
+    elsewhere.refine = false;
+    elsewhere.exclude_center = match.result.pose;
+    elsewhere.exclude_radius = params_.loop_unique_separation;
+    elsewhere.min_score = params_.loop_unique_ratio * match.result.score;
+    match.unique = !matchScan(field, points, elsewhere).ok;
+  }
   return true;
 }
 
@@ -614,7 +632,7 @@ bool Slam::confirmClosure(int current, int candidate, LoopMatch& match, std::vec
     edge.sigma_xy = std::max(edge.sigma_xy, 0.5 * params_.loop_global_resolution);
 
   const double moved = translationNorm(match.correction);
-  if (params_.loop_confirm_correction > 0.0 && moved > params_.loop_confirm_correction)
+  if (closureNeedsConfirmation(params_, moved, match.result.score, match.unique))
   {
     HeldClosure now;
     now.edge = edge;

@@ -145,6 +145,12 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
       number(
           "loop_confirm_tolerance", [](P& p) -> double& { return p.slam.loop_confirm_tolerance; }, positive,
           "a positive distance (m)"),
+      number(
+          "loop_unique_ratio", [](P& p) -> double& { return p.slam.loop_unique_ratio; },
+          [](double v) { return v >= 0 && v < 1; }, "in [0, 1) (0 = no uniqueness test)"),
+      number(
+          "loop_unique_separation", [](P& p) -> double& { return p.slam.loop_unique_separation; }, positive,
+          "a positive distance (m)"),
       integer(
           "loop_confirm_attempts", [](P& p) -> int& { return p.slam.loop_confirm_attempts; }, 1, "an integer >= 1"),
       number(
