@@ -582,9 +582,12 @@ bool Slam::matchCandidateSubmap(int current, int candidate, LoopMatch& match) co
     return false;
   match.correction = between(kf.pose, match.result.pose);
   match.score_at_estimate = scorePose(field, points, kf.pose);
-  if (params_.loop_unique_ratio > 0.0)
+  const double moved = translationNorm(match.correction);
+  if (params_.loop_unique_ratio > 0.0 && closureNeedsConfirmation(params_, moved, match.result.score, false) &&
+      !closureNeedsConfirmation(params_, moved, match.result.score, true))
   {
-    // The best that fits elsewhere: the same search with the best match's surroundings left out,
+    // Searched only where its answer spares a confirmation (the only use of `unique`): the best
+    // that fits elsewhere, the same search with the best match's surroundings left out,
     // accepting only what scores loop_unique_ratio of it.
     MatchRequest elsewhere = req;
     elsewhere.refine = false;
