@@ -9,7 +9,8 @@ master (the orchestrator, tools/demo.py, starts one per stage):
 
 Both record ground truth (ground_truth/odom, world frame), the estimated pose
 (tf map -> base_footprint) and odometry, and write <out>/<name>.json and
-<out>/<name>_traj.npz. Everything waits in ROS (sim) time.
+<out>/<name>_traj.npz. Everything waits in ROS (sim) time, and, in the simulator's
+lockstep, period by period: a stage run twice gives the same figures.
 """
 import argparse
 import collections
@@ -28,15 +29,16 @@ import tf2_ros
 from actionlib_msgs.msg import GoalStatus
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
-from nav_msgs.msg import OccupancyGrid, Odometry, Path
+from nav_msgs.msg import Odometry, Path
 from rosgraph_msgs.msg import Clock
+from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
 from mybot_gazebo_lite.msg import ModelContacts
 from mybot_move_base.action_client import SimpleActionClient
 from mybot_move_base.trajectory import sideways_distance
 from mybot_common.geometry import wrap, yaw_of
-from mybot_lockstep import participant
+from mybot_lockstep import TransformListener, participant
 
 
 def log(msg):
@@ -64,17 +66,22 @@ class Recorder:
         self.rows = []  # t, gt x y yaw, est x y yaw, odom x y yaw
         self.skipped = collections.Counter()  # samples not taken, by reason
         self.tf_error = ""
-        self.tf = tf2_ros.Buffer(rospy.Duration(30))
-        tf2_ros.TransformListener(self.tf)
         # A lockstep participant (mybot_lockstep): the simulator waits until every ground-truth,
-        # odometry and command message of a period is recorded, however fast it may run.
-        ls = participant()
+        # odometry, tf and command message of a period is recorded, however fast it may run. It
+        # joins once the stage is set up (defer_join; the launch names it in lockstep_wait_for),
+        # so time starts with every connection open.
+        self.ls = ls = participant(defer_join=True)
+        self.tf = tf2_ros.Buffer(rospy.Duration(30))
+        TransformListener(self.tf, ls)
         ls.Subscriber("ground_truth/odom", Odometry, self._on_gt, queue_size=50)
         ls.Subscriber("odom", Odometry, self._on_odom, queue_size=50)
         self.max_vy = 0.0  # sideways command: a holonomic robot should use it
         ls.Subscriber("cmd_vel", Twist, self._on_cmd, queue_size=50)
         self.contacts = None  # the simulator's count for the (only) robot
         ls.Subscriber("/gazebo/model_contacts", ModelContacts, self._on_contacts, queue_size=100)
+        self.explore_exit = None  # the explorer's exit code, from its last status
+        self.stopped = False
+        ls.Subscriber("explore/status", String, self._on_explore_status, queue_size=10)
         ls.Timer(1.0 / rate, self._sample)
 
     def world_to_map(self, x, y, yaw):
@@ -88,10 +95,15 @@ class Recorder:
         self.gt = self.world_to_map(p.position.x, p.position.y, yaw_of(p.orientation))
         with self.lock:
             self.gts.append((msg.header.stamp, self.gt))
-            self.gt_history.append((msg.header.stamp.to_sec(),) + tuple(self.gt))
+            if not self.stopped:
+                self.gt_history.append((msg.header.stamp.to_sec(),) + tuple(self.gt))
 
     def _on_contacts(self, msg):
         self.contacts = msg
+
+    def _on_explore_status(self, msg):
+        if msg.data.startswith("exiting with code "):
+            self.explore_exit = int(msg.data.split()[-1])
 
     def contact_report(self, timeout=30.0):
         """The physics engine's contact count up to the last ground-truth sample."""
@@ -146,6 +158,12 @@ class Recorder:
             best = min(self.odoms, key=lambda o: abs(o[0] - t))
         return best[1:] if abs(best[0] - t) < 0.1 else (math.nan,) * 3
 
+    def stop(self):
+        """No samples from here on: the figures end where the stage's work did."""
+        with self.lock:
+            self.stopped = True
+            self.stopped_at = rospy.Time.now().to_sec()
+
     def _sample(self, _):
         # A ground-truth pose a little in the past, when tf and odometry of that
         # instant have surely arrived.
@@ -156,6 +174,8 @@ class Recorder:
             self.progress_written = now.to_sec()
             with open(self.progress_file, "w") as f:
                 f.write("%.3f\n" % self.progress_written)
+        if self.stopped:
+            return
         if now.to_sec() < 0.3:
             self.skipped["no ground truth yet"] += 1
             return
@@ -211,9 +231,9 @@ def path_length(a):
     return float(np.sum(np.hypot(np.diff(a[:, 1]), np.diff(a[:, 2]))))
 
 
-def run_mapping(args, rec, result):
-    log("exploring (frontiers on the SLAM map, goals through the move_base action)")
-    t0 = rospy.Time.now()
+def start_explore(args):
+    """The frontier explorer, started with the stage: the simulator's time starts once it takes
+    part (lockstep_wait_for), so every run explores from the same first period."""
     cmd = ["rosrun", "mybot_explore", "explore",
            "_time_budget:=%f" % args.budget, "_robot_radius:=%f" % args.robot_radius,
            # Half a metre of frontier is still worth a trip in a building of shelves.
@@ -225,13 +245,25 @@ def run_mapping(args, rec, result):
            "_return_to_init:=true"]
     if args.boundary:
         cmd.append("_boundary:=[%s]" % ",".join("%.3f" % v for v in args.boundary))
-    explore = subprocess.run(cmd,
-                             stdout=open(args.out + "/" + args.name + "_explore.log", "w"), stderr=subprocess.STDOUT)
-    result["explore_exit"] = explore.returncode
-    result["explore_sim_s"] = (rospy.Time.now() - t0).to_sec()
-    result["explored_completely"] = explore.returncode == 0
+    return subprocess.Popen(cmd, stdout=open(args.out + "/" + args.name + "_explore.log", "w"),
+                            stderr=subprocess.STDOUT)
+
+
+def run_mapping(args, rec, result, explore):
+    log("exploring (frontiers on the SLAM map, goals through the move_base action)")
+    # Period by period: the explorer's last status arrives in the period after its end on every
+    # run, and this thread holds that period while the trajectory is finished and the map saved.
+    ended = rec.ls.wait_for(lambda: rec.explore_exit is not None or explore.poll() is not None,
+                            2.0 * args.budget + 600.0, period=0.1)
+    code = rec.explore_exit if rec.explore_exit is not None else explore.poll()
+    if not ended or code is None:
+        raise RuntimeError("the explorer did not end within %.0f s of sim time" % (2.0 * args.budget + 600.0))
+    rec.stop()
+    result["explore_exit"] = code
+    result["explore_sim_s"] = rospy.Time.now().to_sec()
+    result["explored_completely"] = code == 0
     log("exploration ended (%s) after %.0f s of sim time" %
-        ("no frontier left" if explore.returncode == 0 else "exit %d" % explore.returncode, result["explore_sim_s"]))
+        ("no frontier left" if code == 0 else "exit %d" % code, result["explore_sim_s"]))
     # As with Cartographer: finish the trajectory (the final optimisation ties every keyframe to
     # every earlier pass through its place) and save the map it publishes.
     rospy.wait_for_service("finish_trajectory", timeout=30)
@@ -240,6 +272,8 @@ def run_mapping(args, rec, result):
     if not finish.success:
         raise RuntimeError("finish_trajectory failed: " + finish.message)
     log("trajectory finished: " + finish.message)
+    # The map and the trajectory no longer change: time may move on while they are saved.
+    rec.ls.release()
     saver = subprocess.run(["rosrun", "mybot_map_server", "map_saver", "-f", args.map_out],
                            capture_output=True, text=True, timeout=120)
     result["map_saved"] = saver.returncode == 0
@@ -267,8 +301,7 @@ def save_keyframes(args, rec, result):
     np.savez(args.out + "/" + args.name + "_keyframes.npz", est=est[ok], gt=np.column_stack([est[ok, 0], gt[ok]]))
 
 
-def send_initial_pose(x, y, yaw):
-    pub = rospy.Publisher("initialpose", PoseWithCovarianceStamped, queue_size=1, latch=True)
+def send_initial_pose(pub, x, y, yaw):
     msg = PoseWithCovarianceStamped()
     msg.header.frame_id = "map"
     msg.header.stamp = rospy.Time.now()
@@ -279,20 +312,21 @@ def send_initial_pose(x, y, yaw):
     cov[35] = 0.25 ** 2
     msg.pose.covariance = cov
     pub.publish(msg)
-    return pub
 
 
-def run_navigation(args, rec, result):
+def run_navigation(args, rec, result, client, initial_pose):
+    """Period by period (this thread sleeps through the lockstep participant): the initial pose,
+    each goal and the wait for its result fall in the same periods on every run."""
     ix, iy, iyaw = args.initial_pose
     log("initial pose estimate (%.2f, %.2f, %.0f deg) given to AMCL" % (ix, iy, math.degrees(iyaw)))
-    keep = send_initial_pose(ix, iy, iyaw)  # noqa: F841 (latched publisher must stay alive)
+    send_initial_pose(initial_pose, ix, iy, iyaw)
     # Goals only once AMCL has taken the estimate: before that, map -> odom is
     # missing (or AMCL's default pose) and move_base would refuse or misplan.
-    wait_for(lambda: (lambda e: e is not None and math.hypot(e[0] - ix, e[1] - iy) < 1.0)(rec.estimate()),
-             60.0, "AMCL to publish map -> odom at the initial pose")
+    if not rec.ls.wait_for(lambda: (lambda e: e is not None and math.hypot(e[0] - ix, e[1] - iy) < 1.0)(
+            rec.estimate()), 60.0):
+        raise RuntimeError("AMCL did not publish map -> odom at the initial pose within 60 s of sim time")
     # Before this, AMCL sat at its default pose: not a localization error to report (nor to draw).
     result["localized_from"] = rospy.Time.now().to_sec()
-    client = SimpleActionClient("move_base", MoveBaseAction)
     if not client.wait_for_server(rospy.Duration(60)):
         raise RuntimeError("no move_base action server")
     goals = []
@@ -323,6 +357,7 @@ def run_navigation(args, rec, result):
             "localization error %.3f m" % (i + 1, len(args.goals), gx, gy, "reached" if reached else
                                            "NOT reached (%s)" % client.get_goal_status_text(),
                                            goals[-1]["sim_s"], err, loc_err))
+    rec.stop()
     result["goals"] = goals
     result["goals_reached"] = sum(g["reached"] for g in goals)
 
@@ -358,18 +393,30 @@ def main():
     rospy.init_node("demo_" + args.stage, disable_signals=True)
     result = {"stage": args.stage, "name": args.name, "ok": False}
     wall0 = time.monotonic()
+    explore = None
     try:
-        wait_for(sim_started, args.startup_timeout, "/clock from the simulator")
-        sim0 = rospy.Time.now().to_sec()
+        # Everything this stage takes part in lockstep with is set up before it joins: the
+        # launch names it (and the explorer) in the simulator's lockstep_wait_for, so time
+        # starts once they are in, with their connections open, and every run starts alike.
         rec = Recorder(args.map_origin, progress_file=os.path.join(args.out, args.name + ".progress"))
-        wait_for(lambda: rec.gt is not None, args.startup_timeout, "ground_truth/odom")
-        wait_for(lambda: rospy.wait_for_message("map", OccupancyGrid, timeout=2.0) is not None,
-                 args.startup_timeout, "a map")
         if args.stage == "mapping":
-            run_mapping(args, rec, result)
+            explore = start_explore(args)
+        else:
+            client = SimpleActionClient("move_base", MoveBaseAction, ls=rec.ls)
+            # Through the participant (synchronous): what it sent is counted exactly at each Ack.
+            initial_pose = rec.ls.Publisher("initialpose", PoseWithCovarianceStamped, latch=True)
+        # The simulator repeats its first /clock while it waits for the named participants.
+        wait_for(sim_started, args.startup_timeout, "/clock from the simulator")
+        # Set up: join, and hold the first period time moves to. From here on this thread
+        # sleeps through the participant, so what it does falls in the same period on every run.
+        rec.ls.hold_next_period()
+        if not rec.ls.wait_for(lambda: rec.gt is not None, 10.0):
+            raise RuntimeError("no ground_truth/odom within 10 s of sim time")
+        if args.stage == "mapping":
+            run_mapping(args, rec, result, explore)
             result["ok"] = result["map_saved"]
         else:
-            run_navigation(args, rec, result)
+            run_navigation(args, rec, result, client, initial_pose)
             result["ok"] = bool(result["goals"]) and result["goals_reached"] == len(result["goals"])
         a = rec.array()
         result["trajectory_error"] = rec.errors(result.get("localized_from"))
@@ -377,13 +424,18 @@ def main():
         result["max_sideways_cmd_mps"] = rec.max_vy
         with rec.lock:
             result["sideways_m"], result["driven_m"] = sideways_distance(list(rec.gt_history))
-        result["contacts"] = rec.contact_report()
         result["samples_skipped"] = dict(rec.skipped)
-        result["sim_s"] = rospy.Time.now().to_sec() - sim0
+        # Time starts at 0 once the stage has joined; the stage's work ends where its samples do.
+        result["sim_s"] = rec.stopped_at if rec.stopped else rospy.Time.now().to_sec()
         np.savez(args.out + "/" + args.name + "_traj.npz", traj=a)
+        rec.ls.release()  # the stage's figures are taken: time may move on
+        result["contacts"] = rec.contact_report()
     except Exception as e:  # the orchestrator reports the reason
         result["error"] = str(e)
         log("FAILED: %s" % e)
+    finally:
+        if explore is not None and explore.poll() is None:
+            explore.terminate()
     result["wall_s"] = time.monotonic() - wall0
     with open(args.out + "/" + args.name + ".json", "w") as f:
         json.dump(result, f, indent=2)

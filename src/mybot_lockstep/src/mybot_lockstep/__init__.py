@@ -61,8 +61,10 @@ class _Rate:
 
 
 class Participant:
-    def __init__(self, forgive_after=2.0):
+    def __init__(self, forgive_after=2.0, defer_join=False):
         self.active = lockstep_requested()
+        # Whether the next tick may make this node a participant (see participant()).
+        self._joinable = not defer_join
         self._me = rospy.get_name()
         self._cond = threading.Condition()
         self._handled = {}  # (topic, source) -> messages received
@@ -138,6 +140,7 @@ class Participant:
             rospy.sleep(max(0.0, (t - rospy.get_rostime()).to_sec()))
             return
         with self._cond:
+            self._joinable = True
             self._wake = t
             if self._held is not None:
                 held, self._held = self._held, None
@@ -169,6 +172,7 @@ class Participant:
         if not self.active:
             return
         with self._cond:
+            self._joinable = True
             if self._held is not None:
                 held, self._held = self._held, None
                 self._ack(held)
@@ -182,6 +186,8 @@ class Participant:
 
     def _on_tick(self, tick):
         with self._cond:
+            if self._last_ack is None and not self._joinable:
+                return  # set-up not done yet: not a participant
             last = self._last_ack.seq if self._last_ack is not None else 0
             if (self._held is not None and tick.seq <= self._held.seq) or tick.seq < last:
                 return
@@ -306,10 +312,17 @@ _instance = None
 _instance_lock = threading.Lock()
 
 
-def participant():
-    """The process's Participant (one per process, as in C++), made on first use after init_node."""
+def participant(defer_join=False):
+    """The process's Participant (one per process, as in C++), made on first use after init_node.
+
+    defer_join (first call only): the node takes part from its main thread's first sleep through
+    the helper (or release()), not from the first tick. Everything it set up before (an action
+    client's five topics, its subscriptions) is then registered with the master when it joins,
+    and the simulator, which holds time on a join until every connection between participants is
+    open, starts the next period with all of them connected. Without it a node that sets up
+    after its first tick may connect a period sooner or later with load."""
     global _instance
     with _instance_lock:
         if _instance is None:
-            _instance = Participant()
+            _instance = Participant(defer_join=defer_join)
         return _instance

@@ -20,7 +20,7 @@ class FakeMoveBase:
 
     def __init__(self, ns):
         self.goals = []
-        self.status = None
+        self.statuses = []
         self.got_status = threading.Event()
         self.server = actionlib.SimpleActionServer(ns + "/move_base", MoveBaseAction, self.execute, auto_start=False)
         self.server.start()
@@ -33,9 +33,15 @@ class FakeMoveBase:
         self.server.set_succeeded()
 
     def on_status(self, msg):
-        self.status = msg.data
-        if msg.data.startswith("done") or msg.data.startswith("back"):
+        self.statuses.append(msg.data)
+        if msg.data.startswith("exiting"):
             self.got_status.set()
+
+    @property
+    def status(self):
+        """The last status before the explorer's "exiting with code N"."""
+        before = [s for s in self.statuses if not s.startswith("exiting")]
+        return before[-1] if before else None
 
 
 def known_room():
@@ -69,13 +75,15 @@ class ReturnToInit(unittest.TestCase):
             pub.publish(known_room())
 
     def wait_done(self, fake):
-        # The last status of each node: "back at ..." after its return, "done: ..." otherwise.
+        # The explorer's last status says it exits; the one before, "back at ..." after its
+        # return, "done: ..." otherwise.
         deadline = rospy.get_time() + 60.0
         while not rospy.is_shutdown() and rospy.get_time() < deadline:
-            if fake.got_status.is_set() and (fake is not self.home or fake.status.startswith("back")):
+            if fake.got_status.is_set():
+                self.assertEqual(fake.statuses[-1], "exiting with code 0")
                 return
             rospy.sleep(0.1)
-        self.fail("explore did not finish: last status %r" % fake.status)
+        self.fail("explore did not finish: statuses %r" % fake.statuses)
 
     def test_returns_to_the_pose_it_started_from(self):
         self.wait_done(self.home)

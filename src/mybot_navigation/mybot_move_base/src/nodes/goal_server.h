@@ -7,21 +7,25 @@
 // received" until simulated time caught up with the past. ActionServer's cancel-by-stamp memory
 // (last_cancel_) has the same flaw. Arrival order is what a user at rviz means, and forget()
 // drops the remembered stamps when time goes back.
+//
+// Its goal and cancel topics and its status timer go through the lockstep participant
+// (mybot_lockstep's ActionServer): in the simulator a goal reaches move_base in the period after
+// the client sent it, whatever the machine's load.
 #pragma once
 
 #include <functional>
 #include <string>
 
-#include <actionlib/server/action_server.h>
 #include <actionlib_msgs/GoalStatus.h>
+#include <mybot_lockstep/ros/action_server.h>
 
 namespace mybot_move_base
 {
 template <class Action>
-class GoalServer : public actionlib::ActionServer<Action>
+class GoalServer : public mybot_lockstep::ActionServer<Action>
 {
 public:
-  using Base = actionlib::ActionServer<Action>;
+  using Base = mybot_lockstep::ActionServer<Action>;
   using GoalHandle = typename Base::GoalHandle;
   using GoalConstPtr = typename Base::GoalConstPtr;
   using Result = typename Base::Result;

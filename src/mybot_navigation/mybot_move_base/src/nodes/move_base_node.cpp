@@ -264,8 +264,8 @@ public:
     global_costmap_pub_ = pnh_.advertise<nav_msgs::OccupancyGrid>("global_costmap/costmap", 1, true);
     local_costmap_pub_ = pnh_.advertise<nav_msgs::OccupancyGrid>("local_costmap/costmap", 1, true);
     // In lockstep when the simulator runs it (mybot_lockstep): odometry, scans, tf, the map and
-    // the timers are handled period by period. The action's goals come through actionlib's own
-    // subscriptions, whenever they arrive.
+    // the timers are handled period by period, and so are the action's goals and cancels
+    // (GoalServer).
     auto& ls = mybot_lockstep::Participant::instance();
     simple_goal_sub_ = ls.subscribe<geometry_msgs::PoseStamped>(
         nh_, "move_base_simple/goal", 1, [this](const geometry_msgs::PoseStamped::ConstPtr& m) { simpleGoal(m); });
