@@ -37,7 +37,7 @@ from mybot_move_base.action_client import SimpleActionClient
 from mybot_move_base.trajectory import sideways_distance
 from mybot_gazebo_lite.srv import SetModelState
 from mybot_common.geometry import wrap as normalize, yaw_of
-from mybot_lockstep import participant
+from mybot_lockstep import TransformListener, participant
 
 PKG = "mybot_nav_bringup"
 
@@ -63,11 +63,17 @@ class NavSimTest(unittest.TestCase):
         self.truth_speed = 0.0
         self.log = []  # (t, truth x, y, yaw, amcl x, y, yaw or None)
         self.max_vy = 0.0
-        self.tf = tf2_ros.Buffer(cache_time=rospy.Duration(900))
-        self.listener = tf2_ros.TransformListener(self.tf)
         # A lockstep participant (mybot_lockstep): every ground-truth sample is logged before
-        # simulated time moves on, however busy the machine is.
-        ls = participant()
+        # simulated time moves on, however busy the machine is. A navigation mission runs period
+        # by period: this node joins once set up (the launch names it in lockstep_wait_for with
+        # AMCL and move_base, so time starts with all three in), its tf and the move_base action
+        # come through the participant, and its main thread sleeps through it, so the goals go
+        # out and their results are seen in the same periods on every run.
+        self.mission = self.mode == "navigation"
+        self.ls = ls = participant(defer_join=self.mission)
+        self.tf = tf2_ros.Buffer(cache_time=rospy.Duration(900))
+        self.listener = TransformListener(self.tf, ls) if self.mission else tf2_ros.TransformListener(self.tf)
+        self.client = SimpleActionClient("move_base", MoveBaseAction, ls=ls) if self.mission else None
         ls.Subscriber("ground_truth/odom", Odometry, self.on_truth, queue_size=50)
         ls.Subscriber("cmd_vel", Twist, self.on_cmd, queue_size=50)
         self.contacts = None
@@ -139,6 +145,9 @@ class NavSimTest(unittest.TestCase):
             time.sleep(0.02)
 
     def wait_sim(self, seconds):
+        if self.mission:
+            self.ls.sleep(seconds)
+            return
         end = rospy.Time.now() + rospy.Duration(seconds)
         self.wait(lambda: rospy.Time.now() >= end, 60 + 10 * seconds, "%.1f s of sim time" % seconds)
 
@@ -204,7 +213,7 @@ class NavSimTest(unittest.TestCase):
         return d[cell(goal)] * self.res
 
     def action_client(self):
-        client = SimpleActionClient("move_base", MoveBaseAction)
+        client = self.client or SimpleActionClient("move_base", MoveBaseAction)
         self.assertTrue(client.wait_for_server(rospy.Duration(60)), "move_base action server not up")
         return client
 
@@ -219,6 +228,12 @@ class NavSimTest(unittest.TestCase):
         return g
 
     def wait_ready(self):
+        if self.mission:  # joins now; from here on period by period, waits in sim time
+            self.ls.hold_next_period()
+            self.assertTrue(self.ls.wait_for(lambda: self.truth is not None, 30.0), "no ground truth in 30 s of sim time")
+            self.assertTrue(self.ls.wait_for(lambda: self.amcl_pose() is not None, 30.0),
+                            "no AMCL map -> base_footprint transform in 30 s of sim time")
+            return
         self.wait(lambda: self.truth is not None, 120, "ground truth")
         self.wait(lambda: self.amcl_pose() is not None, 120, "AMCL's map -> base_footprint transform")
 
@@ -321,8 +336,9 @@ class NavSimTest(unittest.TestCase):
                             "start or goal not in the eroded free space" % (start[0], start[1], gx, gy))
             i0 = len(self.log)
             client.send_goal(self.goal(gx, gy, gyaw))
-            self.wait_until(lambda: client.get_state() not in (GoalStatus.PENDING, GoalStatus.ACTIVE),
-                            rospy.get_param("~goal_timeout", 240.0), "goal (%.1f, %.1f)" % (gx, gy))
+            timeout = rospy.get_param("~goal_timeout", 240.0)
+            if not client.wait_for_result(rospy.Duration(timeout)):
+                self.fail("timed out (%.0f s of sim time) waiting for goal (%.1f, %.1f)" % (timeout, gx, gy))
             if client.get_state() != GoalStatus.SUCCEEDED:
                 t, est = self.truth, self.amcl_pose() or (float("nan"),) * 3
                 self.fail("goal (%.1f, %.1f): %s; robot at truth (%.2f, %.2f, %.2f), AMCL (%.2f, %.2f, %.2f)"
@@ -346,17 +362,19 @@ class NavSimTest(unittest.TestCase):
             rospy.loginfo("driven %.2f m, shortest grid path %.2f m (%.2fx)", driven, shortest, driven / shortest)
             self.assertLessEqual(driven, max_ratio * shortest, "path to (%.1f, %.1f): driven %.2f m, more than "
                                  "%.2fx the shortest grid path %.2f m" % (gx, gy, driven, max_ratio, shortest))
+        log = list(self.log)  # the mission's samples: what follows runs while time moves on
+        self.ls.release()
         self.check_no_contact()
-        close = self.close_passes(self.log)
+        close = self.close_passes(log)
         rospy.loginfo("footprint within a map cell of an obstacle at %d of %d ground-truth poses %s",
-                      len(close), len(self.log), close[:3])
-        sideways, driven = sideways_distance(self.log)
+                      len(close), len(log), close[:3])
+        sideways, driven = sideways_distance(log)
         rospy.loginfo("driven %.2f m, %.2f m of it sideways (body frame, ground truth)", driven, sideways)
         # Compared at equal stamps (a wall-clock lag would show as error at 5x real time); the
         # first ~settle s let the filter converge from the initial spread.
-        settle = self.log[0][0] + rospy.get_param("~settle", 5.0)
+        settle = log[0][0] + rospy.get_param("~settle", 5.0)
         errs, moving = [], []
-        for s, nxt in zip(self.log[::4], self.log[1::4]):
+        for s, nxt in zip(log[::4], log[1::4]):
             est = self.amcl_pose(s[0]) if s[0] > settle else None
             if est:
                 ex, ey = est[0] - s[1], est[1] - s[2]
