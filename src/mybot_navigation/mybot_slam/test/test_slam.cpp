@@ -500,6 +500,12 @@ TEST(Slam, LoopClosureEventsReportWhatOneScanDid)
   EXPECT_EQ(events[1].from, 3);
   EXPECT_STREQ(events[1].reason, "accepted");
 
+  // One applied without waiting for confirmation says so (loop_unique_ratio).
+  after.last_closure.unique = true;
+  events = loopClosureEvents(before, after);
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_STREQ(events[1].reason, "accepted at once: unique and strong");
+
   // A rejection carries its reason.
   after = before;
   after.loop_rejected = 1;

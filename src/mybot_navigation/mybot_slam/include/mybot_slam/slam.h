@@ -229,6 +229,7 @@ struct LoopClosureRecord
   double ratio = 0.0;              // translation constraint ratio (1 = fully constrained)
   Pose2D correction;               // closure pose relative to the estimate before optimisation
   bool accepted = false;
+  bool unique = false;  // applied without confirmation: unique and strong (loop_unique_ratio)
   // What became of it: "accepted", or why it was held, rejected or dropped.
   const char* reason = "";
 };

@@ -465,7 +465,7 @@ bool Slam::closeLoop(int current, int candidate, LoopMatch& match)
   if (!match.global && !matchCandidateSubmap(current, candidate, match))
     return false;
   stats_.last_closure = {
-      candidate, current, match.result.score, match.score_at_estimate, match.constraint_ratio, match.correction,
+      candidate, current, match.result.score, match.score_at_estimate, match.constraint_ratio, match.correction, false,
       false,     ""};
   if (const char* why = implausibleClosure(current, candidate, match))
     return rejectClosure(why);
@@ -708,6 +708,7 @@ bool Slam::applyClosure(const std::vector<PoseGraphEdge>& added, const LoopMatch
   {
     ++stats_.loop_closures;
     stats_.last_closure.accepted = true;
+    stats_.last_closure.unique = match.unique;
     return true;  // already consistent: keep the constraint, skip the expensive re-render
   }
   if (match.global)
@@ -738,6 +739,7 @@ bool Slam::applyClosure(const std::vector<PoseGraphEdge>& added, const LoopMatch
   if (match.global)
     ++stats_.loop_global_closures;
   stats_.last_closure.accepted = true;
+  stats_.last_closure.unique = match.unique;
   for (size_t i = 0; i < keyframes_.size(); ++i)
     keyframes_[i].pose = graph_.node(static_cast<int>(i));
   coarse_stale_ = true;
@@ -756,7 +758,7 @@ std::vector<LoopClosureRecord> loopClosureEvents(const SlamStats& before, const 
   {
     events.push_back(after.last_closure);
     if (after.last_closure.accepted)
-      events.back().reason = "accepted";
+      events.back().reason = after.last_closure.unique ? "accepted at once: unique and strong" : "accepted";
   }
   return events;
 }
