@@ -3,6 +3,7 @@
 // (20000 pixels) bounds the image it will decode.
 //   rosrun mybot_map_server map_server MAP.yaml
 #include <nav_msgs/GetMap.h>
+#include <mybot_lockstep/ros/participant.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
 
@@ -58,6 +59,11 @@ int main(int argc, char** argv)
   meta_pub.publish(resp.map.info);
   ros::Publisher map_pub = nh.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
   map_pub.publish(resp.map);
+  // A lockstep participant under the simulator (mybot_lockstep; off lockstep this does nothing):
+  // its Acks count the latched map on each connection, so AMCL and move_base take it in the
+  // period after the one it was announced in on every run, not whenever it happens to arrive.
+  // Named in the simulator's lockstep_wait_for, that is the first period.
+  mybot_lockstep::Participant::instance();
   ros::spin();
   return 0;
 }
