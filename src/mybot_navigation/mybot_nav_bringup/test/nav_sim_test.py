@@ -64,16 +64,17 @@ class NavSimTest(unittest.TestCase):
         self.log = []  # (t, truth x, y, yaw, amcl x, y, yaw or None)
         self.max_vy = 0.0
         # A lockstep participant (mybot_lockstep): every ground-truth sample is logged before
-        # simulated time moves on, however busy the machine is. A navigation mission runs period
-        # by period: this node joins once set up (the launch names it in lockstep_wait_for with
-        # AMCL and move_base, so time starts with all three in), its tf and the move_base action
-        # come through the participant, and its main thread sleeps through it, so the goals go
-        # out and their results are seen in the same periods on every run.
-        self.mission = self.mode == "navigation"
+        # simulated time moves on, however busy the machine is. A navigation mission and global
+        # localization run period by period: this node joins once set up (the launch names it
+        # in lockstep_wait_for with map_server, AMCL and move_base, so time starts with all of
+        # them in), its tf and the move_base action come through the participant, and its main
+        # thread sleeps through it (a service call it makes while holding a period is answered
+        # before that period ends), so what it does falls in the same periods on every run.
+        self.mission = self.mode in ("navigation", "global")
         self.ls = ls = participant(defer_join=self.mission)
         self.tf = tf2_ros.Buffer(cache_time=rospy.Duration(900))
         self.listener = TransformListener(self.tf, ls) if self.mission else tf2_ros.TransformListener(self.tf)
-        self.client = SimpleActionClient("move_base", MoveBaseAction, ls=ls) if self.mission else None
+        self.client = SimpleActionClient("move_base", MoveBaseAction, ls=ls) if self.mode == "navigation" else None
         ls.Subscriber("ground_truth/odom", Odometry, self.on_truth, queue_size=50)
         ls.Subscriber("cmd_vel", Twist, self.on_cmd, queue_size=50)
         self.contacts = None
