@@ -332,7 +332,11 @@ private:
     world_->resetTime();
     last_clock_ = -1;
     last_contacts_ = -1;
-    publishClock(true);
+    // In lockstep the new time goes out with the next period's tick, as every clock does: a
+    // participant still handling this period keeps its time, and all of them see time go back
+    // at the same boundary (while paused, the loop publishes the clock as it waits).
+    if (!lockstep_)
+      publishClock(true);
     anchor();
     return true;
   }

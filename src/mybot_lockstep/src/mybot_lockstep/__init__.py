@@ -27,6 +27,7 @@ from rospy.impl.registration import get_topic_manager
 from tf2_msgs.msg import TFMessage
 
 from mybot_lockstep.msg import Ack, LinkCount, Tick
+from mybot_lockstep.time_jump import TimeJump
 
 __all__ = ['Participant', 'participant', 'lockstep_requested', 'TransformListener']
 
@@ -212,9 +213,12 @@ class Participant:
                     if missing_n > 0:
                         self._handled[key] = l.count
                         self._forgiven[key] = self._forgiven.get(key, 0) + missing_n
-        # /clock is handled in rospy's own thread; what runs now must see the period's time.
+        # /clock is handled in rospy's own thread; what runs now must see the period's time (after
+        # a reset exactly: participant.cpp says why).
+        went_back = self._last_stamp is not None and tick.stamp < self._last_stamp
         deadline = time.monotonic() + self._forgive_after
-        while rospy.get_rostime() < tick.stamp and time.monotonic() < deadline and not rospy.is_shutdown():
+        while (not rospy.rostime.is_wallclock() and not rospy.is_shutdown() and time.monotonic() < deadline
+               and (rospy.get_rostime() < tick.stamp or (went_back and rospy.get_rostime() > tick.stamp))):
             time.sleep(0.0002)
         # The period's messages first, in a fixed order. One from a participant is handed over
         # in the period its publisher's Ack announced it, never earlier (it may arrive early).
@@ -252,7 +256,6 @@ class Participant:
         with self._cond:
             # A main thread sleeping until a time the clock has jumped back from (a simulation
             # reset) wakes at once, as rospy.sleep raises then: it must notice the jump itself.
-            went_back = self._last_stamp is not None and tick.stamp < self._last_stamp
             self._last_stamp = tick.stamp
             if self._wake is not None and (tick.stamp >= self._wake or went_back):
                 self._wake = None
@@ -282,11 +285,13 @@ class TransformListener:
     the same answer on an idle and on a loaded machine. tf2_ros's own listener fills the buffer
     from rospy's threads whenever messages arrive. Never wait for a transform with a timeout while
     the main thread holds a period (time cannot move): look up without one and sleep through the
-    helper. As tf2_ros's listener, it clears the buffer when ROS time goes back."""
+    helper. As tf2_ros's listener, it clears the buffer when ROS time goes back; unlike it, it
+    then drops the transforms stamped before the jump that arrive late (time_jump.py)."""
 
     def __init__(self, buffer, ls=None):
         self.buffer = buffer
         self._last_now = None
+        self._jump = TimeJump()
         ls = ls or participant()
         # 1000 messages, as transform_listener.h: every message a period owes is waited for.
         ls.Subscriber('/tf', TFMessage, lambda m: self._received(m, 'tf', False), queue_size=1000,
@@ -296,16 +301,22 @@ class TransformListener:
 
     def _received(self, msg, authority, is_static):
         now = rospy.get_rostime()
-        if self._last_now is not None and now < self._last_now:
+        if self._jump.went_back(now.to_sec()):
             rospy.logwarn('tf: time went backwards (%.3f -> %.3f s); clearing the transform buffer',
                           self._last_now.to_sec(), now.to_sec())
             self.buffer.clear()
         self._last_now = now
+        dropped = []
         for t in msg.transforms:
             if is_static:
                 self.buffer.set_transform_static(t, authority)
+            elif self._jump.stale(t.header.stamp.to_sec(), now.to_sec()):
+                # Sent before time went back, received after the clear (time_jump.py).
+                dropped.append('%s -> %s at %.6f' % (t.header.frame_id, t.child_frame_id, t.header.stamp.to_sec()))
             else:
                 self.buffer.set_transform(t, authority)
+        if dropped:
+            rospy.logwarn('tf: dropped what was sent before time went back: %s', ', '.join(dropped))
 
 
 _instance = None

@@ -337,9 +337,17 @@ void Participant::tryFinish()
   if (!pending_ || finishing_ || ledger_.firstUnmet(expected_))
     return;
   finishing_ = true;
-  // /clock is handled by roscpp's own thread; the period's callbacks must see its time.
+  // /clock is handled by roscpp's own thread; the period's callbacks must see its time. After a
+  // reset, exactly: the clock goes back with this tick, and a node that still read the old time
+  // would take the new timeline's transforms for the old one's (tf2 refused them as data from
+  // the past). Otherwise a clock ahead is fine: a node that joined while time ran handles the
+  // ticks it missed.
+  const bool went_back = !last_stamp_.isZero() && pending_->stamp < last_stamp_;
+  last_stamp_ = pending_->stamp;
   const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(forgive_after_);
-  while (ros::Time::now() < pending_->stamp && ros::WallTime::now() < give_up && ros::ok())
+  while (ros::Time::isSimTime() &&
+         (ros::Time::now() < pending_->stamp || (went_back && ros::Time::now() > pending_->stamp)) &&
+         ros::WallTime::now() < give_up && ros::ok())
     std::this_thread::sleep_for(std::chrono::microseconds(50));
   // An idle period published nothing: the counts need no wake-up of roscpp's poll thread.
   const bool work = runPeriod();

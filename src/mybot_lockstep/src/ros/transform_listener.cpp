@@ -24,7 +24,7 @@ TransformListener::TransformListener(tf2_ros::Buffer& buffer, std::function<void
 void TransformListener::received(const tf2_msgs::TFMessage& msg, bool is_static)
 {
   const ros::Time now = ros::Time::now();
-  if (!last_now_.isZero() && now < last_now_)
+  if (jump_.wentBack(now.toSec()))
   {
     // As tf2_ros::TransformListener: after time went back, the old transforms lie in the
     // future of the new clock and would be used for stamps they never described.
@@ -33,8 +33,17 @@ void TransformListener::received(const tf2_msgs::TFMessage& msg, bool is_static)
   }
   last_now_ = now;
   const std::string authority = is_static ? "tf_static" : "tf";
+  std::string dropped;
   for (const auto& t : msg.transforms)
   {
+    // One sent just before the jump and received after the clear (time_jump.h): kept, it would
+    // make tf2 refuse the frame's new transforms for the buffer's cache_time.
+    if (!is_static && jump_.stale(t.header.stamp.toSec(), now.toSec()))
+    {
+      dropped += (dropped.empty() ? "" : ", ") + t.header.frame_id + " -> " + t.child_frame_id + " at " +
+                 std::to_string(t.header.stamp.toSec());
+      continue;
+    }
     try
     {
       buffer_.setTransform(t, authority, is_static);
@@ -45,6 +54,8 @@ void TransformListener::received(const tf2_msgs::TFMessage& msg, bool is_static)
                         t.child_frame_id.c_str(), e.what());
     }
   }
+  if (!dropped.empty())
+    ROS_WARN("tf: dropped what was sent before time went back: %s", dropped.c_str());
   if (on_update_)
     on_update_();
 }

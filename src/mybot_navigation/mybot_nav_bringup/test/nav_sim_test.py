@@ -464,6 +464,10 @@ class NavSimTest(unittest.TestCase):
         client.send_goal(self.goal(gx, gy, 0.0))
         self.wait(lambda: self.truth is not None and math.hypot(self.truth[1], self.truth[2]) > 0.5, 120,
                   "the robot to drive 0.5 m towards the goal")
+        # Time goes back by more than a tf buffer's cache_time (10 s): a transform stamped before
+        # the reset that reached a buffer after its clear would then make tf2 refuse the frame's
+        # new transforms, and move_base lose the robot's pose (mybot_lockstep's time_jump.h).
+        self.wait(lambda: rospy.Time.now().to_sec() >= 12.0, 60, "12 s of sim time")
         before = rospy.Time.now()
         rospy.wait_for_service("/gazebo/reset_simulation", 30)
         rospy.ServiceProxy("/gazebo/reset_simulation", Empty)()

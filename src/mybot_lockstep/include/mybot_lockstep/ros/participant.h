@@ -146,6 +146,7 @@ private:
   Ledger ledger_;
   TickTimers timers_;
   Tick::ConstPtr pending_;
+  ros::Time last_stamp_;  // of the last period handled: a tick before it means time went back
   Ack last_ack_;
   // Messages waiting for their period, by (topic, publisher): a fixed order across connections.
   std::map<std::pair<std::string, std::string>, std::deque<std::function<void()>>> inbox_;

@@ -12,12 +12,15 @@
 // also runs the node's callbacks; no thread of its own), so code waiting for a transform
 // must not block inside a callback: keep the message and retry from `on_update` (as
 // mybot_nav_common's TfGate does). As tf2_ros's listener, it clears the buffer when ROS time
-// goes back (a simulation reset, a bag played again), and `on_update` runs after the clear.
+// goes back (a simulation reset, a bag played again), and `on_update` runs after the clear;
+// unlike it, it then drops the transforms stamped before the jump that arrive late (time_jump.h).
 #pragma once
 
 #include <ros/ros.h>
 #include <tf2_msgs/TFMessage.h>
 #include <tf2_ros/buffer.h>
+
+#include "mybot_lockstep/time_jump.h"
 
 #include <functional>
 
@@ -37,6 +40,7 @@ private:
   tf2_ros::Buffer& buffer_;
   std::function<void()> on_update_;
   ros::Time last_now_;
+  TimeJump jump_;
   ros::Subscriber tf_sub_, static_sub_;
 };
 
