@@ -38,10 +38,8 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_swerve_lib mybot_swerve_lib gtest_main)
 
   find_package(rostest REQUIRED)
-  # swerve_sim_pose_nodelets runs in scripts/soak: the nodelet manager's worker threads do not
-  # take part in lockstep, and its go-to-pose error varied from 3 to 32 mm over five runs.
   set(MYBOT_SWERVE_ROSTESTS swerve_bad_config swerve_sim_motion swerve_sim_modules swerve_sim_pose
-      swerve_sim_pose_nodes swerve_sim_odometry)
+      swerve_sim_pose_nodes swerve_sim_pose_nodelets swerve_sim_odometry)
   foreach(t ${MYBOT_SWERVE_ROSTESTS})
     add_rostest(test/swerve/${t}.test DEPENDENCIES swerve_controller swerve_module swerve_odom swerve_chain mybot_swerve_nodelets)
   endforeach()

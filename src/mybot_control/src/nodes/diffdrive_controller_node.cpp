@@ -39,7 +39,7 @@ public:
       cmd_out_pub_ = pnh_.advertise<geometry_msgs::TwistStamped>("cmd_vel_out", 10);
     cmd_sub_ = mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(
         nh_, "cmd_vel", 10, [this](const geometry_msgs::Twist& m) { onCmd(m); }, ros::TransportHints().tcpNoDelay());
-    timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / rate,
+    timer_ = mybot_lockstep::Participant::instance().createTimer(nh_, 1.0 / rate,
                                                                  [this](const ros::TimerEvent& e) { onTimer(e); });
     ROS_INFO("diffdrive_controller: wheel_separation %.4f m, %.0f Hz, cmd_vel_timeout %.2f s", g.separation, rate,
              cmd_vel_timeout_);

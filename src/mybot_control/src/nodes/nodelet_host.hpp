@@ -2,7 +2,6 @@
 // node's one-line message.
 #pragma once
 
-#include <mybot_lockstep/ros/participant.h>
 #include <nodelet/nodelet.h>
 
 #include <memory>
@@ -20,9 +19,10 @@ class NodeletHost : public nodelet::Nodelet
 private:
   void onInit() override
   {
-    // A nodelet's callbacks run on the manager's worker threads, which lockstep's tick-driven
-    // timers (run from the global queue) would race with: a manager does not take part.
-    mybot_lockstep::Participant::optOut("a nodelet manager: callbacks on worker threads");
+    // Every subscription and timer of our nodes goes through the lockstep Participant. Under
+    // lockstep they all run on the manager's global queue, period by period, so the manager
+    // takes part as one process (as diffdrive_chain does); off lockstep, on this nodelet's own
+    // queue (one worker thread at a time), timers included.
     try
     {
       node_ = make(getNodeHandle(), getPrivateNodeHandle());

@@ -85,8 +85,8 @@ public:
       cmd_out_pub_ = pnh_.advertise<geometry_msgs::TwistStamped>("cmd_vel_out", 10);
     cmd_sub_ = mybot_lockstep::Participant::instance().subscribe<geometry_msgs::Twist>(
         nh_, "cmd_vel", 10, [this](const geometry_msgs::Twist& m) { onCmd(m); }, ros::TransportHints().tcpNoDelay());
-    timer_ =
-        mybot_lockstep::Participant::instance().createTimer(period_, [this](const ros::TimerEvent& e) { onTimer(e); });
+    timer_ = mybot_lockstep::Participant::instance().createTimer(nh_, period_,
+                                                                 [this](const ros::TimerEvent& e) { onTimer(e); });
     ROS_INFO("swerve_controller: %zu modules, %.0f Hz, cmd_vel_timeout %.2f s, angle_error_threshold %.3f rad%s", n,
              rate, cmd_vel_timeout_, angle_error_threshold_, field_relative_ ? ", field-relative" : "");
   }

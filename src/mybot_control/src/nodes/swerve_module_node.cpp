@@ -137,7 +137,7 @@ public:
       joint_state_.velocity.assign(joints.size(), 0.0);
       joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
       timer_ = mybot_lockstep::Participant::instance().createTimer(
-          1.0 / rate, [this](const ros::TimerEvent& e) { onMockTimer(e); });
+          nh_, 1.0 / rate, [this](const ros::TimerEvent& e) { onMockTimer(e); });
     }
     else
     {

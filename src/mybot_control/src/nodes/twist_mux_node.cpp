@@ -118,10 +118,10 @@ public:
             mux_.lockReceived(static_cast<int>(k), m->data, ros::Time::now().toSec());
             check();
           }));
-    check_timer_ = mybot_lockstep::Participant::instance().createTimer(1.0 / check_rate,
+    check_timer_ = mybot_lockstep::Participant::instance().createTimer(nh_, 1.0 / check_rate,
                                                                        [this](const ros::TimerEvent&) { check(); });
     diag_timer_ = mybot_lockstep::Participant::instance().createTimer(
-        1.0 / diag_rate, [this](const ros::TimerEvent&) { diagnostics(); });
+        nh_, 1.0 / diag_rate, [this](const ros::TimerEvent&) { diagnostics(); });
     announce("idle");
   }
 

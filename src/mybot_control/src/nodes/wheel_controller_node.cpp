@@ -101,8 +101,8 @@ public:
     joint_sub_ = mybot_lockstep::Participant::instance().subscribe<sensor_msgs::JointState>(
         nh_, "joint_states", 20, [this](const sensor_msgs::JointState& m) { onJointStates(m); },
         ros::TransportHints().tcpNoDelay());
-    timer_ =
-        mybot_lockstep::Participant::instance().createTimer(period_, [this](const ros::TimerEvent& e) { onTimer(e); });
+    timer_ = mybot_lockstep::Participant::instance().createTimer(nh_, period_,
+                                                                 [this](const ros::TimerEvent& e) { onTimer(e); });
     ROS_INFO("wheel_controller: radius %.4f/%.4f m, %.0f Hz, pid_on %s, output %s", wheels_[0].radius,
              wheels_[1].radius, rate, pid_on_ ? "true" : "false", interface.c_str());
   }

@@ -38,9 +38,21 @@ class Chain:
             self.ls.sleep(0.01)
         raise AssertionError('shut down while waiting for ' + what)
 
-    def wait_ready(self):
+    def wait_ready(self, subscribed=()):
+        """Until odom flows and each topic of `subscribed` has a subscriber: nodelets are loaded
+        into their manager one by one, after it has joined lockstep, so time may run before the
+        last of them listens."""
         if self.ls.active:  # sim time waits for this test: its start is the same every run
             assert self.ls.wait_for(lambda: self.odom is not None, 60.0), 'no odom received'
+            if subscribed:
+                import rosgraph
+                master = rosgraph.Master(rospy.get_name())
+
+                def listened():
+                    subs = dict(master.getSystemState()[1])
+                    return all(subs.get(rospy.resolve_name(t)) for t in subscribed)
+
+                assert self.ls.wait_for(listened, 60.0), 'no subscriber on one of %s' % (subscribed,)
             return
         # Wall-clock bound only for the start-up (clock may not run yet).
         import time

@@ -18,7 +18,7 @@ class DiffDriveChainTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('diffdrive_chain_test')
         cls.chain = Chain()
-        cls.chain.wait_ready()
+        cls.chain.wait_ready(subscribed=('cmd_vel', 'lwheel_tangent_vel_target', 'rwheel_tangent_vel_target'))
 
     def setUp(self):
         self.chain.pub.publish(Twist())

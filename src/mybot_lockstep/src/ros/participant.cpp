@@ -170,12 +170,13 @@ Participant::Participant() : self_(ros::this_node::getName()), ledger_(self_)
 
 Participant::~Participant() = default;
 
-Timer Participant::createTimer(double period, const std::function<void(const ros::TimerEvent&)>& cb)
+Timer Participant::createTimer(const ros::NodeHandle& nh, double period,
+                               const std::function<void(const ros::TimerEvent&)>& cb)
 {
   Timer t;
   if (!active_)
   {
-    t.ros_timer_ = nh_.createTimer(ros::Duration(period), [cb](const ros::TimerEvent& e) { cb(e); });
+    t.ros_timer_ = nh.createTimer(ros::Duration(period), [cb](const ros::TimerEvent& e) { cb(e); });
     return t;
   }
   std::lock_guard<std::recursive_mutex> lock(mutex_);

@@ -66,7 +66,8 @@ private:
 
     auto& ls = Participant::instance();
     if (status_frequency > 0)
-      status_timer_ = ls.createTimer(1.0 / status_frequency, [this](const ros::TimerEvent&) { publishStatus(); });
+      status_timer_ =
+          ls.createTimer(node_, 1.0 / status_frequency, [this](const ros::TimerEvent&) { publishStatus(); });
     goal_sub_ = ls.subscribe<ActionGoal>(node_, "goal", static_cast<uint32_t>(sub_queue_size),
                                          [this](const ActionGoalConstPtr& g) { this->goalCallback(g); });
     cancel_sub_ = ls.subscribe<actionlib_msgs::GoalID>(node_, "cancel", static_cast<uint32_t>(sub_queue_size),

@@ -4,7 +4,7 @@
 //
 //   auto& ls = mybot_lockstep::Participant::instance();
 //   sub_ = ls.subscribe<sensor_msgs::JointState>(nh, "joint_states", 10, [this](const auto& m) { ... });
-//   timer_ = ls.createTimer(0.02, [this](const ros::TimerEvent& e) { ... });
+//   timer_ = ls.createTimer(nh, 0.02, [this](const ros::TimerEvent& e) { ... });
 //
 // Lockstep is on when the parameters /use_sim_time and /lockstep are both true (the
 // simulator's launch files set them); otherwise subscribe() is nh.subscribe() and
@@ -64,11 +64,15 @@ class Participant
 public:
   static Participant& instance();
   bool active() const { return active_; }
-  // Keeps this process out of lockstep (call before the first instance()): nodelet managers,
-  // whose callbacks run on worker threads the tick-driven timers cannot join.
+  // Keeps this process out of lockstep (call before the first instance()): a process whose
+  // callbacks do not all go through subscribe() and createTimer() (they would run on other
+  // threads, beside the period's).
   static void optOut(const std::string& why);
 
-  Timer createTimer(double period, const std::function<void(const ros::TimerEvent&)>& cb);
+  // Off lockstep the timer runs on `nh`'s callback queue, as a subscription through `nh` does:
+  // in a nodelet manager that is the nodelet's own queue, so a node's timer and callbacks never
+  // run at once on two threads.
+  Timer createTimer(const ros::NodeHandle& nh, double period, const std::function<void(const ros::TimerEvent&)>& cb);
 
   // Subscribes through lockstep. `cb` takes `const M&` or `const M::ConstPtr&`. Under
   // lockstep the message is not handed to `cb` when it arrives but when its period is

@@ -132,7 +132,7 @@ public:
       requestMap();
     }
     if (save_pose_rate_ > 0.0)
-      save_timer_ = ls.createTimer(1.0 / save_pose_rate_, [this](const ros::TimerEvent& e) { savePose(e); });
+      save_timer_ = ls.createTimer(nh_, 1.0 / save_pose_rate_, [this](const ros::TimerEvent& e) { savePose(e); });
   }
 
 private:

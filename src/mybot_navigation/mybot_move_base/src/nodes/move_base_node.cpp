@@ -305,12 +305,13 @@ public:
         nh_, "move_base", [this](const move_base_msgs::MoveBaseGoalConstPtr& goal) { goalCallback(goal); },
         [this] { preemptCallback(); });
 
-    control_timer_ = ls.createTimer(1.0 / controller_frequency_, [this](const ros::TimerEvent& e) { controlLoop(e); });
-    update_timer_ =
-        ls.createTimer(1.0 / global_cfg_.update_frequency, [this](const ros::TimerEvent& e) { updateCostmaps(e); });
+    control_timer_ =
+        ls.createTimer(nh_, 1.0 / controller_frequency_, [this](const ros::TimerEvent& e) { controlLoop(e); });
+    update_timer_ = ls.createTimer(nh_, 1.0 / global_cfg_.update_frequency,
+                                   [this](const ros::TimerEvent& e) { updateCostmaps(e); });
     const double pub_rate = std::max(global_cfg_.publish_frequency, local_cfg_.publish_frequency);
     if (pub_rate > 0.0)
-      publish_timer_ = ls.createTimer(1.0 / pub_rate, [this](const ros::TimerEvent& e) { publishCostmaps(e); });
+      publish_timer_ = ls.createTimer(nh_, 1.0 / pub_rate, [this](const ros::TimerEvent& e) { publishCostmaps(e); });
     ROS_INFO("move_base: waiting for the map on %s", nh_.resolveName(global_cfg_.map_topic).c_str());
   }
 

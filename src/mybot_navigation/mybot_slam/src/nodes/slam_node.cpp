@@ -102,7 +102,8 @@ public:
                                                        releaseScans();
                                                      });
     if (transform_publish_period_ > 0.0)
-      tf_timer_ = ls.createTimer(transform_publish_period_, [this](const ros::TimerEvent& e) { publishTransform(e); });
+      tf_timer_ =
+          ls.createTimer(nh_, transform_publish_period_, [this](const ros::TimerEvent& e) { publishTransform(e); });
     ROS_INFO("slam: delta %.3f m, linearUpdate %.2f m, angularUpdate %.2f rad, frames %s -> %s -> %s, loop closure %s",
              p.grid.resolution, p.linear_update, p.angular_update, map_frame_.c_str(), odom_frame_.c_str(),
              base_frame_.c_str(), p.loop_closure ? "on" : "off");
