@@ -12,6 +12,7 @@ import math
 import os
 import subprocess
 import sys
+import threading
 import time
 import unittest
 
@@ -20,20 +21,19 @@ import rostest
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32
+from std_srvs.srv import Empty
 
 from mybot_lockstep import participant
+from mybot_lockstep.msg import Tick
 
 R = 0.03325
 B = 0.117
 
 
 def wait_until(pred, timeout, what):
-    end = rospy.get_time() + timeout
-    while not rospy.is_shutdown() and rospy.get_time() < end:
-        if pred():
-            return
-        rospy.sleep(0.01)
-    raise AssertionError("timed out after %.1f s waiting for %s" % (timeout, what))
+    """Waits up to `timeout` s of sim time, period by period under lockstep."""
+    if not participant().wait_for(pred, timeout, period=0.01):
+        raise AssertionError("timed out after %.1f s of sim time waiting for %s" % (timeout, what))
 
 
 class Recorder:
@@ -56,6 +56,19 @@ def mean(xs):
 class GoPiGoChain(unittest.TestCase):
     def setUp(self):
         rospy.init_node("drive_check")
+        # Under lockstep this node joins at its first sleep, with everything below set up (the
+        # launch names it in lockstep_wait_for, so time starts with it and its connections), and
+        # from then on its main thread runs period by period: each check acts in the same
+        # periods on every run.
+        self.ls = participant(defer_join=True)
+        if rospy.get_param("~check") == "timeout":
+            # The driver's own stamps: this node's callback scheduling on a loaded machine is not
+            # part of the driver's stop delay.
+            self.stamped = Recorder("gopigo_driver/sim_truth", JointState,
+                                    lambda m: (m.header.stamp.to_sec(), tuple(m.effort)))
+            self.lp = self.ls.Publisher("lwheel_angular_vel_motor", Float32, queue_size=1)
+            self.rp = self.ls.Publisher("rwheel_angular_vel_motor", Float32, queue_size=1)
+        self.procs = []
         self.truth = Recorder("gopigo_driver/sim_truth", JointState,
                               lambda m: (tuple(m.position), tuple(m.velocity), tuple(m.effort)))
         self.joints = Recorder("joint_states", JointState, lambda m: tuple(m.velocity))
@@ -63,13 +76,54 @@ class GoPiGoChain(unittest.TestCase):
         self.rmotor = Recorder("rwheel_angular_vel_motor", Float32, lambda m: m.data)
         self.cmd = Recorder("cmd_vel", Twist, lambda m: (m.linear.x, m.angular.z))
         self.enc = Recorder("cmd_vel_enc", Twist, lambda m: (m.linear.x, m.angular.z))
+        self.ls.hold_next_period()
         wait_until(lambda: self.truth.samples, 30.0, "the driver's sim_truth")
 
+    def tearDown(self):
+        # The moves' processes end in wall time (nav_timed lingers after its last twist),
+        # after this node stopped holding simulated time.
+        self.ls.release()
+        for proc, name in self.procs:
+            out = proc.communicate(timeout=60)[0]
+            self.assertEqual(proc.returncode, 0, "%s: %s" % (name, out[-3000:]))
+
     def run_launch(self, name, *args):
+        """roslaunch gopigo_bringup `name`, a straight or turning nav_timed move; returns the sim
+        times it started and ended at (its last twist, a zero, out of the mux). Under lockstep the
+        simulation is paused, from the period this node holds, until the move's node takes part:
+        it joins while time stands, and starts its profile in the period after the pause."""
+        node = "/" + name.split(".")[0]
+        joined = threading.Event()
+        # The simulator names a node that joined in the tick it republishes while time stands.
+        ticks = rospy.Subscriber("/lockstep/tick", Tick, lambda t: node in t.participants and joined.set(),
+                                 queue_size=10)
+        if self.ls.active:
+            rospy.ServiceProxy("/gazebo/pause_physics", Empty)()
+            self.ls.release()
         t0 = rospy.get_time()
-        r = subprocess.run(["roslaunch", "gopigo_bringup", name] + list(args),
-                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
-        self.assertEqual(r.returncode, 0, r.stdout[-3000:])
+        proc = subprocess.Popen(["roslaunch", "gopigo_bringup", name] + list(args),
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.procs.append((proc, name))
+        try:
+            if self.ls.active:
+                # Start-up takes wall time; simulated time stands meanwhile.
+                deadline = time.monotonic() + 60.0
+                while not joined.is_set() and proc.poll() is None and time.monotonic() < deadline:
+                    time.sleep(0.01)
+                self.assertTrue(joined.is_set(), "%s did not take part in lockstep within 60 s" % node)
+                # Holds the first period after the pause, the one the move starts in.
+                self.ls.hold_next_period(then=rospy.ServiceProxy("/gazebo/unpause_physics", Empty))
+        finally:
+            ticks.unregister()
+        moved = lambda: any(t > t0 and max(abs(x) for x in c) > 1e-6 for t, c in self.cmd.samples)
+        done = lambda: moved() and max(abs(x) for x in self.cmd.samples[-1][1]) <= 1e-6
+        wait_until(done, 120.0, "%s to move and stop" % name)
+        if self.ls.active:
+            # Under lockstep it starts in the first period after the pause: its subscriber was
+            # connected before time moved on (0.03 s here: two periods through mux and controller).
+            first = next(t for t, c in self.cmd.samples if t > t0 and max(abs(x) for x in c) > 1e-6)
+            self.assertLess(first - t0, 0.05, "%s started moving %.2f s after the pause" % (name, first - t0))
+        mv = [t for t, c in self.cmd.samples if t > t0 and max(abs(x) for x in c) > 1e-6]
         return t0, rospy.get_time()
 
     def moving_window(self, t0, t1):
@@ -136,18 +190,10 @@ class GoPiGoChain(unittest.TestCase):
 
     def check_timeout(self):
         max_delay = rospy.get_param("~max_stop_delay", 0.6)
-        # Judged by the driver's own stamps: this node's callback scheduling on a loaded machine is not
-        # part of the driver's stop delay.
-        stamped = Recorder("gopigo_driver/sim_truth", JointState, lambda m: (m.header.stamp.to_sec(), tuple(m.effort)))
-        ls = participant()
-        lp = ls.Publisher("lwheel_angular_vel_motor", Float32, queue_size=1)
-        rp = ls.Publisher("rwheel_angular_vel_motor", Float32, queue_size=1)
-        # Connections are a matter of wall time; simulated time may run fast meanwhile.
-        deadline = time.monotonic() + 30.0
-        while not (lp.get_num_connections() and rp.get_num_connections()):
-            self.assertLess(time.monotonic(), deadline, "the driver did not subscribe")
-            time.sleep(0.01)
-        ls.hold_next_period()  # each command belongs to one period
+        ls, lp, rp, stamped = self.ls, self.lp, self.rp, self.stamped
+        # Under lockstep open since time started (the simulator holds time on a join until every
+        # connection between participants is open).
+        self.assertTrue(lp.get_num_connections() and rp.get_num_connections(), "the driver did not subscribe")
         end = rospy.get_time() + 1.0
         while rospy.get_time() < end:
             lp.publish(Float32(3.0))

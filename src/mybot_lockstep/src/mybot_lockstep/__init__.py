@@ -76,6 +76,7 @@ class Participant:
         self._timers = []  # [period_ns, next_ns, callback]
         self._wake = None  # rospy.Time the main thread sleeps until
         self._held = None  # the tick the main thread was woken for and has not finished
+        self._holding_next = False  # the main thread sleeps in hold_next_period()
         self._last_ack = None
         self._last_stamp = None  # the last tick's stamp
         self._forgive_after = forgive_after
@@ -134,10 +135,14 @@ class Participant:
         d = duration if isinstance(duration, rospy.Duration) else rospy.Duration(duration)
         self.sleep_until(rospy.get_rostime() + d)
 
-    def sleep_until(self, t):
+    def sleep_until(self, t, then=None):
         """Finishes the current period (if the main thread held one) and waits for sim time t.
-        Returns at once when the clock jumps back (a reset), where rospy.sleep would raise."""
+        Returns at once when the clock jumps back (a reset), where rospy.sleep would raise.
+        `then`, if given, is called once the wake-up is registered, before waiting: a call that
+        lets time move on (unpause_physics) made there cannot let the period pass unseen."""
         if not self.active:
+            if then is not None:
+                then()
             rospy.sleep(max(0.0, (t - rospy.get_rostime()).to_sec()))
             return
         with self._cond:
@@ -146,18 +151,33 @@ class Participant:
             if self._held is not None:
                 held, self._held = self._held, None
                 self._ack(held)
+        if then is not None:
+            then()
+        with self._cond:
             while self._wake is not None and not rospy.is_shutdown():
                 self._cond.wait(0.1)
         if rospy.is_shutdown():
             raise rospy.ROSInterruptException('shutdown')
 
-    def hold_next_period(self):
+    def hold_next_period(self, then=None):
         """Waits for the next period's start and holds it: what the main thread does next (a
         profile's first command, its start time) belongs to a period, as everything after its
-        later sleeps does; time read between periods lies anywhere inside one. Off lockstep: a
-        no-op."""
-        if self.active:
-            self.sleep(rospy.Duration(0, 1))
+        later sleeps does; time read between periods lies anywhere inside one. A node that does
+        not take part yet joins, and holds the period after the one it joined in: by then the
+        simulator has opened its connections (it holds time on a join until they are), and which
+        period that is does not depend on whether the node's /clock or its first tick came
+        first. `then` as in sleep_until. Off lockstep: calls `then` and returns."""
+        if not self.active:
+            if then is not None:
+                then()
+            return
+        with self._cond:
+            self._holding_next = True
+        try:
+            self.sleep_until(rospy.get_rostime() + rospy.Duration(0, 1), then=then)
+        finally:
+            with self._cond:
+                self._holding_next = False
 
     def wait_for(self, predicate, timeout, period=0.02):
         """Sleeps in steps of `period` of sim time until predicate() or `timeout` s of sim time."""
@@ -189,6 +209,7 @@ class Participant:
         with self._cond:
             if self._last_ack is None and not self._joinable:
                 return  # set-up not done yet: not a participant
+            joining = self._last_ack is None and self._held is None
             last = self._last_ack.seq if self._last_ack is not None else 0
             if (self._held is not None and tick.seq <= self._held.seq) or tick.seq < last:
                 return
@@ -257,7 +278,8 @@ class Participant:
             # A main thread sleeping until a time the clock has jumped back from (a simulation
             # reset) wakes at once, as rospy.sleep raises then: it must notice the jump itself.
             self._last_stamp = tick.stamp
-            if self._wake is not None and (tick.stamp >= self._wake or went_back):
+            if (self._wake is not None and (tick.stamp >= self._wake or went_back)
+                    and not (joining and self._holding_next)):
                 self._wake = None
                 self._held = tick  # the main thread runs this period; it acks when it sleeps again
                 self._cond.notify_all()

@@ -38,6 +38,17 @@ void Coordinator::onAck(const Ack::ConstPtr& ack)
   {
     ROS_INFO("lockstep: %s joins (%zu participants)", ack->node.c_str(), roster_.size());
     settle_ = true;
+    // The current period, republished while time stands, names it from now on: whoever starts
+    // a node while time is paused can see that the simulator counts it before letting time move
+    // (participants answer a republished tick without reading it). A copy: the published message
+    // may still be in use.
+    if (tick_)
+    {
+      auto tick = boost::make_shared<Tick>(*tick_);
+      tick->participants = roster_.names();
+      tick->participants.push_back(self_);
+      tick_ = tick;
+    }
   }
   else if (ack->leaving)
     ROS_INFO("lockstep: %s leaves (%zu participants)", ack->node.c_str(), roster_.size());

@@ -36,7 +36,10 @@ class Node:
             duration=g("duration", 0.0, params.number, low=0))
         self.rate = g("rate", 10.0, params.number, low=0, low_open=True)
         self.wait = g("wait_for_subscribers", 5.0, params.number, low=0)
-        self.ls = participant()
+        # Joins from the main thread's first sleep: a node that joins then owes its first period
+        # with everything set up, and the simulator holds time on a join until its connections
+        # are open (mybot_lockstep's README).
+        self.ls = participant(defer_join=True)
         self.pub = self.ls.Publisher("cmd_vel", Twist, queue_size=1)
         self.stop = False
 
@@ -55,14 +58,19 @@ class Node:
             rospy.sleep(t - rospy.get_rostime())
 
     def run(self):
-        # With use_sim_time, time is 0 until the first /clock message.
-        while not self.stop and not rospy.is_shutdown() and rospy.get_time() == 0.0:
-            rospy.sleep(0.001)  # returns once the clock moves
+        if self.ls.active:
+            # Joins, and holds the period after the one it joined in: by then the subscribers'
+            # connections are open, so the profile starts a fixed number of periods after the
+            # node joined (after a pause, the first period once time moves on again).
+            self.ls.hold_next_period()
+        else:
+            # With use_sim_time, time is 0 until the first /clock message.
+            while not self.stop and not rospy.is_shutdown() and rospy.get_time() == 0.0:
+                rospy.sleep(0.001)  # returns once the clock moves
         start_wait = rospy.get_time()
         while (not self.stop and self.pub.get_num_connections() == 0
                and rospy.get_time() - start_wait < self.wait):
-            rospy.sleep(0.05)
-        self.ls.hold_next_period()  # the first twist belongs to a period, as every later one
+            self.ls.sleep(0.05)  # wakes holding a period: the first twist belongs to one
         t0 = rospy.get_rostime()
         period = 1.0 / self.rate
         current = -1
