@@ -84,7 +84,11 @@ class GoPiGoChain(unittest.TestCase):
         # after this node stopped holding simulated time.
         self.ls.release()
         for proc, name in self.procs:
-            out = proc.communicate(timeout=60)[0]
+            try:
+                out = proc.communicate(timeout=60)[0]
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                out = proc.communicate()[0] + "\n(killed: still running 60 s after the test)"
             self.assertEqual(proc.returncode, 0, "%s: %s" % (name, out[-3000:]))
 
     def run_launch(self, name, *args):

@@ -152,7 +152,15 @@ class Participant:
                 held, self._held = self._held, None
                 self._ack(held)
         if then is not None:
-            then()
+            try:
+                then()
+            except BaseException:
+                with self._cond:  # not sleeping after all: wake for nothing, hold no period
+                    self._wake = None
+                    if self._held is not None:
+                        held, self._held = self._held, None
+                        self._ack(held)
+                raise
         with self._cond:
             while self._wake is not None and not rospy.is_shutdown():
                 self._cond.wait(0.1)
