@@ -37,7 +37,9 @@ class Robot:
     (mybot_lockstep): the simulator waits for it every period, so a command sent for period k
     acts at period k whatever the load, and every ground-truth sample is seen. The main thread
     then holds the simulation between its sleeps, so it waits only through the helper's sleeps
-    (wait, settle, drive) and calls release() before any other blocking call."""
+    (wait, settle, drive) and calls release() before any other blocking call. It joins at its
+    first sleep (defer_join), with every subscription below made: a suite whose launch names it
+    in lockstep_wait_for then starts in the same period on every run."""
 
     def __init__(self, ns='', commands=True):
         p = ns.strip('/') + '/' if ns else ''
@@ -49,7 +51,7 @@ class Robot:
         self.history = None
         # Without commands (the rest test: 600 s of sim time, no input) the node stays out of
         # lockstep: the simulation need not hand it every period.
-        self.ls = participant() if commands else None
+        self.ls = participant(defer_join=True) if commands else None
         sub = self.ls.Subscriber if self.ls else rospy.Subscriber
         self.cmd = (self.ls.Publisher if self.ls else rospy.Publisher)('/' + p + 'cmd_vel', Twist, queue_size=1)
         sub('/' + p + 'ground_truth/odom', Odometry, self._gt)
@@ -82,8 +84,8 @@ class Robot:
             with self.lock:
                 if cond():
                     return
-            if self.ls and rospy.get_rostime() > rospy.Time(0):
-                self.ls.sleep(0.01)
+            if self.ls and (self.ls.active or rospy.get_rostime() > rospy.Time(0)):
+                self.ls.sleep(0.01)  # under lockstep the first one joins, before time starts
             else:
                 time.sleep(0.002)
         raise AssertionError('timed out waiting for ' + what)
@@ -153,7 +155,7 @@ class DriveTests(unittest.TestCase):
         cls.r.ready()
 
     def setUp(self):
-        self.r.release()
+        # From the period this node holds: the simulator serves the call between two periods.
         rospy.wait_for_service('/gazebo/reset_world', 30)
         rospy.ServiceProxy('/gazebo/reset_world', Empty)()
         self.r.settle(0.5)
@@ -243,21 +245,30 @@ class WallTests(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.r = Robot()
+        cls.contacts = []  # counted, as the robot's topics: each message in its period
+        cls.r.ls.Subscriber('/gazebo/model_contacts', ModelContacts, cls.contacts.append, queue_size=50)
+        cls.tf = tf2_ros.Buffer()
+        cls.listener = tf2_ros.TransformListener(cls.tf)
         cls.r.ready()
+
+    def contacts_since(self, t):
+        """The first /gazebo/model_contacts stamped at or after sim time t."""
+        self.r.wait(lambda: any(c.header.stamp.to_sec() >= t for c in self.contacts), '/gazebo/model_contacts')
+        return next(c for c in self.contacts if c.header.stamp.to_sec() >= t)
 
     def test_laser_range_to_wall(self):
         self.r.settle(0.5)
-        self.r.release()
-        contacts = rospy.wait_for_message('/gazebo/model_contacts', ModelContacts, timeout=30)
+        contacts = self.contacts_since(self.r.now())
         self.assertEqual(contacts.model_name, 'mybot')
         self.assertEqual((contacts.contact_steps, contacts.first_time), (0, -1.0), 'resting on the ground is no contact')
         self.r.wait(lambda: self.r.scan is not None, 'scan')
         with self.r.lock:
             scan = self.r.scan
         x, y, th = self.r.pose()
-        buf = tf2_ros.Buffer()
-        tf2_ros.TransformListener(buf)
-        tf = buf.lookup_transform('base_footprint', 'hokuyo', rospy.Time(0), rospy.Duration(30))
+        # Waited for period by period: a lookup's own timeout runs in sim time, which stands
+        # while this node holds the period.
+        self.r.wait(lambda: self.tf.can_transform('base_footprint', 'hokuyo', rospy.Time(0)), 'tf base_footprint -> hokuyo')
+        tf = self.tf.lookup_transform('base_footprint', 'hokuyo', rospy.Time(0))
         hokuyo_x = tf.transform.translation.x
         stddev = 0.01
         mid = len(scan.ranges) // 2
@@ -283,8 +294,7 @@ class WallTests(unittest.TestCase):
         self.assertGreater(x, 4.0)
         self.assertLess(abs(z), 0.1)
         self.assertLess(math.hypot(v.x, v.y), 0.05)
-        self.r.release()
-        contacts = rospy.wait_for_message('/gazebo/model_contacts', ModelContacts, timeout=30)
+        contacts = self.contacts_since(self.r.now())
         # Pushing for seconds: in contact for most of them (at rest afterwards it may just touch).
         self.assertEqual(contacts.first_model, 'wall_east', str(contacts))
         self.assertGreater(contacts.contact_time, 0.5, str(contacts))

@@ -127,7 +127,6 @@ class GoPiGoChain(unittest.TestCase):
             # connected before time moved on (0.03 s here: two periods through mux and controller).
             first = next(t for t, c in self.cmd.samples if t > t0 and max(abs(x) for x in c) > 1e-6)
             self.assertLess(first - t0, 0.05, "%s started moving %.2f s after the pause" % (name, first - t0))
-        mv = [t for t, c in self.cmd.samples if t > t0 and max(abs(x) for x in c) > 1e-6]
         return t0, rospy.get_time()
 
     def moving_window(self, t0, t1):

@@ -38,7 +38,7 @@ def relative(start, end):
 class TwinTest(unittest.TestCase):
     def setUp(self):
         rospy.init_node("twin_test")
-        self.ls = participant()
+        self.ls = participant(defer_join=True)  # joins with everything below set up
         self.rng = random.Random(7)
         self.truth = {}
         self.wheels = None
@@ -56,8 +56,9 @@ class TwinTest(unittest.TestCase):
         while not all(get_state(model_name=m).success for m in ("source", "twin")):
             self.assertLess(time.monotonic(), deadline, "the robots were not spawned")
             time.sleep(0.05)
-        self.ls.release()
-        rospy.ServiceProxy("/gazebo/unpause_physics", Empty)()
+        # Joins (named in lockstep_wait_for) and holds the first period after the unpause: the
+        # wake-up is registered before the call, so the drive starts in that period on every run.
+        self.ls.hold_next_period(then=rospy.ServiceProxy("/gazebo/unpause_physics", Empty))
         self.assertTrue(self.ls.wait_for(lambda: len(self.truth) == 2 and self.wheels is not None, 60.0),
                         "no ground truth or joint states")
 
