@@ -12,8 +12,6 @@ import math
 import os
 import subprocess
 import sys
-import threading
-import time
 import unittest
 
 import rospy
@@ -21,10 +19,9 @@ import rostest
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32
-from std_srvs.srv import Empty
 
 from mybot_lockstep import participant
-from mybot_lockstep.msg import Tick
+from mybot_lockstep.start_paused import start_paused
 
 R = 0.03325
 B = 0.117
@@ -96,29 +93,10 @@ class GoPiGoChain(unittest.TestCase):
         times it started and ended at (its last twist, a zero, out of the mux). Under lockstep the
         simulation is paused, from the period this node holds, until the move's node takes part:
         it joins while time stands, and starts its profile in the period after the pause."""
-        node = "/" + name.split(".")[0]
-        joined = threading.Event()
-        # The simulator names a node that joined in the tick it republishes while time stands.
-        ticks = rospy.Subscriber("/lockstep/tick", Tick, lambda t: node in t.participants and joined.set(),
-                                 queue_size=10)
-        if self.ls.active:
-            rospy.ServiceProxy("/gazebo/pause_physics", Empty)()
-            self.ls.release()
         t0 = rospy.get_time()
-        proc = subprocess.Popen(["roslaunch", "gopigo_bringup", name] + list(args),
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        proc = start_paused(self.ls, ["roslaunch", "gopigo_bringup", name] + list(args), "/" + name.split(".")[0],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         self.procs.append((proc, name))
-        try:
-            if self.ls.active:
-                # Start-up takes wall time; simulated time stands meanwhile.
-                deadline = time.monotonic() + 60.0
-                while not joined.is_set() and proc.poll() is None and time.monotonic() < deadline:
-                    time.sleep(0.01)
-                self.assertTrue(joined.is_set(), "%s did not take part in lockstep within 60 s" % node)
-                # Holds the first period after the pause, the one the move starts in.
-                self.ls.hold_next_period(then=rospy.ServiceProxy("/gazebo/unpause_physics", Empty))
-        finally:
-            ticks.unregister()
         moved = lambda: any(t > t0 and max(abs(x) for x in c) > 1e-6 for t, c in self.cmd.samples)
         done = lambda: moved() and max(abs(x) for x in self.cmd.samples[-1][1]) <= 1e-6
         wait_until(done, 120.0, "%s to move and stop" % name)

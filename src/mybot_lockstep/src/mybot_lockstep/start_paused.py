@@ -1,0 +1,50 @@
+"""Starts a process whose node joins lockstep while simulated time stands.
+
+A node started while time runs joins at a period that depends on load. Started through
+start_paused, it joins at a fixed one: the caller's participant holds a period, the simulation is
+paused from there, the process starts, and once the simulator names the node among the
+participants of the tick it republishes while time stands, time moves on with the caller holding
+the first period after the pause (its wake-up registered before the unpause, so that period
+cannot pass unseen). A node that calls hold_next_period() as it starts (nav_timed) then begins in
+the period after the pause, on every run.
+"""
+import subprocess
+import threading
+import time
+
+import rospy
+from std_srvs.srv import Empty
+
+from mybot_lockstep.msg import Tick
+
+__all__ = ['start_paused']
+
+
+def start_paused(ls, argv, node, timeout=60.0, **popen):
+    """subprocess.Popen(argv, **popen), `node` (its resolved name) joining before time moves on.
+
+    Under lockstep the caller's main thread must hold a period (it last slept through `ls`); it
+    holds the first period after the pause when this returns. Raises RuntimeError, with the
+    process killed, when the node has not joined within `timeout` s of wall time. Off lockstep:
+    only starts the process."""
+    if not ls.active:
+        return subprocess.Popen(argv, **popen)
+    joined = threading.Event()
+    ticks = rospy.Subscriber('/lockstep/tick', Tick, lambda t: node in t.participants and joined.set(),
+                             queue_size=10)
+    try:
+        rospy.ServiceProxy('/gazebo/pause_physics', Empty)()
+        ls.release()  # start-up takes wall time; time stands meanwhile
+        proc = subprocess.Popen(argv, **popen)
+        deadline = time.monotonic() + timeout
+        while not joined.is_set() and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.01)
+        if not joined.is_set():
+            proc.kill()
+            rospy.ServiceProxy('/gazebo/unpause_physics', Empty)()
+            raise RuntimeError('%s did not take part in lockstep within %.0f s of wall time (%s)' %
+                               (node, timeout, 'it exited' if proc.poll() is not None else 'killed'))
+        ls.hold_next_period(then=rospy.ServiceProxy('/gazebo/unpause_physics', Empty))
+        return proc
+    finally:
+        ticks.unregister()
