@@ -21,7 +21,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32
 
 from mybot_lockstep import participant
-from mybot_lockstep.start_paused import start_paused
+from mybot_lockstep.start_paused import finish, start_paused
 
 R = 0.03325
 B = 0.117
@@ -81,12 +81,8 @@ class GoPiGoChain(unittest.TestCase):
         # after this node stopped holding simulated time.
         self.ls.release()
         for proc, name in self.procs:
-            try:
-                out = proc.communicate(timeout=60)[0]
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                out = proc.communicate()[0] + "\n(killed: still running 60 s after the test)"
-            self.assertEqual(proc.returncode, 0, "%s: %s" % (name, out[-3000:]))
+            code, out = finish(proc)
+            self.assertEqual(code, 0, "%s: %s" % (name, out[-3000:]))
 
     def run_launch(self, name, *args):
         """roslaunch gopigo_bringup `name`, a straight or turning nav_timed move; returns the sim

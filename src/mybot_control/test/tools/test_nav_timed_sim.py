@@ -17,7 +17,7 @@ from std_msgs.msg import Float64
 
 from mybot_control.measurement import yaw_from_quaternion, wrap
 from mybot_lockstep import participant
-from mybot_lockstep.start_paused import start_paused
+from mybot_lockstep.start_paused import finish, start_paused
 
 TIMEOUT = 90.0  # s of sim time
 
@@ -43,12 +43,8 @@ class NavTimedSimTest(unittest.TestCase):
         # The moves' processes end in wall time (nav_timed lingers after its last twist).
         self.ls.release()
         for proc, launch in self.procs:
-            try:
-                out = proc.communicate(timeout=60)[0]
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                out = proc.communicate()[0] + "\n(killed: still running 60 s after the test)"
-            self.assertEqual(proc.returncode, 0, "%s: %s" % (launch, out[-3000:]))
+            code, out = finish(proc)
+            self.assertEqual(code, 0, "%s: %s" % (launch, out[-3000:]))
 
     def on_truth(self, m):
         q = m.pose.pose.orientation

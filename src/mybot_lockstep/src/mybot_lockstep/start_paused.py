@@ -17,7 +17,7 @@ from std_srvs.srv import Empty
 
 from mybot_lockstep.msg import Tick
 
-__all__ = ['start_paused']
+__all__ = ['start_paused', 'finish']
 
 
 def start_paused(ls, argv, node, timeout=60.0, **popen):
@@ -48,3 +48,15 @@ def start_paused(ls, argv, node, timeout=60.0, **popen):
         return proc
     finally:
         ticks.unregister()
+
+
+def finish(proc, timeout=60.0):
+    """(returncode, output) of a process start_paused started, once it has exited (wall time: a
+    node may linger after its last message); killed if it still runs after `timeout` s."""
+    try:
+        out = proc.communicate(timeout=timeout)[0]
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        out = proc.communicate()[0]
+        out = (out or '') + '\n(killed: still running %.0f s after its test)' % timeout
+    return proc.returncode, out or ''
