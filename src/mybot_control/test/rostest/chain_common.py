@@ -18,7 +18,7 @@ class Chain:
         self.odom = None
         self.odom_count = 0
         # A lockstep participant under the simulator: sim time waits for this test's commands.
-        self.ls = participant()
+        self.ls = participant(defer_join=True)  # joins at its first sleep, set up (first call only)
         self.pub = self.ls.Publisher(cmd_topic, Twist, queue_size=10)
         self.ls.Subscriber(odom_topic, Odometry, self._on_odom, queue_size=50)
 

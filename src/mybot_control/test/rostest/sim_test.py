@@ -21,7 +21,8 @@ from mybot_lockstep import participant
 class GroundTruth:
     def __init__(self):
         self.msg = None
-        participant().Subscriber('ground_truth/odom', Odometry, self._cb, queue_size=20)
+        # The test's first use of the helper: it joins at its first sleep, its subscriptions made.
+        participant(defer_join=True).Subscriber('ground_truth/odom', Odometry, self._cb, queue_size=20)
 
     def _cb(self, m):
         self.msg = m

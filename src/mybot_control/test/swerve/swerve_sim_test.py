@@ -46,8 +46,9 @@ class SwerveSimTest(unittest.TestCase):
         cls.pivots = {}  # module -> unwrapped pivot joint position
         cls.pivot_log = None
         cls.odom_imu = None
-        # A lockstep participant: sim time waits for this test's commands and checks.
-        ls = participant()
+        # A lockstep participant: sim time waits for this test's commands and checks. It joins at
+        # its first sleep (wait_for below), with everything here set up.
+        ls = participant(defer_join=True)
         cls.cmd = ls.Publisher('cmd_vel', Twist, queue_size=10)
         ls.Subscriber('ground_truth/odom', Odometry, cls.on_gt, queue_size=50)
         ls.Subscriber('odom', Odometry, cls.on_odom, queue_size=50)
