@@ -24,7 +24,9 @@ from mybot_lockstep import participant
 
 class Node:
     def __init__(self):
-        self.ls = participant()
+        # Joins at its first sleep, its subscriptions made: the simulator then opens their
+        # connections before time moves on, and no sensor message is lost at the start.
+        self.ls = participant(defer_join=True)
         radius = common.get("wheel_radius", 0.1, params.number, low=0, low_open=True)
         deadband = common.get("gyro_deadband", 0.5, params.number, low=0)
         bias = common.get("gyro_bias", 0.0, params.number)
