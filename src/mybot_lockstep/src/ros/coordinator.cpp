@@ -8,6 +8,9 @@
 #include <tuple>
 
 #include <ros/master.h>
+#include <ros/network.h>
+#include <ros/xmlrpc_manager.h>
+#include <xmlrpcpp/XmlRpcClient.h>
 
 #include "mybot_lockstep/ros/participant.h"
 #include "ros_links.h"
@@ -72,6 +75,43 @@ void Coordinator::dropDisconnected()
       ROS_WARN("lockstep: participant %s left (its connection closed); %zu remain", name.c_str(), roster_.size());
 }
 
+namespace
+{
+// The subscribers `node` has an open outgoing connection to on `topic`, by its own account
+// (the slave API's getBusInfo, as rosnode info asks it). Empty when the node cannot be asked.
+std::set<std::string> connectedSubscribers(const std::string& self, const std::string& node, const std::string& topic)
+{
+  std::set<std::string> out;
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = self;
+  args[1] = node;
+  std::string host;
+  uint32_t port = 0;
+  if (!ros::master::execute("lookupNode", args, result, payload, false) ||
+      !ros::network::splitURI(static_cast<std::string>(payload), host, port))
+    return out;
+  // Blocking, as ros::master::execute is (a node's XML-RPC server answers from a thread of its
+  // own); asked only while time stands after a join, a spawn or an unpause.
+  XmlRpc::XmlRpcClient* client = ros::XMLRPCManager::instance()->getXMLRPCClient(host, static_cast<int>(port), "/");
+  XmlRpc::XmlRpcValue params, info;
+  params[0] = self;
+  const bool done = client->execute("getBusInfo", params, info) && !client->isFault();
+  ros::XMLRPCManager::instance()->releaseXMLRPCClient(client);
+  if (!done || info.getType() != XmlRpc::XmlRpcValue::TypeArray || info.size() < 3 ||
+      info[2].getType() != XmlRpc::XmlRpcValue::TypeArray)
+    return out;
+  // [connection id, destination, direction, transport, topic, connected, ...]
+  for (int i = 0; i < info[2].size(); ++i)
+  {
+    XmlRpc::XmlRpcValue& c = info[2][i];
+    if (c.getType() == XmlRpc::XmlRpcValue::TypeArray && c.size() >= 5 && static_cast<std::string>(c[2]) == "o" &&
+        static_cast<std::string>(c[4]) == topic)
+      out.insert(static_cast<std::string>(c[1]));
+  }
+  return out;
+}
+}  // namespace
+
 std::string Coordinator::missingConnection()
 {
   XmlRpc::XmlRpcValue args, result, payload;
@@ -103,7 +143,25 @@ std::string Coordinator::missingConnection()
     {
       const std::string pub = payload[0][i][1][j];
       if (!members.count(pub))
+      {
+        // The static transforms from a node that does not take part (robot_state_publisher,
+        // static_transform_publisher): latched, sent once as a participant connects, and needed
+        // before its first scan can be used. Time waits until they are on their way to every
+        // participant, or AMCL starts localizing a load-dependent number of periods late.
+        if (topic != "/tf_static")
+          continue;
+        std::vector<std::string> waiting;
+        for (const std::string& sub : subscribers[topic])
+          if (members.count(sub))
+            waiting.push_back(sub);
+        if (waiting.empty())
+          continue;
+        const std::set<std::string> connected = connectedSubscribers(self_, pub, topic);
+        for (const std::string& sub : waiting)
+          if (!connected.count(sub))
+            return topic + ": " + pub + " -> " + sub;
         continue;
+      }
       for (const std::string& sub : subscribers[topic])
         if (members.count(sub) && !open.count({topic, pub, sub}))
           return topic + ": " + pub + " -> " + sub;
