@@ -148,18 +148,14 @@ class Participant:
         with self._cond:
             self._joinable = True
             self._wake = t
-            if self._held is not None:
-                held, self._held = self._held, None
-                self._ack(held)
+            self._finish_held()
         if then is not None:
             try:
                 then()
             except BaseException:
                 with self._cond:  # not sleeping after all: wake for nothing, hold no period
                     self._wake = None
-                    if self._held is not None:
-                        held, self._held = self._held, None
-                        self._ack(held)
+                    self._finish_held()
                 raise
         with self._cond:
             while self._wake is not None and not rospy.is_shutdown():
@@ -202,9 +198,13 @@ class Participant:
             return
         with self._cond:
             self._joinable = True
-            if self._held is not None:
-                held, self._held = self._held, None
-                self._ack(held)
+            self._finish_held()
+
+    def _finish_held(self):
+        """Acknowledges the period the main thread held, if any (called with self._cond held)."""
+        if self._held is not None:
+            held, self._held = self._held, None
+            self._ack(held)
 
     # --- the tick thread --------------------------------------------------------------------
     def _unmet(self, expected):
