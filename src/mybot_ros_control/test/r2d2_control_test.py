@@ -7,6 +7,7 @@ import os
 import subprocess
 import sys
 import threading
+import time
 import unittest
 
 import rospy
@@ -15,6 +16,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64, Float64MultiArray
+from std_srvs.srv import Empty
 
 from mybot_common.geometry import wrap, yaw_of
 from mybot_gazebo_lite.msg import JointControllerState
@@ -28,7 +30,8 @@ class R2d2Control(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("r2d2_control_test")
-        cls.ls = participant()
+        # Joins at its first sleep, with everything below set up (named in lockstep_wait_for).
+        cls.ls = participant(defer_join=True)
         cls.lock = threading.Lock()
         cls.joints = None
         cls.odom = None
@@ -40,7 +43,6 @@ class R2d2Control(unittest.TestCase):
         cls.head = cls.ls.Publisher("/head_controller/command", Float64, queue_size=1)
         cls.gripper = cls.ls.Publisher("/gripper_controller/command", Float64MultiArray, queue_size=1)
         cls.extension = cls.ls.Publisher("/extension_controller/command", Float64, queue_size=1)
-        cls.ls.release()
         for s in ("list_controllers", "load_controller", "switch_controller"):
             rospy.wait_for_service(CM + s, timeout=60)
         rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
@@ -48,13 +50,17 @@ class R2d2Control(unittest.TestCase):
         cls.load = rospy.ServiceProxy(CM + "load_controller", LoadController)
         cls.switch = rospy.ServiceProxy(CM + "switch_controller", SwitchController)
         cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
-        # The spawner starts the five controllers; the robot settles on its wheels.
-        ok = cls.ls.wait_for(lambda: sum(c.state == "running" for c in cls.list().controller) == 5, 60.0)
-        assert ok, "the spawner did not start the five controllers: %s" % cls.list().controller
-        # Until the robot rests (ground truth still to 1 mm for 0.5 s), not for a fixed second: the
-        # spawner starts the controllers while time runs, so how long the dropped robot had to
-        # settle before them depends on load (a clean-clone gate drove 0.9744 m of 1 m, 0.9973 as
-        # a rule).
+        # The world starts paused and stays so until the spawner has started the five controllers
+        # (the manager switches them in its service call, time standing): the robot is dropped
+        # with its controllers running, at the same period on every run. Waited for in wall time,
+        # as nothing else moves it.
+        deadline = time.monotonic() + 60.0
+        while sum(c.state == "running" for c in cls.list().controller) != 5:
+            assert time.monotonic() < deadline, "the spawner did not start the five controllers: %s" % cls.list().controller
+            time.sleep(0.05)
+        # Joins and holds the first period after the unpause (the wake-up registered before it).
+        cls.ls.hold_next_period(then=rospy.ServiceProxy("/gazebo/unpause_physics", Empty))
+        # Until the dropped robot rests (ground truth still to 1 mm for 0.5 s of sim time).
         last = [None, None]
 
         def resting():
