@@ -23,7 +23,7 @@ from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
 from mybot_gazebo_lite.msg import ModelContacts, ModelState
-from mybot_gazebo_lite.srv import GetModelState, SetModelState, SpawnModel
+from mybot_gazebo_lite.srv import DeleteModel, GetModelState, SetModelState, SpawnModel
 from mybot_common.geometry import wrap, yaw_of
 from mybot_lockstep import participant
 
@@ -327,6 +327,37 @@ class MultiRobotTests(unittest.TestCase):
             # robot2 faces robot1 (yaw pi): its centre beam sees robot1, not the far wall.
             mid = self.r2.scan.ranges[len(self.r2.scan.ranges) // 2]
         self.assertLess(mid, 3.5)
+
+    def test_zz_a_robots_noise_does_not_depend_on_the_others(self):
+        """Each sensor draws from its own noise stream (~seed, the model, the plugin): a robot's
+        first scan from a pose is the same whether or not another robot was spawned before it."""
+        scans = []
+        self.r1.ls.Subscriber('/probe/scan', LaserScan, scans.append)
+        xml = rospy.get_param('/robot1/robot_description')
+        spawn = rospy.ServiceProxy('/gazebo/spawn_urdf_model', SpawnModel)
+        delete = rospy.ServiceProxy('/gazebo/delete_model', DeleteModel)
+
+        def first_scan(others):
+            names = others + ['probe']
+            for k, name in enumerate(names):
+                pose = Pose()
+                pose.position.y = 1.5 if name == 'probe' else -1.5 - k
+                pose.orientation.w = 1.0
+                del scans[:]
+                res = spawn(model_name=name, model_xml=xml, robot_namespace=name, initial_pose=pose)
+                self.assertTrue(res.success, res.status_message)
+            self.r1.wait(lambda: scans, 'the probe\'s first scan')
+            ranges = scans[0].ranges
+            for name in names:
+                self.assertTrue(delete(model_name=name).success)
+            return ranges
+
+        alone = first_scan([])
+        after_another = first_scan(['other'])
+        diffs = sorted(abs(a - b) for a, b in zip(alone, after_another) if math.isfinite(a) and math.isfinite(b))
+        self.assertGreater(len(diffs), len(alone) // 2)
+        # A beam may see the other robot; the laser's noise (0.01 m) would move most of them.
+        self.assertLess(diffs[len(diffs) // 2], 1e-4, 'median change %.4f m' % diffs[len(diffs) // 2])
 
 
 class MalformedInputTests(unittest.TestCase):
