@@ -66,7 +66,7 @@ public:
     int iters = readParam<int>(node, pnh_, "solver_iterations", wp.iterations);
     rtf_ = readParam<double>(node, pnh_, "real_time_factor", wp.real_time_factor);
     paused_ = readParam<bool>(node, pnh_, "paused", false);
-    clock_hz_ = readParam<double>(node, pnh_, "pub_clock_frequency", 1000.0);
+    clock_hz_ = readParam<double>(node, pnh_, "pub_clock_frequency", 100.0);
     int seed = readParam<int>(node, pnh_, "seed", 0);
     const bool lockstep = readParam<bool>(node, pnh_, "lockstep", false);
     const double period = readParam<double>(node, pnh_, "lockstep_period", 0.01);
@@ -567,7 +567,7 @@ private:
   ros::Publisher clock_pub_, contacts_pub_;
   tf2_ros::TransformBroadcaster tfb_;
   int seed_ = 0;
-  double rtf_ = 1, clock_hz_ = 1000, last_clock_ = -1, last_contacts_ = -1, sim0_ = 0;
+  double rtf_ = 1, clock_hz_ = 100, last_clock_ = -1, last_contacts_ = -1, sim0_ = 0;
   bool paused_ = false;
   ros::WallTime wall0_;
   std::unique_ptr<mybot_lockstep::Coordinator> lockstep_;
