@@ -7,7 +7,6 @@ import os
 import subprocess
 import sys
 import threading
-import time
 import unittest
 
 import rospy
@@ -16,12 +15,12 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64, Float64MultiArray
-from std_srvs.srv import Empty
 
 from mybot_common.geometry import wrap, yaw_of
 from mybot_gazebo_lite.msg import JointControllerState
 from mybot_gazebo_lite.srv import GetModelState, ListControllers, LoadController, SwitchController
 from mybot_lockstep import participant
+from mybot_lockstep.start_paused import unpause_when
 
 CM = "/controller_manager/"
 
@@ -52,14 +51,9 @@ class R2d2Control(unittest.TestCase):
         cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
         # The world starts paused and stays so until the spawner has started the five controllers
         # (the manager switches them in its service call, time standing): the robot is dropped
-        # with its controllers running, at the same period on every run. Waited for in wall time,
-        # as nothing else moves it.
-        deadline = time.monotonic() + 60.0
-        while sum(c.state == "running" for c in cls.list().controller) != 5:
-            assert time.monotonic() < deadline, "the spawner did not start the five controllers: %s" % cls.list().controller
-            time.sleep(0.05)
-        # Joins and holds the first period after the unpause (the wake-up registered before it).
-        cls.ls.hold_next_period(then=rospy.ServiceProxy("/gazebo/unpause_physics", Empty))
+        # with its controllers running, at the same period on every run.
+        unpause_when(cls.ls, lambda: sum(c.state == "running" for c in cls.list().controller) == 5,
+                     "the spawner did not start the five controllers")
         # Until the dropped robot rests (ground truth still to 1 mm for 0.5 s of sim time).
         last = [None, None]
 

@@ -4,7 +4,6 @@ while the source rests with a noisy, biased gyro; within 5 % of the distance ove
 import math
 import random
 import sys
-import time
 import unittest
 
 import rospy
@@ -13,11 +12,11 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32
-from std_srvs.srv import Empty
 
 from mybot_gazebo_lite.srv import GetModelState
 
 from mybot_lockstep import participant
+from mybot_lockstep.start_paused import unpause_when
 from mybot_common.geometry import yaw_of
 
 GYRO_BIAS, GYRO_NOISE = 0.3, 0.05  # deg/s: an MPU6050 at rest
@@ -52,13 +51,10 @@ class TwinTest(unittest.TestCase):
         # The world starts paused: time starts once both robots stand in it, the same moment every run.
         get_state = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
         rospy.wait_for_service("/gazebo/get_model_state", 60.0)
-        deadline = time.monotonic() + 60.0
-        while not all(get_state(model_name=m).success for m in ("source", "twin")):
-            self.assertLess(time.monotonic(), deadline, "the robots were not spawned")
-            time.sleep(0.05)
         # Joins (named in lockstep_wait_for) and holds the first period after the unpause: the
-        # wake-up is registered before the call, so the drive starts in that period on every run.
-        self.ls.hold_next_period(then=rospy.ServiceProxy("/gazebo/unpause_physics", Empty))
+        # drive starts in that period on every run.
+        unpause_when(self.ls, lambda: all(get_state(model_name=m).success for m in ("source", "twin")),
+                     "the robots were not spawned")
         self.assertTrue(self.ls.wait_for(lambda: len(self.truth) == 2 and self.wheels is not None, 60.0),
                         "no ground truth or joint states")
 

@@ -17,7 +17,7 @@ from std_srvs.srv import Empty
 
 from mybot_lockstep.msg import Tick
 
-__all__ = ['start_paused', 'finish']
+__all__ = ['start_paused', 'unpause_when', 'finish']
 
 
 def start_paused(ls, argv, node, timeout=60.0, **popen):
@@ -48,6 +48,20 @@ def start_paused(ls, argv, node, timeout=60.0, **popen):
         return proc
     finally:
         ticks.unregister()
+
+
+def unpause_when(ls, ready, what, timeout=60.0):
+    """For a world launched paused: waits, in wall time as time stands, until ready() (the robots
+    spawned, their controllers started), then unpauses with the caller holding the first period
+    after it, so what it does next starts at the same period on every run. A caller that has
+    not joined yet (defer_join, named in lockstep_wait_for) joins here. Raises RuntimeError
+    naming `what` after `timeout` s."""
+    deadline = time.monotonic() + timeout
+    while not ready():
+        if time.monotonic() > deadline:
+            raise RuntimeError('%s: not within %.0f s of wall time' % (what, timeout))
+        time.sleep(0.05)
+    ls.hold_next_period(then=rospy.ServiceProxy('/gazebo/unpause_physics', Empty))
 
 
 def finish(proc, timeout=60.0):
