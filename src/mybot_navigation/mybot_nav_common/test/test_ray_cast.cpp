@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "mybot_nav_common/ray_cast.h"
 #include "synthetic_world.h"
@@ -55,4 +56,48 @@ TEST(RayCast, SegmentVisitsEveryCellItCrosses)
                });
   const std::vector<std::pair<int, int>> reversed(expected.rbegin(), expected.rend());
   EXPECT_EQ(cells, reversed);
+}
+
+TEST(RayCaster, GivesCastRaysRangesWhereverTheRayStartsAndHowTheMapLies)
+{
+  // The office and the factory, one with unknown cells, one rotated and shifted; rays from
+  // inside and from outside the map, short and long. The caster's jumps must never skip a cell.
+  GridMap office = officeWorld(0.05);
+  for (int y = 60; y < 90; ++y)
+    for (int x = 150; x < 200; ++x)
+      office.at(x, y) = GridMap::kUnknown;
+  GridMap factory = factoryWorld(0.05);
+  factory.info.origin = {-3.0, 2.0, 0.3};
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int hits = 0, rays = 0;
+  for (const GridMap* map : {&office, &factory})
+    for (bool unknown_blocks : {false, true})
+    {
+      const RayCaster caster(*map, 50, unknown_blocks);
+      const double w = map->info.width * map->info.resolution, h = map->info.height * map->info.resolution;
+      for (int i = 0; i < 4000; ++i)
+      {
+        // Map-frame points from 2 m outside the map to 2 m beyond it.
+        const Point2D local{unit(rng) * (w + 4.0) - 2.0, unit(rng) * (h + 4.0) - 2.0};
+        const Point2D p = transformPoint(map->info.origin, local);
+        const double angle = unit(rng) * 2.0 * M_PI, range = 1.0 + unit(rng) * 39.0;
+        const double want = castRay(*map, p.x, p.y, angle, range, 50, unknown_blocks);
+        ASSERT_NEAR(caster.cast(p.x, p.y, angle, range), want, 1e-6)
+            << "ray from (" << p.x << ", " << p.y << ") at " << angle << " rad, max " << range << " m";
+        hits += want < range;
+        ++rays;
+      }
+    }
+  EXPECT_GT(hits, rays / 2);  // most rays end on something: the comparison is not all max ranges
+  // A whole scan: the same beams, the same infinities where nothing is in range.
+  const Pose2D sensor{6.0, 5.0, 0.4};
+  const std::vector<float> fast = RayCaster(office).scan(sensor, -M_PI, M_PI / 180, 360, 8.0);
+  const std::vector<float> slow = simulateScan(office, sensor, -M_PI, M_PI / 180, 360, 8.0);
+  ASSERT_EQ(fast.size(), slow.size());
+  for (size_t i = 0; i < fast.size(); ++i)
+    if (std::isinf(slow[i]))
+      EXPECT_TRUE(std::isinf(fast[i])) << "beam " << i;
+    else
+      EXPECT_NEAR(fast[i], slow[i], 1e-5) << "beam " << i;
 }
