@@ -107,8 +107,6 @@ public:
                           double max_range) const;
 
 private:
-  bool blocked(int8_t v) const { return v >= occupied_threshold_ || (unknown_is_obstacle_ && v < 0); }
-
   const GridMap& map_;
   int occupied_threshold_;
   bool unknown_is_obstacle_;
