@@ -12,8 +12,8 @@ Order: longest first, from the last run's times in WS/.test-times when there are
 (so the longest test does not start last); on a first run rostests first, then the rest.
 
 Each test's whole output goes to WS/.catkin-test.log in one piece when it finishes, with
-one progress line on stdout: package, test, result, seconds. WS/.test-times gets
-"seconds package test" per test for the slowest-ten list and the next run's order.
+one progress line on stdout: package, test, result, seconds, CPU seconds. WS/.test-times gets
+"seconds package test cpu-seconds" per test for the slowest-ten list and the next run's order.
 """
 import os
 import re
@@ -45,7 +45,7 @@ def previous_times(path):
     try:
         with open(path) as f:
             for line in f:
-                sec, pkg, name = line.split()
+                sec, pkg, name = line.split()[:3]
                 times[(pkg, name)] = float(sec)
     except (OSError, ValueError):
         return {}
@@ -77,20 +77,27 @@ def main(ws, jobs, pkgs):
                         return
                     pkg, number, name = queue.pop(0)
                 start = time.monotonic()
-                proc = subprocess.run(["ctest", "--output-on-failure", "-I", "%d,%d" % (number, number)],
-                                      cwd=os.path.join(ws, "build", pkg), stdout=subprocess.PIPE,
-                                      stderr=subprocess.STDOUT, text=True)
-                m = RESULT.search(proc.stdout)
+                proc = subprocess.Popen(["ctest", "--output-on-failure", "-I", "%d,%d" % (number, number)],
+                                        cwd=os.path.join(ws, "build", pkg), stdout=subprocess.PIPE,
+                                        stderr=subprocess.STDOUT, text=True)
+                stdout = proc.stdout.read()
+                # wait4, not wait: the CPU time of the whole test (ctest, rostest and every node
+                # it started and reaped), which tells a test that computes from one that waits.
+                _, status, usage = os.wait4(proc.pid, 0)
+                proc.returncode = os.waitstatus_to_exitcode(status)
+                cpu = usage.ru_utime + usage.ru_stime
+                m = RESULT.search(stdout)
                 sec = float(m.group(3)) if m else time.monotonic() - start
                 ok = bool(m) and m.group(2) == "Passed" and proc.returncode == 0
                 with lock:
                     done.append(ok)
-                    log.write("==== %s %s\n%s\n" % (pkg, name, proc.stdout))
+                    log.write("==== %s %s\n%s\n" % (pkg, name, stdout))
                     log.flush()
-                    times.write("%.1f %s %s\n" % (sec, pkg, short_name(pkg, name)))
+                    times.write("%.1f %s %s %.1f\n" % (sec, pkg, short_name(pkg, name), cpu))
                     times.flush()
-                    print("[test] %-20s %-62s %-6s %7.1f s  (%d/%d)" % (pkg, short_name(pkg, name),
-                          "ok" if ok else "FAILED", sec, len(done), len(tests)), flush=True)
+                    print("[test] %-20s %-62s %-6s %7.1f s  cpu %6.1f s  (%d/%d)" % (
+                        pkg, short_name(pkg, name), "ok" if ok else "FAILED", sec, cpu, len(done), len(tests)),
+                          flush=True)
 
         threads = [threading.Thread(target=worker) for _ in range(max(1, jobs))]
         for t in threads:
