@@ -8,8 +8,9 @@ on how busy the machine is (the gate passes beside a one-core busy loop); a seco
 beside it is such a load. Each rostest starts its own master on a free port, and a test's
 temporary files are its own, so two tests never share state.
 
-Order: longest first, from the last run's times in WS/.test-times when there are some
-(so the longest test does not start last); on a first run rostests first, then the rest.
+Order: longest first, from the last run's times in WS/.test-times, on a first run from those of
+a clean run kept in WS/scripts/test_times.txt (refresh it from .test-times when tests change
+much), so the longest test never starts last.
 
 Each test's whole output goes to WS/.catkin-test.log in one piece when it finishes, with
 one progress line on stdout: package, test, result, seconds, CPU seconds. WS/.test-times gets
@@ -45,6 +46,8 @@ def previous_times(path):
     try:
         with open(path) as f:
             for line in f:
+                if line.startswith("#") or not line.strip():
+                    continue
                 sec, pkg, name = line.split()[:3]
                 times[(pkg, name)] = float(sec)
     except (OSError, ValueError):
@@ -55,15 +58,18 @@ def previous_times(path):
 def main(ws, jobs, pkgs):
     times_path = os.path.join(ws, ".test-times")
     log_path = os.path.join(ws, ".catkin-test.log")
-    last = previous_times(times_path)
+    # A fresh clone (CI's every run) has no times of its own: it takes those of a clean run
+    # recorded in the repository. Without them, a 63 s gtest that ran last left one core idle
+    # for most of its run (the suites 601 s where the tests' CPU was 1063 s, 2026-11-29).
+    last = previous_times(times_path) or previous_times(os.path.join(ws, "scripts", "test_times.txt"))
     tests = [(pkg, number, name) for pkg in pkgs for number, name in list_tests(ws, pkg)]
 
     def cost(test):
         pkg, _, name = test
         known = last.get((pkg, short_name(pkg, name)))
-        if known is not None:
-            return (0, -known)
-        return (1, 0 if "rostest" in name else 1)  # first run: rostests (the long ones) first
+        if known is None:  # a test new since those times: a rostest takes about 15 s
+            known = 15.0 if "rostest" in name else 2.0
+        return -known  # longest first: the last to start are the shortest
 
     queue = sorted(tests, key=cost)
     lock = threading.Lock()
