@@ -1,4 +1,5 @@
 #include "mybot_common/atomic_file.h"
+#include "mybot_common/temp_dir.h"
 
 #include <dirent.h>
 #include <gtest/gtest.h>
@@ -18,15 +19,7 @@ namespace
 class AtomicFile : public ::testing::Test
 {
 protected:
-  void SetUp() override
-  {
-    char tmpl[] = "/tmp/atomic_file_test.XXXXXX";
-    ASSERT_NE(::mkdtemp(tmpl), nullptr);
-    dir_ = tmpl;
-  }
-  void TearDown() override { std::system(("rm -rf " + dir_).c_str()); }
-
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+  std::string path(const std::string& name) const { return tmp_.file(name); }
   static std::string read(const std::string& p)
   {
     std::ifstream f(p, std::ios::binary);
@@ -43,7 +36,8 @@ protected:
     ::closedir(d);
     return n;
   }
-  std::string dir_;
+  const mybot_common::TempDir tmp_{"atomic_file_test"};
+  const std::string& dir_ = tmp_.path();
 };
 }  // namespace
 

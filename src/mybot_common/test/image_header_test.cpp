@@ -1,4 +1,5 @@
 #include "mybot_common/image_header.h"
+#include "mybot_common/temp_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +11,16 @@ using mybot_common::peekImageSize;
 
 namespace
 {
+// The test's files, in one directory removed when the test binary exits.
+const mybot_common::TempDir& dir()
+{
+  static const mybot_common::TempDir d("image_header_test");
+  return d;
+}
+
 std::string file(const std::string& name, const std::string& bytes)
 {
-  const std::string p = "/tmp/image_header_test_" + name;
+  const std::string p = dir().file(name);
   std::ofstream(p, std::ios::binary) << bytes;
   return p;
 }
@@ -49,5 +57,5 @@ TEST(ImageHeader, OtherFormatsAndGarbageAreNotGuessed)
   EXPECT_FALSE(peekImageSize(file("a.bmp", "BM\x36\0\0\0"), w, h));
   EXPECT_FALSE(peekImageSize(file("b.pgm", "P5\nabc def\n"), w, h));
   EXPECT_FALSE(peekImageSize(file("c.pgm", "P5\n99999999999999 1\n"), w, h));
-  EXPECT_FALSE(peekImageSize("/tmp/image_header_test_does_not_exist", w, h));
+  EXPECT_FALSE(peekImageSize(dir().file("does_not_exist"), w, h));
 }

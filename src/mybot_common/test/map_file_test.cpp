@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "mybot_common/atomic_file.h"
+#include "mybot_common/temp_dir.h"
 
 using mybot_common::MapCells;
 
@@ -35,11 +36,6 @@ std::string read(const std::string& p)
   return s.str();
 }
 
-std::string tempDir()
-{
-  char tmpl[] = "/tmp/map_file_test.XXXXXX";
-  return ::mkdtemp(tmpl);
-}
 }  // namespace
 
 // map_saver's bytes: header, then the top row first, free 254, occupied 0, the rest 205.
@@ -65,7 +61,8 @@ TEST(MapFile, YamlNamesTheImageAndOrigin)
 
 TEST(MapFile, MalformedGridIsRefusedBeforeAnyFileIsTouched)
 {
-  const std::string d = tempDir();
+  const mybot_common::TempDir dir("map_file_test");
+  const std::string& d = dir.path();
   mybot_common::saveMapFiles(d + "/m", twoByTwo());
   const std::string old_pgm = read(d + "/m.pgm"), old_yaml = read(d + "/m.yaml");
   MapCells bad = twoByTwo();
@@ -79,12 +76,12 @@ TEST(MapFile, MalformedGridIsRefusedBeforeAnyFileIsTouched)
   EXPECT_THROW(mybot_common::saveMapFiles(d + "/m", bad), std::invalid_argument);
   EXPECT_EQ(read(d + "/m.pgm"), old_pgm);
   EXPECT_EQ(read(d + "/m.yaml"), old_yaml);
-  std::system(("rm -rf " + d).c_str());
 }
 
 TEST(MapFile, UnwritableYamlLeavesTheOldPair)
 {
-  const std::string d = tempDir();
+  const mybot_common::TempDir dir("map_file_test");
+  const std::string& d = dir.path();
   mybot_common::saveMapFiles(d + "/m", twoByTwo());
   const std::string old_pgm = read(d + "/m.pgm");
   // The YAML path becomes a folder: the new PGM must not land beside the old YAML's place.
@@ -94,5 +91,4 @@ TEST(MapFile, UnwritableYamlLeavesTheOldPair)
   other.data = {100, 100, 100, 100};
   EXPECT_THROW(mybot_common::saveMapFiles(d + "/m", other), mybot_common::AtomicFileError);
   EXPECT_EQ(read(d + "/m.pgm"), old_pgm);
-  std::system(("rm -rf " + d).c_str());
 }

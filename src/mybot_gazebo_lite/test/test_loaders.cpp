@@ -1,4 +1,5 @@
 // Loading URDF, SDF worlds, image worlds and model.config: errors name the element.
+#include "mybot_common/temp_dir.h"
 #include "mybot_gazebo_lite/parsing.h"
 
 #include <gtest/gtest.h>
@@ -8,7 +9,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
-#include <unistd.h>
 
 using namespace mybot_gazebo_lite;
 
@@ -86,8 +86,8 @@ namespace
 std::string imageWorldError(const std::string& yaml,
                             const std::string& image_bytes = std::string("P5\n2 2\n255\n\x00\xfe\xfe\x00", 15))
 {
-  char tmpl[] = "/tmp/image_world_XXXXXX";
-  const std::string d = mkdtemp(tmpl);
+  const mybot_common::TempDir dir("image_world");
+  const std::string& d = dir.path();
   std::ofstream(d + "/m.pgm", std::ios::binary) << image_bytes;
   std::ofstream(d + "/w.yaml") << yaml;
   std::string error = "no error";
@@ -99,9 +99,6 @@ std::string imageWorldError(const std::string& yaml,
   {
     error = e.what();
   }
-  std::remove((d + "/m.pgm").c_str());
-  std::remove((d + "/w.yaml").c_str());
-  rmdir(d.c_str());
   return error;
 }
 }  // namespace
@@ -174,8 +171,8 @@ TEST(Loaders, WorldPhysicsBlockSetsStepIterationsAndRealTimeFactor)
 
 TEST(Loaders, ModelConfigPicksTheNewestSdf)
 {
-  char tmpl[] = "/tmp/model_config_XXXXXX";
-  const std::string d = mkdtemp(tmpl);
+  const mybot_common::TempDir dir("model_config");
+  const std::string& d = dir.path();
   const std::string m = d + "/models/box";
   ASSERT_EQ(std::system(("mkdir -p " + m).c_str()), 0);
   auto model = [](double r)
@@ -195,13 +192,12 @@ TEST(Loaders, ModelConfigPicksTheNewestSdf)
   ASSERT_EQ(w.models.size(), 1u);
   ASSERT_EQ(w.models[0].links.size(), 1u);
   EXPECT_NEAR(w.models[0].links[0].shapes.at(0).radius, 0.6, 1e-9);
-  std::system(("rm -rf " + d).c_str());
 }
 
 TEST(Loaders, PackageUrisResolveWithoutRoslib)
 {
-  char tmpl[] = "/tmp/pkg_path_XXXXXX";
-  const std::string d = mkdtemp(tmpl);
+  const mybot_common::TempDir dir("pkg_path");
+  const std::string& d = dir.path();
   ASSERT_EQ(std::system(("mkdir -p " + d + "/ws/src/group/my_robot_description/meshes " + d +
                          "/ws/src/ignored/my_other " + d + "/ws/src/renamed_folder")
                             .c_str()),
@@ -222,5 +218,4 @@ TEST(Loaders, PackageUrisResolveWithoutRoslib)
             d + "/ws/src/group/my_robot_description/meshes/wheel.stl");
   EXPECT_EQ(defaultResolveUri("package://my_robot_description/meshes/nope.stl", ""), "");
   setenv("ROS_PACKAGE_PATH", saved.c_str(), 1);
-  std::system(("rm -rf " + d).c_str());
 }

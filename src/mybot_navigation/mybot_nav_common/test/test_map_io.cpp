@@ -3,20 +3,14 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
+#include "mybot_common/temp_dir.h"
 #include "mybot_nav_common/map_io.h"
 
 using namespace mybot_navigation;
 
 namespace
 {
-std::string tempDir()
-{
-  char tmpl[] = "/tmp/mybot_map_io_XXXXXX";
-  return std::string(mkdtemp(tmpl));
-}
-
 void writeFile(const std::string& path, const std::string& content)
 {
   std::ofstream(path, std::ios::binary) << content;
@@ -47,7 +41,8 @@ std::vector<int> cells(const GridMap& m)
 // Expected values worked out by hand from map_server's image_loader rules.
 TEST(MapIo, TrinaryFixtureAsRosReadsIt)
 {
-  const std::string d = tempDir();
+  const mybot_common::TempDir dir("mybot_map_io");
+  const std::string& d = dir.path();
   writeFixtureImage(d + "/m.pgm");
   writeFile(d + "/m.yaml", yaml("m.pgm", "negate: 0\n"));
   const GridMap m = loadMap(d + "/m.yaml");
@@ -61,7 +56,8 @@ TEST(MapIo, TrinaryFixtureAsRosReadsIt)
 
 TEST(MapIo, ScaleFixtureAsRosReadsIt)
 {
-  const std::string d = tempDir();
+  const mybot_common::TempDir dir("mybot_map_io");
+  const std::string& d = dir.path();
   writeFixtureImage(d + "/m.pgm");
   writeFile(d + "/m.yaml", yaml("m.pgm", "negate: 0\nmode: scale\n"));
   EXPECT_EQ(cells(loadMap(d + "/m.yaml")), (std::vector<int>{100, 0, 1, 89, 47, 0}));
@@ -69,7 +65,8 @@ TEST(MapIo, ScaleFixtureAsRosReadsIt)
 
 TEST(MapIo, NegateFixtureAsRosReadsIt)
 {
-  const std::string d = tempDir();
+  const mybot_common::TempDir dir("mybot_map_io");
+  const std::string& d = dir.path();
   writeFixtureImage(d + "/m.pgm");
   writeFile(d + "/m.yaml", yaml("m.pgm", "negate: 1\n"));
   EXPECT_EQ(cells(loadMap(d + "/m.yaml")), (std::vector<int>{0, 100, 100, -1, -1, 100}));
@@ -77,7 +74,8 @@ TEST(MapIo, NegateFixtureAsRosReadsIt)
 
 TEST(MapIo, RawFixtureAsRosReadsIt)
 {
-  const std::string d = tempDir();
+  const mybot_common::TempDir dir("mybot_map_io");
+  const std::string& d = dir.path();
   writeFixtureImage(d + "/m.pgm");
   writeFile(d + "/m.yaml", yaml("m.pgm", "negate: 0\nmode: raw\n"));
   // Raw copies the byte into the signed cell.
@@ -86,7 +84,8 @@ TEST(MapIo, RawFixtureAsRosReadsIt)
 
 TEST(MapIo, SaveLoadRoundTripIsExact)
 {
-  const std::string d = tempDir();
+  const mybot_common::TempDir dir("mybot_map_io");
+  const std::string& d = dir.path();
   MapInfo info;
   info.resolution = 0.05;
   info.width = 7;
@@ -112,7 +111,8 @@ TEST(MapIo, SaveLoadRoundTripIsExact)
 
 TEST(MapIo, ErrorsNameTheFieldAndFile)
 {
-  const std::string d = tempDir();
+  const mybot_common::TempDir dir("mybot_map_io");
+  const std::string& d = dir.path();
   writeFixtureImage(d + "/m.pgm");
   auto message = [&](const std::string& content)
   {
@@ -146,11 +146,7 @@ TEST(MapIo, ErrorsNameTheFieldAndFile)
 class MapIoMeaning : public ::testing::Test
 {
 protected:
-  void SetUp() override
-  {
-    d_ = tempDir();
-    writeFixtureImage(d_ + "/m.pgm");
-  }
+  void SetUp() override { writeFixtureImage(d_ + "/m.pgm"); }
   std::string error(const std::string& content)
   {
     writeFile(d_ + "/bad.yaml", content);
@@ -170,7 +166,8 @@ protected:
     return "image: " + image + "\nresolution: " + res + "\norigin: " + origin + "\nnegate: 0\noccupied_thresh: " + occ +
            "\nfree_thresh: " + free + "\n";
   }
-  std::string d_;
+  const mybot_common::TempDir dir_{"mybot_map_io"};
+  const std::string& d_ = dir_.path();
 };
 
 TEST_F(MapIoMeaning, NanOriginIsRefused)

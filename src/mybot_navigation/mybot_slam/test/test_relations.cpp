@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "mybot_common/temp_dir.h"
 #include "mybot_slam/evaluation.h"
 
 using namespace mybot_navigation;
@@ -88,7 +89,8 @@ TEST(Relations, AStampTakesTheNearestPoseNotTheFirstWithinTheTolerance)
 
 TEST(Relations, FileIsReadAndBadLinesNamed)
 {
-  const std::string path = "/tmp/test_relations.relations";
+  const mybot_common::TempDir dir("test_relations");
+  const std::string path = dir.file("test.relations");
   std::ofstream(path) << "# t1 t2 x y z roll pitch yaw\n1.5 2.5 0.1 -0.2 0 0 0 0.05\n\n";
   const auto r = readRelations(path);
   ASSERT_EQ(r.size(), 1u);
