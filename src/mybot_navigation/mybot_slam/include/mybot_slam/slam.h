@@ -409,8 +409,8 @@ private:
   Pose2D current_pose_;
   Pose2D tracked_;       // the last scan's pose in the map frame
   Pose2D tracked_odom_;  // and its odometry pose
-  // The scan before the last, for the step track_motion_fallback carries on (valid only while no
-  // closure moved the poses in between).
+  // The scan before the last, for the step track_motion_fallback carries on (after a closure,
+  // placed so that the step between the two is the one the map measured before it).
   Pose2D prev_tracked_;
   double tracked_stamp_ = 0.0, prev_tracked_stamp_ = 0.0;
   bool have_motion_ = false;

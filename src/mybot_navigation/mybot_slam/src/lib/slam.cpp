@@ -156,22 +156,24 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   const Pose2D* from_motion = predictFromMotion(stamp, predicted, motion_pose) ? &motion_pose : nullptr;
   const Pose2D before = tracked_;
   const double before_stamp = tracked_stamp_;
-  auto remember = [&](bool valid)
+  // The last step is kept as the map measured it (`step` from the scan before to this one): a
+  // closure moves both poses, not the motion between them.
+  auto remember = [&](const Pose2D& step)
   {
-    prev_tracked_ = before;
+    prev_tracked_ = compose(tracked_, inverse(step));
     prev_tracked_stamp_ = before_stamp;
     tracked_stamp_ = stamp;
-    have_motion_ = valid && before_stamp > 0.0;
+    have_motion_ = before_stamp > 0.0;
   };
   if (!moved || scan.hits.size() < 3)
   {
     trackScan(odom, scan, predicted, from_motion);
-    remember(true);
+    remember(between(before, tracked_));
     return moved ? ScanOutcome::NoValidPoints : ScanOutcome::Skipped;
   }
   addKeyframe(stamp, odom, scan, predicted, from_motion);
   const int index = static_cast<int>(keyframes_.size()) - 1;
-  const int closures = stats_.loop_closures;
+  const Pose2D step = between(before, keyframes_.back().pose);  // before a closure moves the keyframe
   if (params_.loop_closure && index - last_loop_attempt_ >= params_.loop_check_interval)
     tryLoopClosure(index);
 
@@ -180,7 +182,7 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   current_pose_ = tracked_ = now.pose;
   tracked_odom_ = now.odom;
   last_scan_in_keyframe_ = Pose2D{};
-  remember(stats_.loop_closures == closures);  // a closure moved the poses the step is taken from
+  remember(step);
   return ScanOutcome::Processed;
 }
 
