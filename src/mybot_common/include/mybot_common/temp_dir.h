@@ -8,7 +8,7 @@
 #include <string>
 #include <system_error>
 
-#include <unistd.h>
+#include <stdlib.h>  // mkdtemp (POSIX)
 
 namespace mybot_common
 {
