@@ -318,6 +318,39 @@ TEST(Slam, PlaceScansPullsATrackedScanOntoTheKeyframesAroundIt)
 
 namespace
 {
+// A slow laser, 2.5 Hz and 181 beams: at 0.5 m/s a scan every 0.2 m, so that odometry reporting a
+// step backwards puts the prediction 0.4 m off, beyond the matcher's 0.3 m window.
+LaserSpec slowLaser()
+{
+  LaserSpec laser;
+  laser.rate = 2.5;
+  laser.beams = 181;
+  return laser;
+}
+
+// The drive's odometry as a robot whose encoders report each step's translation backwards while
+// `reversed` says so (the rotation as measured).
+class BackwardSteps
+{
+public:
+  Pose2D next(const Pose2D& odom, bool reversed)
+  {
+    if (!started_)
+      reported_ = last_ = odom;
+    started_ = true;
+    Pose2D step = between(last_, odom);
+    last_ = odom;
+    if (reversed)
+      step = Pose2D{-step.x, -step.y, step.theta};
+    reported_ = compose(reported_, step);
+    return reported_;
+  }
+
+private:
+  Pose2D reported_, last_;
+  bool started_ = false;
+};
+
 // The office loop with a 2.5 Hz, 181-beam laser whose odometry, between 15 s and 20 s, reports
 // each step's translation backwards while the robot drives on at 0.5 m/s: each scan's odometry
 // prediction lands 0.4 m from where the scan was taken, beyond the matcher's 0.3 m window (as
@@ -331,9 +364,7 @@ struct BackwardOdometryRun
 BackwardOdometryRun driveWithBackwardOdometry(bool motion_fallback)
 {
   const GridMap world = officeWorld(0.01);
-  LaserSpec laser;
-  laser.rate = 2.5;
-  laser.beams = 181;
+  const LaserSpec laser = slowLaser();
   OdometryNoise noise;
   noise.alpha_trans = 0.02;
   noise.alpha_rot = 0.02;
@@ -341,21 +372,10 @@ BackwardOdometryRun driveWithBackwardOdometry(bool motion_fallback)
   SlamParams p = testParams();
   p.track_motion_fallback = motion_fallback;
   Slam slam(p);
-  Pose2D reported, last;
-  bool started = false;
-  const OfflineRun run = runSlamOnDrive(slam, drive, laser, 30.0,
-                                        [&](const DriveSample& s)
-                                        {
-                                          if (!started)
-                                            reported = last = s.odom;
-                                          started = true;
-                                          Pose2D step = between(last, s.odom);
-                                          last = s.odom;
-                                          if (s.stamp >= 15.0 && s.stamp < 20.0)
-                                            step = Pose2D{-step.x, -step.y, step.theta};
-                                          reported = compose(reported, step);
-                                          return reported;
-                                        });
+  BackwardSteps odometry;
+  const OfflineRun run =
+      runSlamOnDrive(slam, drive, laser, 30.0,
+                     [&](const DriveSample& s) { return odometry.next(s.odom, s.stamp >= 15.0 && s.stamp < 20.0); });
   return {evaluate(slam, run, world), slam.stats().motion_fallbacks};
 }
 }  // namespace
@@ -367,14 +387,89 @@ TEST(Slam, TrackingFollowsTheMapWhereTheOdometryReportsTheWrongDirection)
       "without the motion fallback: ATE %.3f m, precision %.3f; with: ATE %.3f m, precision %.3f "
       "(%d scans placed by it)\n",
       without.score.ate, without.score.map.precision, with.score.ate, with.score.map.precision, with.motion_fallbacks);
-  // Measured 2026-11-29: ATE 0.885 m, precision 0.116 without; 0.496 m, 0.323 with (4 scans placed by it).
+  // Measured 2026-11-29: ATE 0.885 m, precision 0.116 without; 0.229 m, 0.527 with (6 scans placed
+  // by it; 0.496 m, 0.323 and 4 scans while the map's motion was tried only where the odometry's
+  // match failed: from 0.4 m off, that match can succeed at its window's edge, 0.1 m short).
   // It recovers only part of it here: once a scan has followed the odometry, the map's last step
   // points the odometry's way too and the fallback no longer applies. On FR079's perturbed
   // replays it recovered all of it (worst relation 0.565 -> 0.196 m); README, known limits.
   EXPECT_EQ(without.motion_fallbacks, 0);
-  EXPECT_GT(with.motion_fallbacks, 0);
-  EXPECT_LT(with.score.ate, 0.6 * without.score.ate);
-  EXPECT_GT(with.score.map.precision, without.score.map.precision + 0.1);
+  EXPECT_GE(with.motion_fallbacks, 5);
+  EXPECT_LT(with.score.ate, 0.35 * without.score.ate);
+  EXPECT_GT(with.score.map.precision, without.score.map.precision + 0.3);
+}
+
+namespace
+{
+// The office loop as above, the odometry reporting each step backwards for the `reversed` scans
+// that follow the first accepted loop closure (FR079 replayed with every other scan: a closure at
+// 304 s, in the 10 s its odometry drove the wrong way). How far each of those scans is from where
+// the closure's keyframe says it is, against the truth: the motion from the map's last step, which
+// the closure moved with both its poses, must carry the scans past the odometry's reversal.
+struct AfterClosureRun
+{
+  double worst = 0.0;      // m, the scans' worst error relative to the closure's keyframe
+  double travelled = 0.0;  // m, the truth's motion over those scans
+  int scans = 0;
+  int motion_fallbacks = 0;
+};
+
+AfterClosureRun reverseAfterClosure(int reversed, unsigned seed)
+{
+  const GridMap world = officeWorld(0.01);
+  const LaserSpec laser = slowLaser();
+  OdometryNoise noise;
+  noise.alpha_trans = 0.05;
+  noise.alpha_rot = 0.05;
+  noise.drift_rot = 0.05;
+  DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, seed);
+  Slam slam(testParams());
+  BackwardSteps odometry;
+  Pose2D anchor, anchor_truth;
+  int left = -1;  // scans still to reverse once the closure is in; -1 before it
+  AfterClosureRun r;
+  runSlamOnDrive(
+      slam, drive, laser, 30.0, [&](const DriveSample& s) { return odometry.next(s.odom, left > 0); },
+      [&](const DriveSample& s, ScanOutcome)
+      {
+        if (left < 0 && slam.stats().loop_closures > 0)
+        {
+          left = reversed;
+          anchor = slam.currentPose();
+          anchor_truth = s.truth;
+          return;
+        }
+        if (left <= 0)
+          return;
+        --left;
+        const Pose2D error = between(between(anchor_truth, s.truth), between(anchor, slam.currentPose()));
+        r.worst = std::max(r.worst, std::hypot(error.x, error.y));
+        r.travelled = translationNorm(between(anchor_truth, s.truth));
+        ++r.scans;
+      });
+  r.motion_fallbacks = slam.stats().motion_fallbacks;
+  return r;
+}
+}  // namespace
+
+TEST(Slam, TheMapsLastStepSurvivesALoopClosure)
+{
+  for (unsigned seed : {1u, 2u, 3u})
+  {
+    const AfterClosureRun r = reverseAfterClosure(3, seed);
+    std::printf(
+        "seed %u: %d scans reversed after the closure, %.2f m driven, worst error %.3f m (%d placed by the "
+        "map's motion)\n",
+        seed, r.scans, r.travelled, r.worst, r.motion_fallbacks);
+    // Measured 2026-11-29: worst 0.010 / 0.018 / 0.022 m, every scan placed by the map's motion.
+    // Before 52c8acb a closure dropped the step: 0.89 / 1.19 / 1.17 m, each scan a step behind
+    // the last; and where the odometry's match succeeded at its window's edge the map's motion
+    // was not tried (seed 2 and 3: 0.4 m from the first scan).
+    ASSERT_EQ(r.scans, 3);
+    EXPECT_GT(r.travelled, 0.5);  // the robot drove on: the reversal moved each prediction 0.4 m
+    EXPECT_GE(r.motion_fallbacks, 3);
+    EXPECT_LT(r.worst, 0.05);
+  }
 }
 
 TEST(Slam, BadInputIsReportedNotFatal)

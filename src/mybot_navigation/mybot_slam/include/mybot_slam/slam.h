@@ -32,10 +32,10 @@ struct SlamParams
   // bump cut the map's precision from 0.93 to 0.65; at 0.03 it is 0.96.
   double track_min_gain = 0.03;
   // Odometry that reports the wrong direction: where the odometry's step since the last scan
-  // and the map's step over the scan before point opposite ways (both over 3 cm), and the match
-  // from the odometry's prediction fails, the scan is matched again from the map's last step
-  // carried on for this scan's interval (Cartographer's pose extrapolator predicts this way) and
-  // kept if it scores track_min_gain better than the odometry's prediction. FR079's odometry
+  // and the map's step over the scan before point opposite ways (both over 3 cm), the scan is
+  // matched again from the map's last step carried on for this scan's interval (Cartographer's
+  // pose extrapolator predicts this way) and kept if it scores track_min_gain better than the
+  // odometry's match (its prediction, if that match failed). FR079's odometry
   // reports forward motion from 300 to 310 s while the robot backs up, 0.1 m a scan the wrong
   // way; replayed with 3 or 7 first scans dropped the front end followed it there once, and the
   // worst relation reached 0.565 / 0.562 m (0.196 / 0.195 with this). Without the sign test
@@ -330,8 +330,9 @@ private:
   // and the odometry's `predicted` step point opposite ways; false otherwise.
   bool predictFromMotion(double stamp, const Pose2D& predicted, Pose2D& from_motion) const;
   // The match from `from_motion` if it explains the points clearly better than the odometry's
-  // `predicted` does (not ok otherwise).
-  MatchResult matchFromMotion(const Pose2D& predicted, const Pose2D* from_motion, const std::vector<Point2D>& points);
+  // match `from_odometry` (or, if that failed, its `predicted` pose) does; `from_odometry` otherwise.
+  MatchResult matchFromMotion(const MatchResult& from_odometry, const Pose2D& predicted, const Pose2D* from_motion,
+                              const std::vector<Point2D>& points);
   void insertIntoLocalMaps(int index);
   // The field of the fuller local map, rebuilt around `around` when the map changed.
   const MatchField& localField(const Pose2D& around, const std::vector<Point2D>& points);
