@@ -235,6 +235,7 @@ MatchResult Slam::matchFromMotion(const MatchResult& from_odometry, const Pose2D
   if (from_motion == nullptr || (translationNorm(between(predicted, *from_motion)) < 2.0 * params_.match_sigma &&
                                  std::abs(wrapAngle(from_motion->theta - predicted.theta)) < 0.05))
     return from_odometry;
+  const double odometry_score = stats_.last_match_score;  // what a node reports, if the odometry's match stays
   const std::vector<Point2D> pts = localPointsInReach(*from_motion, points);
   const MatchResult res = matchLocal(*from_motion, pts);
   // Both judged on the same local map and points. A match from the wrong prediction can succeed
@@ -242,7 +243,10 @@ MatchResult Slam::matchFromMotion(const MatchResult& from_odometry, const Pose2D
   // not enough that it succeeded: the map's motion wins where it explains clearly more.
   const Pose2D rival = from_odometry.ok ? from_odometry.pose : predicted;
   if (!res.ok || res.score - scorePose(local_field_, pts, rival) < params_.track_min_gain)
+  {
+    stats_.last_match_score = odometry_score;
     return from_odometry;
+  }
   ++stats_.motion_fallbacks;
   return res;
 }
