@@ -135,6 +135,29 @@ TEST(ScanMatcher, ExcludingTheBestMatchFindsARepeatedPlaceOnly)
   }
 }
 
+TEST(ScanMatcher, AdaptiveVoxelFilterThinsLessWhereFewPointsRemain)
+{
+  // A 1 m stretch of wall seen at 1 cm spacing: at 0.1 m it keeps 10 or 11 points.
+  std::vector<Point2D> wall;
+  for (int i = 0; i < 100; ++i)
+    wall.push_back({2.0, 0.003 + 0.01 * i});
+  EXPECT_LE(voxelFilter(wall, 0.1).size(), 11u);
+  // Asked for 30: half the cell keeps about 20, a quarter about 40.
+  EXPECT_EQ(adaptiveVoxelFilter(wall, 0.1, 30).size(), voxelFilter(wall, 0.025).size());
+  EXPECT_GE(adaptiveVoxelFilter(wall, 0.1, 30).size(), 30u);
+  // Never finer than a quarter of the cell, even where that keeps fewer than asked.
+  EXPECT_EQ(adaptiveVoxelFilter(wall, 0.1, 1000).size(), voxelFilter(wall, 0.025).size());
+  // Enough points at the cell: the cell's filter, unchanged.
+  std::vector<Point2D> room;
+  for (int i = 0; i < 1000; ++i)
+    room.push_back({std::cos(i * 0.00628) * 4.0, std::sin(i * 0.00628) * 4.0});
+  const std::vector<Point2D> coarse = voxelFilter(room, 0.1), adaptive = adaptiveVoxelFilter(room, 0.1, 30);
+  ASSERT_GE(coarse.size(), 30u);
+  ASSERT_EQ(adaptive.size(), coarse.size());
+  for (size_t i = 0; i < coarse.size(); ++i)
+    EXPECT_EQ(adaptive[i].x, coarse[i].x);
+}
+
 TEST(ScanMatcher, RejectsBelowMinimumScore)
 {
   const GridMap world = officeWorld(0.01);

@@ -94,6 +94,12 @@ struct MatchResult
 // removes the density bias towards nearby walls).
 std::vector<Point2D> voxelFilter(const std::vector<Point2D>& points, double cell);
 
+// voxelFilter at `cell`, or, where that keeps fewer than `min_points`, at half the cell, then a
+// quarter (no finer): Cartographer's adaptive voxel filter (Hess et al. 2016's implementation,
+// `adaptive_voxel_filter`: the largest cell up to max_length 0.5 m that keeps min_num_points 200),
+// in halvings from our fixed cell. A match is only as sure as its points are many.
+std::vector<Point2D> adaptiveVoxelFilter(const std::vector<Point2D>& points, double cell, size_t min_points);
+
 MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& points, const MatchRequest& request);
 
 // Mean field value of the points at a pose (the score used by matchScan).

@@ -152,6 +152,17 @@ std::vector<Point2D> voxelFilter(const std::vector<Point2D>& points, double cell
   return out;
 }
 
+std::vector<Point2D> adaptiveVoxelFilter(const std::vector<Point2D>& points, double cell, size_t min_points)
+{
+  std::vector<Point2D> out = voxelFilter(points, cell);
+  for (int halvings = 0; halvings < 2 && out.size() < min_points && out.size() < points.size(); ++halvings)
+  {
+    cell *= 0.5;
+    out = voxelFilter(points, cell);
+  }
+  return out;
+}
+
 double scorePose(const MatchField& field, const std::vector<Point2D>& points, const Pose2D& pose)
 {
   if (points.empty() || field.empty())

@@ -186,6 +186,11 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   return ScanOutcome::Processed;
 }
 
+std::vector<Point2D> Slam::matchPoints(const std::vector<Point2D>& hits) const
+{
+  return adaptiveVoxelFilter(hits, params_.match_point_spacing, static_cast<size_t>(params_.match_min_points));
+}
+
 ScanOutcome Slam::startMap(double stamp, const Pose2D& odom, const RangeScan& scan)
 {
   if (scan.hits.size() < 3)
@@ -195,7 +200,7 @@ ScanOutcome Slam::startMap(double stamp, const Pose2D& odom, const RangeScan& sc
   kf.odom = odom;
   kf.pose = odom;  // the map frame coincides with the odometry frame at start
   kf.scan = scan;
-  kf.match_points = voxelFilter(scan.hits, params_.match_point_spacing);
+  kf.match_points = matchPoints(scan.hits);
   keyframes_.push_back(std::move(kf));
   graph_.addNode(odom);
   if (!global_stale_)
@@ -258,7 +263,7 @@ void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& pr
   tracked_ = predicted;
   if (params_.track_every_scan && scan.hits.size() >= 3)
   {
-    const std::vector<Point2D> filtered = voxelFilter(scan.hits, params_.match_point_spacing);
+    const std::vector<Point2D> filtered = matchPoints(scan.hits);
     const std::vector<Point2D> points = localPointsInReach(predicted, filtered);
     MatchResult res = matchLocal(predicted, points);
     // Along a corridor the match is flat but for small bumps, and every scan that followed one
@@ -300,7 +305,7 @@ void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, 
   kf.stamp = stamp;
   kf.odom = odom;
   kf.scan = scan;
-  kf.match_points = voxelFilter(scan.hits, params_.match_point_spacing);
+  kf.match_points = matchPoints(scan.hits);
   kf.travelled = last.travelled + translationNorm(delta);
   current_pose_ = predicted;
 

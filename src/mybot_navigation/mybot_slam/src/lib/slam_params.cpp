@@ -63,6 +63,8 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           [](double v) { return v > 0.0 && v < 0.5; }, "a probability in (0, 0.5)"),
       integer(
           "local_map_scans", [](P& p) -> int& { return p.slam.local_map_scans; }, 2, "an integer >= 2"),
+      integer(
+          "match_min_points", [](P& p) -> int& { return p.slam.match_min_points; }, 0, "an integer >= 0"),
       number(
           "search_window_linear", [](P& p) -> double& { return p.slam.search_window_linear; }, nonNegative,
           "a distance >= 0 (m)"),

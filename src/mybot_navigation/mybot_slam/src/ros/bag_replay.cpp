@@ -251,7 +251,8 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
       const double range_max = run.max_range > 0.0 ? std::min<double>(run.max_range, scan->range_max) : scan->range_max;
       RangeScan converted =
           convertRanges(scan->ranges, scan->angle_min, angle_increment, scan->range_min, range_max, run.max_urange, g);
-      points = voxelFilter(converted.hits, run.slam.match_point_spacing);
+      points = adaptiveVoxelFilter(converted.hits, run.slam.match_point_spacing,
+                                   static_cast<size_t>(run.slam.match_min_points));
       const SlamStats before = slam.stats();
       tracked = slam.addScan(stamp, odom, converted) != ScanOutcome::OutOfOrder;
       for (const LoopClosureRecord& c : loopClosureEvents(before, slam.stats()))
