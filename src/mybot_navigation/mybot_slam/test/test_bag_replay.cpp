@@ -3,9 +3,16 @@
 // replay is deterministic (one thread, bag order), so the figures are the same every run.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <sensor_msgs/LaserScan.h>
 
 #include "mybot_slam/ros/bag_replay.h"
 
@@ -188,4 +195,120 @@ TEST(BagReplay, CarmenAnglesOnIntelAndRefusedWhereTheyDoNotApply)
     EXPECT_NE(std::string(e.what()).find("fr-clinic_robotlaser.orig.bag"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(slam_hospital.keyframes().empty());
+}
+
+namespace
+{
+// A small bag of the layout the benchmark's bags have: /odom, then /scan at the same instant, a
+// robot driving 1 m along a 4 x 3 m room. BZ2 chunks of a few kB, as rosbag record -j writes them.
+std::string writeRoomBag(const std::string& path)
+{
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  bag.setCompression(rosbag::compression::BZ2);
+  bag.setChunkThreshold(4096);
+  for (int i = 0; i < 100; ++i)
+  {
+    const ros::Time stamp(100.0 + 0.1 * i);
+    const double x = 1.0 + 0.01 * i;
+    nav_msgs::Odometry odom;
+    odom.header.stamp = stamp;
+    odom.header.frame_id = "odom";
+    odom.pose.pose.position.x = x;
+    odom.pose.pose.orientation.w = 1.0;
+    bag.write("/odom", stamp, odom);
+    sensor_msgs::LaserScan scan;
+    scan.header.stamp = stamp;
+    scan.header.frame_id = "laser";
+    scan.angle_min = -M_PI;
+    scan.angle_increment = M_PI / 180.0;
+    scan.angle_max = scan.angle_min + 359 * scan.angle_increment;
+    scan.range_min = 0.1f;
+    scan.range_max = 10.0f;
+    for (int b = 0; b < 360; ++b)  // the walls x = 0, x = 4, y = -1.5, y = 1.5 from (x, 0)
+    {
+      const double a = scan.angle_min + b * scan.angle_increment, c = std::cos(a), s = std::sin(a);
+      const double to_x = c > 1e-9 ? (4.0 - x) / c : c < -1e-9 ? -x / c : 1e9;
+      const double to_y = std::abs(s) > 1e-9 ? 1.5 / std::abs(s) : 1e9;
+      scan.ranges.push_back(static_cast<float>(std::min(to_x, to_y)));
+    }
+    bag.write("/scan", stamp, scan);
+  }
+  bag.close();
+  return path;
+}
+
+std::string replayError(const std::string& bag)
+{
+  const SlamRunParams params = loadSlamParams(MYBOT_SLAM_SOURCE "/config/slam.yaml");
+  Slam slam(params.slam);
+  BagReplayOptions options;
+  options.bag = bag;
+  try
+  {
+    replayBag(options, slam, params);
+  }
+  catch (const std::runtime_error& e)
+  {
+    EXPECT_TRUE(slam.keyframes().size() < 100u);
+    return e.what();
+  }
+  return "(no error)";
+}
+
+void copyBytes(const std::string& from, const std::string& to, std::streamoff count)
+{
+  std::ifstream in(from, std::ios::binary);
+  std::string bytes(static_cast<size_t>(count), '\0');
+  in.read(&bytes[0], count);
+  std::ofstream(to, std::ios::binary).write(bytes.data(), in.gcount());
+}
+}  // namespace
+
+// A bag that was cut short, damaged in the middle, not a bag at all, a folder or missing: one
+// error naming the file and what to do, never a crash or a map of part of it passed off as whole.
+TEST(BagReplay, BadBagsAreNamedWithWhatWentWrong)
+{
+  const std::string dir = std::filesystem::temp_directory_path() / ("test_bag_replay_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string good = writeRoomBag(dir + "/room.bag");
+  {
+    const SlamRunParams params = loadSlamParams(MYBOT_SLAM_SOURCE "/config/slam.yaml");
+    Slam slam(params.slam);
+    BagReplayOptions options;
+    options.bag = good;
+    const BagReplayResult r = replayBag(options, slam, params);
+    EXPECT_EQ(r.scans, 100u);
+    ASSERT_EQ(r.trajectory.size(), 100u);
+    EXPECT_NEAR(r.trajectory.back().pose.x - r.trajectory.front().pose.x, 0.99, 0.02);
+  }
+  const auto size = static_cast<std::streamoff>(std::filesystem::file_size(good));
+
+  // Cut short: a recording killed before rosbag wrote its index at the end.
+  copyBytes(good, dir + "/cut.bag", size / 2);
+  std::string e = replayError(dir + "/cut.bag");
+  EXPECT_NE(e.find(dir + "/cut.bag: "), std::string::npos) << e;
+  EXPECT_NE(e.find("rosbag reindex"), std::string::npos) << e;
+
+  // Damaged in the middle: a compressed chunk that no longer decompresses.
+  std::filesystem::copy_file(good, dir + "/damaged.bag");
+  {
+    std::fstream f(dir + "/damaged.bag", std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(size / 2);
+    const std::string zeros(512, '\0');
+    f.write(zeros.data(), static_cast<std::streamsize>(zeros.size()));
+  }
+  e = replayError(dir + "/damaged.bag");
+  EXPECT_NE(e.find(dir + "/damaged.bag: damaged ("), std::string::npos) << e;
+
+  std::ofstream(dir + "/text.bag") << "t1 t2 x y z roll pitch yaw\n";
+  e = replayError(dir + "/text.bag");
+  EXPECT_NE(e.find(dir + "/text.bag: not a ROS 1 bag"), std::string::npos) << e;
+
+  e = replayError(dir);
+  EXPECT_NE(e.find(dir + ": a folder, not a bag"), std::string::npos) << e;
+
+  e = replayError(dir + "/missing.bag");
+  EXPECT_NE(e.find(dir + "/missing.bag: cannot open the file (No such file or directory)"), std::string::npos) << e;
+
+  std::filesystem::remove_all(dir);
 }

@@ -1,7 +1,11 @@
 #include "mybot_slam/ros/bag_replay.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -117,18 +121,11 @@ double carmenFlaserStep(double angle_min, double angle_increment, std::size_t n)
   return M_PI / static_cast<double>(n);
 }
 
-BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRunParams& run,
-                          const std::function<void(std::size_t, std::size_t)>& progress)
+namespace
 {
-  rosbag::Bag bag;
-  try
-  {
-    bag.open(opt.bag, rosbag::bagmode::Read);
-  }
-  catch (const rosbag::BagException& e)
-  {
-    throw std::runtime_error(opt.bag + ": " + e.what());
-  }
+BagReplayResult replayOpenBag(rosbag::Bag& bag, const BagReplayOptions& opt, Slam& slam, const SlamRunParams& run,
+                              const std::function<void(std::size_t, std::size_t)>& progress)
+{
   // The laser's mounting, and (for "interpolate") every odometry pose by stamp.
   std::map<std::string, Pose2D> mount;  // child frame -> pose in its parent (the base)
   std::vector<std::pair<double, Pose2D>> odom_by_stamp;
@@ -290,6 +287,42 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
     if (s.keyframe >= 0)
       result.trajectory.push_back({s.stamp, placed[next++]});
   return result;
+}
+
+}  // namespace
+
+BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRunParams& run,
+                          const std::function<void(std::size_t, std::size_t)>& progress)
+{
+  // rosbag's messages say what failed but not in which file, nor what to do about it.
+  if (std::filesystem::is_directory(opt.bag))
+    throw std::runtime_error(opt.bag + ": a folder, not a bag");
+  std::ifstream file(opt.bag, std::ios::binary);
+  if (!file)
+    throw std::runtime_error(opt.bag + ": cannot open the file (" + std::strerror(errno) + ")");
+  std::string magic(9, '\0');
+  if (!file.read(&magic[0], static_cast<std::streamsize>(magic.size())) || magic != "#ROSBAG V")
+    throw std::runtime_error(opt.bag + ": not a ROS 1 bag (it does not start with \"#ROSBAG V\")");
+  file.close();
+  rosbag::Bag bag;
+  try
+  {
+    bag.open(opt.bag, rosbag::bagmode::Read);
+  }
+  catch (const rosbag::BagException& e)
+  {
+    // The index sits at the end of the file, so a recording that was cut short has none.
+    throw std::runtime_error(opt.bag + ": " + e.what() +
+                             " (no readable index: if its recording was cut short, `rosbag reindex` rebuilds it)");
+  }
+  try
+  {
+    return replayOpenBag(bag, opt, slam, run, progress);
+  }
+  catch (const ros::Exception& e)  // rosbag::BagException, or a message that does not deserialize
+  {
+    throw std::runtime_error(opt.bag + ": damaged (" + e.what() + ")");
+  }
 }
 
 }  // namespace mybot_navigation
