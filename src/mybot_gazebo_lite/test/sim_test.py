@@ -412,7 +412,7 @@ class MalformedInputTests(unittest.TestCase):
             self.assertNotEqual(rc, 0, param)
             self.assertIn('parameter /%s/%s' % (name, param), out)
 
-    def test_misspelled_plugin_parameter_is_warned_naming_it(self):
+    def test_misspelled_unsimulated_or_unknown_parameters_are_warned_naming_them(self):
         logs = []
         sub = rospy.Subscriber('/rosout', Log, lambda m: logs.append(m.msg))
         path = self.write('typo.urdf', '<robot name="r"><link name="base"><inertial><mass value="1"/>'
@@ -423,15 +423,25 @@ class MalformedInputTests(unittest.TestCase):
                           '<joint name="lj" type="continuous"><parent link="base"/><child link="l"/></joint>'
                           '<joint name="rj" type="continuous"><parent link="base"/><child link="r"/></joint>'
                           '<gazebo><plugin name="dd" filename="libgazebo_ros_diff_drive.so"><leftJoint>lj</leftJoint>'
-                          '<rightJoint>rj</rightJoint><wheelSeperation>0.3</wheelSeperation></plugin></gazebo></robot>')
+                          '<rightJoint>rj</rightJoint><wheelSeperation>0.3</wheelSeperation></plugin></gazebo>'
+                          # A Gazebo parameter gazebo_lite knows and does not simulate, and a <gazebo> tag it
+                          # does not know: each warned once, naming it.
+                          '<gazebo><plugin name="imu" filename="libgazebo_ros_imu.so"><bodyName>base</bodyName>'
+                          '<serviceName>imu_service</serviceName><rpyOffset>0 0 0.1</rpyOffset></plugin></gazebo>'
+                          '<gazebo reference="base"><fooBar>1</fooBar></gazebo></robot>')
         rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'typo', '-timeout', '30'])
         self.assertEqual(rc, 0, out)
-        want = 'unknown parameter <wheelSeperation> ignored (did you mean <wheelSeparation>?)'
+        wants = [("plugin 'dd'", 'unknown parameter <wheelSeperation> ignored (did you mean <wheelSeparation>?)'),
+                 ("plugin 'imu'", 'parameter <serviceName> is not simulated by gazebo_lite; ignored'),
+                 ("plugin 'imu' on link 'base'", '<rpyOffset> 0 0 0.1 is not simulated by gazebo_lite; ignored'),
+                 ("model 'typo'", "<gazebo reference='base'> <fooBar>: unknown tag ignored")]
+        warned = lambda: all(any(a in m and b in m for m in logs) for a, b in wants)  # noqa: E731
         deadline = time.monotonic() + WALL_TIMEOUT
-        while not any(want in m for m in logs) and time.monotonic() < deadline:
+        while not warned() and time.monotonic() < deadline:
             time.sleep(0.05)
         sub.unregister()
-        self.assertTrue(any(want in m and "plugin 'dd'" in m for m in logs), logs)
+        for a, b in wants:
+            self.assertTrue(any(a in m and b in m for m in logs), (a, b, logs))
 
     def test_bad_plugin_parameter(self):
         path = self.write('badplugin.urdf', '<robot name="r"><link name="a"><inertial><mass value="1"/>'

@@ -41,6 +41,23 @@ std::string wheelUrdf(const std::string& inertia)
 }
 }  // namespace
 
+// <gazebo> tags gazebo_lite does not read: an unknown one is warned naming the file, the
+// reference and the tag; one it knows and does not simulate is warned as such; looks are silent.
+TEST(Loaders, UrdfGazeboTagsNotReadAreWarnedNamingThem)
+{
+  const std::string urdf = wheelUrdf("<inertia ixx='0.001' iyy='0.001' izz='0.002'/>");
+  RobotSpec r = parseUrdf(urdf.substr(0, urdf.rfind("</robot>")) +
+                              "<gazebo reference='wheel'><fooBar>1</fooBar><minDepth>0.001</minDepth>"
+                              "<material>Gazebo/Red</material></gazebo></robot>",
+                          "w.urdf");
+  ASSERT_EQ(r.warnings.size(), 2u);
+  EXPECT_NE(r.warnings[0].find("w.urdf: <gazebo reference='wheel'> <fooBar>: unknown tag ignored"), std::string::npos)
+      << r.warnings[0];
+  EXPECT_NE(r.warnings[1].find("w.urdf: <gazebo reference='wheel'> <minDepth> = '0.001' is not simulated"),
+            std::string::npos)
+      << r.warnings[1];
+}
+
 // Zero inertia (the robot then never moved): corrected from the collision cylinder, with a
 // warning naming the file and the link.
 TEST(Loaders, UrdfZeroInertiaIsCorrectedWithAWarning)

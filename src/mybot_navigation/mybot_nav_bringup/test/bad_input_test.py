@@ -65,13 +65,14 @@ class BadInput(unittest.TestCase):
                 self.fail("timed out waiting for " + what)
             time.sleep(0.05)
 
-    def test_initial_pose_that_is_not_finite_is_refused_naming_the_field(self):
+    def test_initial_pose_that_is_not_finite_or_has_a_negative_variance_is_refused_naming_the_field(self):
         pub = rospy.Publisher("/initialpose", PoseWithCovarianceStamped, queue_size=10)
         self.wait_for(lambda: pub.get_num_connections() > 0, "amcl to subscribe to /initialpose")
         cases = [("position.x", float("nan"), "pose.pose.position.x is nan"),
                  ("position.y", 1e30, "pose.pose.position.y is 1e+30, beyond"),
                  ("orientation.w", 0.0, "pose.pose.orientation is a zero quaternion"),
-                 ("covariance", float("inf"), "pose.covariance[0] is inf")]
+                 ("covariance", float("inf"), "pose.covariance[0] is inf"),
+                 ("covariance", -0.25, "pose.covariance[0] is -0.25, a negative variance")]
         for field, value, message in cases:
             msg = PoseWithCovarianceStamped()
             msg.header.frame_id = "map"

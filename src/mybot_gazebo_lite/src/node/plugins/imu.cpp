@@ -53,8 +53,7 @@ public:
         }
         if (v.length() > 0)
           ROS_WARN("%s: plugin '%s' on link '%s': <%s> %s is not simulated by gazebo_lite; ignored",
-                   c.robot->spec().source.c_str(), c.spec->name.c_str(), c.spec->reference.c_str(), tag,
-                   p.str(tag, "").c_str());
+                   c.robot->spec().source.c_str(), c.spec->name.c_str(), body_.c_str(), tag, p.str(tag, "").c_str());
       }
     if (gn_ < 0)
       p.fail("gaussianNoise", "must be >= 0");

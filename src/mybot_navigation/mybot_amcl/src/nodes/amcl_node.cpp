@@ -2,6 +2,7 @@
 // (scan + tf odom->base + map in; amcl_pose, particlecloud, tf map->odom out; initialpose,
 // global_localization, request_nomotion_update).
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -228,8 +229,13 @@ private:
     if (bad.empty())
       bad = mybot_common::firstInvalid(
           {{"pose.covariance[0]", cov[0]}, {"pose.covariance[7]", cov[7]}, {"pose.covariance[35]", cov[35]}});
-    if (bad.empty() && (cov[0] < 0 || cov[7] < 0 || cov[35] < 0))
-      bad = "a variance (pose.covariance[0], [7] or [35]) is negative";
+    for (int i : {0, 7, 35})
+      if (bad.empty() && cov[i] < 0)
+      {
+        char text[96];
+        std::snprintf(text, sizeof text, "pose.covariance[%d] is %g, a negative variance", i, cov[i]);
+        bad = text;
+      }
     const double qn = std::sqrt(in.orientation.x * in.orientation.x + in.orientation.y * in.orientation.y +
                                 in.orientation.z * in.orientation.z + in.orientation.w * in.orientation.w);
     if (bad.empty() && qn < 1e-6)
