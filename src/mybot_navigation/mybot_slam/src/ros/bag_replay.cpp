@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <new>
 #include <stdexcept>
 
 #include <nav_msgs/Odometry.h>
@@ -322,6 +323,10 @@ BagReplayResult replayBag(const BagReplayOptions& opt, Slam& slam, const SlamRun
   catch (const ros::Exception& e)  // rosbag::BagException, or a message that does not deserialize
   {
     throw std::runtime_error(opt.bag + ": damaged (" + e.what() + ")");
+  }
+  catch (const std::bad_alloc&)  // an uncompressed message whose array length was overwritten
+  {
+    throw std::runtime_error(opt.bag + ": damaged (a message declares more data than memory holds)");
   }
 }
 
