@@ -47,7 +47,11 @@ struct SlamParams
   double match_sigma = 0.05;            // m, Gaussian fall-off of the lookup field
   double search_window_linear = 0.3;    // m
   double search_window_angular = 0.35;  // rad
-  double min_match_score = 0.35;        // below: keep the odometry prediction
+  // The linear window grows to this multiple of the odometry's step since the last scan (0: it
+  // never grows). Odometry that reports the wrong direction puts the scan twice its step from the
+  // prediction; a slow laser makes each step long.
+  double search_window_motion_scale = 0.0;
+  double min_match_score = 0.35;  // below: keep the odometry prediction
   // Motion prior: score lost per m^2 away from the odometry prediction. Along an aisle the match
   // score is flat but for bumps of about 1 %; at 20 such a bump moves the pose about 2 cm, while
   // a real 10 cm correction still wins (slam_bench, factory at 8 m range: ATE 6 -> 2 cm).
@@ -418,8 +422,9 @@ private:
   bool local_field_dirty_ = true;
   Pose2D map_to_odom_;
   Pose2D current_pose_;
-  Pose2D tracked_;       // the last scan's pose in the map frame
-  Pose2D tracked_odom_;  // and its odometry pose
+  Pose2D tracked_;                    // the last scan's pose in the map frame
+  Pose2D tracked_odom_;               // and its odometry pose
+  double track_window_linear_ = 0.0;  // this scan's linear search window (search_window_motion_scale)
   // The scan before the last, for the step track_motion_fallback carries on (after a closure,
   // placed so that the step between the two is the one the map measured before it).
   Pose2D prev_tracked_;

@@ -131,6 +131,16 @@ MatchResult Slam::matchLocal(const Pose2D& predicted, const std::vector<Point2D>
   req.rotation_weight = params_.match_rotation_weight;
   req.translation_prior_cap = params_.match_prior_cap;
   MatchResult res = matchScan(field, points, req);
+  if (track_window_linear_ > req.linear_window)
+  {
+    // A long odometry step: the scan may lie beyond the usual window (twice the step away where
+    // the odometry reports the wrong direction). The wider search wins only where it explains
+    // clearly more, as the map's motion must (matchFromMotion).
+    req.linear_window = track_window_linear_;
+    const MatchResult wide = matchScan(field, points, req);
+    if (wide.ok && (!res.ok || wide.score - res.score >= params_.track_min_gain))
+      res = wide;
+  }
   stats_.last_match_score = res.ok ? res.score : scorePose(field, points, predicted);
   return res;
 }
@@ -149,6 +159,7 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   // Where the scan is, by odometry from the last tracked scan (from the last keyframe without
   // tracking: tracked_ is then the keyframe's pose).
   const Pose2D predicted = compose(tracked_, between(tracked_odom_, odom));
+  track_window_linear_ = params_.search_window_motion_scale * translationNorm(between(tracked_odom_, odom));
   const bool moved = translationNorm(delta) >= params_.linear_update ||
                      std::abs(delta.theta) >= params_.angular_update ||
                      (params_.temporal_update >= 0.0 && stamp - last.stamp >= params_.temporal_update);
