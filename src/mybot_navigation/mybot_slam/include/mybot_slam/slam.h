@@ -47,9 +47,10 @@ struct SlamParams
   double match_sigma = 0.05;            // m, Gaussian fall-off of the lookup field
   double search_window_linear = 0.3;    // m
   double search_window_angular = 0.35;  // rad
-  // The linear window grows to this multiple of the odometry's step since the last scan (0: it
-  // never grows). Odometry that reports the wrong direction puts the scan twice its step from the
-  // prediction; a slow laser makes each step long.
+  // Where this multiple of the odometry's step since the last scan exceeds search_window_linear,
+  // the scan is matched again in a window that wide, and that match is kept where it explains
+  // track_min_gain more (0: never). Odometry that reports the wrong direction puts the scan twice
+  // its step from the prediction; a slow laser makes each step long. config/slam.yaml: 2.5.
   double search_window_motion_scale = 0.0;
   double min_match_score = 0.35;  // below: keep the odometry prediction
   // Motion prior: score lost per m^2 away from the odometry prediction. Along an aisle the match
