@@ -135,7 +135,7 @@ MatchResult Slam::matchLocal(const Pose2D& predicted, const std::vector<Point2D>
   {
     // A long odometry step: the scan may lie beyond the usual window (twice the step away where
     // the odometry reports the wrong direction). The wider search wins only where it explains
-    // clearly more, as the map's motion must (matchFromMotion).
+    // clearly more, as a rival prediction must (matchFromRival).
     req.linear_window = track_window_linear_;
     const MatchResult wide = matchScan(field, points, req);
     if (wide.ok && (!res.ok || wide.score - res.score >= params_.track_min_gain))
@@ -163,8 +163,12 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   const bool moved = translationNorm(delta) >= params_.linear_update ||
                      std::abs(delta.theta) >= params_.angular_update ||
                      (params_.temporal_update >= 0.0 && stamp - last.stamp >= params_.temporal_update);
-  Pose2D motion_pose;
-  const Pose2D* from_motion = predictFromMotion(stamp, predicted, motion_pose) ? &motion_pose : nullptr;
+  Pose2D motion_pose, undoing_pose;
+  RivalPredictions rivals;
+  if (predictFromMotion(stamp, predicted, motion_pose))
+    rivals.from_motion = &motion_pose;
+  if (predictUndoingCorrection(odom, undoing_pose))
+    rivals.undoing = &undoing_pose;
   const Pose2D before = tracked_;
   const double before_stamp = tracked_stamp_;
   // The last step is kept as the map measured it (`step` from the scan before to this one): a
@@ -178,11 +182,11 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   };
   if (!moved || scan.hits.size() < 3)
   {
-    trackScan(odom, scan, predicted, from_motion);
+    trackScan(odom, scan, predicted, rivals);
     remember(between(before, tracked_));
     return moved ? ScanOutcome::NoValidPoints : ScanOutcome::Skipped;
   }
-  addKeyframe(stamp, odom, scan, predicted, from_motion);
+  addKeyframe(stamp, odom, scan, predicted, rivals);
   const int index = static_cast<int>(keyframes_.size()) - 1;
   const Pose2D step = between(before, keyframes_.back().pose);  // before a closure moves the keyframe
   if (params_.loop_closure && index - last_loop_attempt_ >= params_.loop_check_interval)
@@ -244,34 +248,59 @@ bool Slam::predictFromMotion(double stamp, const Pose2D& predicted, Pose2D& from
          translationNorm(by_map) > 0.03;
 }
 
-MatchResult Slam::matchFromMotion(const MatchResult& from_odometry, const Pose2D& predicted, const Pose2D* from_motion,
-                                  const std::vector<Point2D>& points)
+bool Slam::predictUndoingCorrection(const Pose2D& odom, Pose2D& undoing) const
+{
+  if (!have_uncorrected_)
+    return false;
+  undoing = compose(uncorrected_, between(tracked_odom_, odom));
+  return true;
+}
+
+void Slam::rememberCorrection(const Pose2D& predicted, const Pose2D& pose)
+{
+  const Pose2D correction = between(predicted, pose);
+  have_uncorrected_ = params_.track_undo_correction && params_.track_every_scan &&
+                      (translationNorm(correction) > 0.5 * params_.search_window_linear ||
+                       std::abs(correction.theta) > 0.5 * params_.search_window_angular);
+  uncorrected_ = predicted;
+}
+
+MatchResult Slam::matchFromRival(const MatchResult& from_odometry, const Pose2D& predicted, const Pose2D* rival,
+                                 const std::vector<Point2D>& points, int& wins)
 {
   // Where the two predictions are within the lookup field's fall-off, the first match said all.
-  if (from_motion == nullptr || (translationNorm(between(predicted, *from_motion)) < 2.0 * params_.match_sigma &&
-                                 std::abs(wrapAngle(from_motion->theta - predicted.theta)) < 0.05))
+  if (rival == nullptr || (translationNorm(between(predicted, *rival)) < 2.0 * params_.match_sigma &&
+                           std::abs(wrapAngle(rival->theta - predicted.theta)) < 0.05))
     return from_odometry;
   const double odometry_score = stats_.last_match_score;  // what a node reports, if the odometry's match stays
-  const std::vector<Point2D> pts = localPointsInReach(*from_motion, points);
-  const MatchResult res = matchLocal(*from_motion, pts);
+  const std::vector<Point2D> pts = localPointsInReach(*rival, points);
+  const MatchResult res = matchLocal(*rival, pts);
   // Both judged on the same local map and points. A match from the wrong prediction can succeed
   // on a lesser optimum at its window's edge (0.3 m towards the truth from 0.4 m off), so it is
-  // not enough that it succeeded: the map's motion wins where it explains clearly more.
-  const Pose2D rival = from_odometry.ok ? from_odometry.pose : predicted;
-  if (!res.ok || res.score - scorePose(local_field_, pts, rival) < params_.track_min_gain)
+  // not enough that it succeeded: the rival wins where it explains clearly more.
+  const Pose2D incumbent = from_odometry.ok ? from_odometry.pose : predicted;
+  if (!res.ok || res.score - scorePose(local_field_, pts, incumbent) < params_.track_min_gain)
   {
     stats_.last_match_score = odometry_score;
     return from_odometry;
   }
-  ++stats_.motion_fallbacks;
+  ++wins;
   return res;
 }
 
-void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted, const Pose2D* from_motion)
+MatchResult Slam::matchFromRivals(const MatchResult& from_odometry, const Pose2D& predicted,
+                                  const RivalPredictions& rivals, const std::vector<Point2D>& points)
+{
+  const MatchResult res = matchFromRival(from_odometry, predicted, rivals.from_motion, points, stats_.motion_fallbacks);
+  return matchFromRival(res, predicted, rivals.undoing, points, stats_.corrections_undone);
+}
+
+void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted, const RivalPredictions& rivals)
 {
   const Keyframe& last = keyframes_.back();
   const Pose2D last_tracked = tracked_;
   tracked_ = predicted;
+  have_uncorrected_ = false;  // unless this scan's match moves it far
   if (params_.track_every_scan && scan.hits.size() >= 3)
   {
     const std::vector<Point2D> filtered = matchPoints(scan.hits);
@@ -282,9 +311,10 @@ void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& pr
     // only where the match explains clearly more of the scan.
     if (res.ok && res.score - scorePose(local_field_, points, predicted) < params_.track_min_gain)
       res.ok = false;
-    res = matchFromMotion(res, predicted, from_motion, filtered);
+    res = matchFromRivals(res, predicted, rivals, filtered);
     if (res.ok)
       tracked_ = res.pose;
+    rememberCorrection(predicted, tracked_);
     if (res.ok && params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0)
     {
       // Trusted odometry holds the tracked heading as it holds the keyframes' (addKeyframe).
@@ -308,7 +338,7 @@ void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& pr
 }
 
 void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted,
-                       const Pose2D* from_motion)
+                       const RivalPredictions& rivals)
 {
   const Keyframe& last = keyframes_.back();
   const Pose2D delta = between(last.odom, odom);
@@ -321,7 +351,7 @@ void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, 
   current_pose_ = predicted;
 
   MatchResult res = matchLocal(predicted, localPointsInReach(predicted, kf.match_points));
-  res = matchFromMotion(res, predicted, from_motion, kf.match_points);
+  res = matchFromRivals(res, predicted, rivals, kf.match_points);
   PoseGraphEdge edge;
   edge.from = static_cast<int>(keyframes_.size()) - 1;
   edge.sigma_xy = params_.sigma_xy;
@@ -341,6 +371,7 @@ void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, 
     edge.sigma_theta *= 5.0;
     edge.redescending = params_.weak_step_cauchy;
   }
+  rememberCorrection(predicted, kf.pose);
   edge.measurement = between(last.pose, kf.pose);
   const bool odom_edges = params_.odom_edge_sigma_xy > 0.0 && params_.odom_edge_sigma_theta > 0.0;
   if (odom_edges)
@@ -764,6 +795,7 @@ bool Slam::applyClosure(const std::vector<PoseGraphEdge>& added, const LoopMatch
   stats_.last_closure.unique = match.unique;
   for (size_t i = 0; i < keyframes_.size(); ++i)
     keyframes_[i].pose = graph_.node(static_cast<int>(i));
+  have_uncorrected_ = false;  // in the map as it was before the closure moved it
   coarse_stale_ = true;
   markGlobalMapStale();
   rebuildLocalMaps();
