@@ -24,6 +24,12 @@ Pose2D fuseIncrements(const PoseGraphEdge& match, const Pose2D& odom, double odo
   return Pose2D{m.x + wxy * (odom.x - m.x), m.y + wxy * (odom.y - m.y),
                 wrapAngle(m.theta + wt * wrapAngle(odom.theta - m.theta))};
 }
+
+// Exactly the same: an odometry that sent nothing new repeats its last pose to the digit.
+bool samePose(const Pose2D& a, const Pose2D& b)
+{
+  return a.x == b.x && a.y == b.y && a.theta == b.theta;
+}
 }  // namespace
 
 Slam::Slam(const SlamParams& params) : params_(params), global_(params.grid)
@@ -169,6 +175,14 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
     rivals.from_motion = &motion_pose;
   if (predictUndoingCorrection(odom, undoing_pose))
     rivals.undoing = &undoing_pose;
+  // The odometry repeated itself for the last scan (nothing new had reached the mapper) and
+  // moved for this one: it may bring all the motion since at once.
+  const bool catching_up = odom_stale_ && !samePose(odom, last_scan_odom_);
+  odom_stale_ = samePose(odom, last_scan_odom_);
+  last_scan_odom_ = odom;
+  Pose2D turn_pose;
+  if (catching_up && predictMapTurn(predicted, turn_pose))
+    rivals.map_turn = &turn_pose;
   const Pose2D before = tracked_;
   const double before_stamp = tracked_stamp_;
   // The last step is kept as the map measured it (`step` from the scan before to this one): a
@@ -222,7 +236,7 @@ ScanOutcome Slam::startMap(double stamp, const Pose2D& odom, const RangeScan& sc
     global_.insertScan(odom, scan);
   insertIntoLocalMaps(0);
   map_to_odom_ = Pose2D{};
-  current_pose_ = tracked_ = tracked_odom_ = odom;
+  current_pose_ = tracked_ = tracked_odom_ = last_scan_odom_ = odom;
   last_scan_in_keyframe_ = Pose2D{};
   ++stats_.keyframes;
   ++map_version_;
@@ -246,6 +260,20 @@ bool Slam::predictFromMotion(double stamp, const Pose2D& predicted, Pose2D& from
   const Pose2D by_odom = between(tracked_, predicted), by_map = between(tracked_, from_motion);
   return by_odom.x * by_map.x + by_odom.y * by_map.y < 0.0 && translationNorm(by_odom) > 0.03 &&
          translationNorm(by_map) > 0.03;
+}
+
+bool Slam::predictMapTurn(const Pose2D& predicted, Pose2D& map_turn) const
+{
+  if (!params_.track_turn_fallback || !params_.track_every_scan || !have_motion_)
+    return false;
+  // The step as it was, not scaled to this scan's interval as predictFromMotion's is: logs
+  // written in bursts stamp scans 1 ms apart that were taken a laser period apart (Intel).
+  const Pose2D step = between(prev_tracked_, tracked_);
+  const Pose2D by_odom = between(tracked_, predicted);
+  if (std::abs(wrapAngle(by_odom.theta - step.theta)) <= 0.5 * params_.search_window_angular)
+    return false;
+  map_turn = compose(tracked_, step);
+  return true;
 }
 
 bool Slam::predictUndoingCorrection(const Pose2D& odom, Pose2D& undoing) const
@@ -292,7 +320,8 @@ MatchResult Slam::matchFromRivals(const MatchResult& from_odometry, const Pose2D
                                   const RivalPredictions& rivals, const std::vector<Point2D>& points)
 {
   const MatchResult res = matchFromRival(from_odometry, predicted, rivals.from_motion, points, stats_.motion_fallbacks);
-  return matchFromRival(res, predicted, rivals.undoing, points, stats_.corrections_undone);
+  const MatchResult undone = matchFromRival(res, predicted, rivals.undoing, points, stats_.corrections_undone);
+  return matchFromRival(undone, predicted, rivals.map_turn, points, stats_.turn_fallbacks);
 }
 
 void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted, const RivalPredictions& rivals)

@@ -104,6 +104,8 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
        [](P& p) -> bool& { return p.slam.track_motion_fallback; }, [](double) { return true; }, "a bool"},
       {"track_undo_correction", T::Boolean, nullptr, nullptr,
        [](P& p) -> bool& { return p.slam.track_undo_correction; }, [](double) { return true; }, "a bool"},
+      {"track_turn_fallback", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.track_turn_fallback; },
+       [](double) { return true; }, "a bool"},
       {"weak_step_cauchy", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.weak_step_cauchy; },
        [](double) { return true; }, "a bool"},
       {"keep_grazing_surfaces", T::Boolean, nullptr, nullptr,
