@@ -372,6 +372,7 @@ private:
   bool predictFromMotion(double stamp, const Pose2D& predicted, Pose2D& from_motion) const;
   // track_turn_fallback: the map's last step carried on, where the odometry's rotation since the
   // last scan differs from its rotation by more than half the angular window; false otherwise.
+  // addScan asks only where the odometry moves again after repeating its pose for the last scan.
   bool predictMapTurn(const Pose2D& predicted, Pose2D& map_turn) const;
   // track_undo_correction: the odometry's prediction from where the last scan was predicted,
   // where its match moved it more than half the search window; false otherwise.
