@@ -34,7 +34,9 @@ class NavTimedSimTest(unittest.TestCase):
         self.ls = participant(defer_join=True)
         self.ls.Subscriber("ground_truth/odom", Odometry, self.on_truth, queue_size=50)
         self.ls.Subscriber("cmd_vel", Twist, self.on_cmd, queue_size=50)
-        # Not participants: read only, after the robot has come to rest.
+        # Not participants (their nodes are plain rospy): they arrive whenever their nodes get to
+        # them, so the test reads them only once one stamped (or received) after the robot came to
+        # rest is in (fresh_readings).
         rospy.Subscriber("robot/position/absolute", PointStamped, self.on_abs, queue_size=10)
         rospy.Subscriber("pose_error/position", Float64, self.on_err, queue_size=10)
         self.ls.hold_next_period()  # joins; from here on period by period
@@ -62,7 +64,22 @@ class NavTimedSimTest(unittest.TestCase):
 
     def on_err(self, m):
         with self.lock:
-            self.pose_err = m.data
+            self.pose_err = (rospy.get_time(), m.data)
+
+    def fresh_readings(self, since):
+        """Waits until robot/position/absolute is stamped at or after `since` (s of sim time) and a
+        pose_error/position has been received after it; returns (absolute point, pose error)."""
+        def fresh():
+            with self.lock:
+                return (self.absolute is not None and self.absolute.header.stamp.to_sec() >= since
+                        and self.pose_err is not None and self.pose_err[0] > since)
+        if not self.ls.wait_for(fresh, TIMEOUT):
+            with self.lock:
+                self.fail("no robot/position/absolute stamped and pose_error/position received after "
+                          "%.3f s in %.0f s of sim time (last: %s, %s)" % (since, TIMEOUT, self.absolute,
+                                                                         self.pose_err))
+        with self.lock:
+            return self.absolute.point, self.pose_err[1]
 
     def still(self):
         """Whether ground truth has moved less than 0.1 mm and 1 mrad between successive samples
@@ -104,11 +121,9 @@ class NavTimedSimTest(unittest.TestCase):
         rospy.loginfo("nav_forward: %.4f m, heading change %.4f rad", dist, wrap(after[2] - start[2]))
         self.assertAlmostEqual(dist, 0.5, delta=0.05)
         self.assertLess(abs(wrap(after[2] - start[2])), 0.05)
-        with self.lock:
-            self.assertIsNotNone(self.absolute)
-            self.assertAlmostEqual(self.absolute.point.x, after[0], delta=0.02)
-            self.assertIsNotNone(self.pose_err)
-            self.assertLess(self.pose_err, 0.05, "diff-drive plugin odometry vs ground truth")
+        absolute, pose_err = self.fresh_readings(after[3])
+        self.assertAlmostEqual(absolute.x, after[0], delta=0.02)
+        self.assertLess(pose_err, 0.05, "diff-drive plugin odometry vs ground truth")
         self.run_launch("nav_rotate.launch", "/nav_rotate", "angle:=1.5707963", "rate:=0.5")
         turned = self.settled_pose()
         rospy.loginfo("nav_rotate: %.4f rad", wrap(turned[2] - after[2]))
