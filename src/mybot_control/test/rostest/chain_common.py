@@ -21,6 +21,21 @@ class Chain:
         self.ls = participant(defer_join=True)  # joins at its first sleep, set up (first call only)
         self.pub = self.ls.Publisher(cmd_topic, Twist, queue_size=10)
         self.ls.Subscriber(odom_topic, Odometry, self._on_odom, queue_size=50)
+        self._subs = []  # subscribe(): connected before wait_ready / wait_connected return
+
+    def subscribe(self, topic, data_class, callback, **kw):
+        """A subscription the test asserts on: through lockstep (every message of a period is
+        handed over before the period ends, so what the test reads after a wait is never stale
+        under load), and connected before wait_ready() or wait_connected() returns."""
+        sub = self.ls.Subscriber(topic, data_class, callback, **kw)
+        self._subs.append(sub)
+        return sub
+
+    def wait_connected(self, timeout=60.0):
+        """Until every subscribe() subscription has a publisher connected (a connection is made
+        in wall time, so otherwise a loaded machine can miss the first messages)."""
+        self.wait_for(lambda: all(s.get_num_connections() > 0 for s in self._subs), timeout,
+                      'a publisher on each of %s' % [s.resolved_name for s in self._subs])
 
     def _on_odom(self, msg):
         with self.lock:
@@ -53,6 +68,7 @@ class Chain:
                     return all(subs.get(rospy.resolve_name(t)) for t in subscribed)
 
                 assert self.ls.wait_for(listened, 60.0), 'no subscriber on one of %s' % (subscribed,)
+            self.wait_connected()
             return
         # Wall-clock bound only for the start-up (clock may not run yet).
         import time
@@ -60,6 +76,9 @@ class Chain:
         while self.odom is None and time.time() - t0 < 60.0 and not rospy.is_shutdown():
             time.sleep(0.05)
         assert self.odom is not None, 'no odom received'
+        while (not all(s.get_num_connections() > 0 for s in self._subs) and time.time() - t0 < 60.0
+               and not rospy.is_shutdown()):
+            time.sleep(0.05)
 
     def pose(self):
         with self.lock:

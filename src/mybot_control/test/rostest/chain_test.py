@@ -57,13 +57,16 @@ class DiffDriveChainTest(unittest.TestCase):
         # NaN/inf commands are ignored: no NaN anywhere in the chain.
         values = []
         lock = threading.Lock()
+        recording = [True]
 
         def record(m):
             with lock:
-                values.append(m.data)
-        subs = [rospy.Subscriber(t, Float32, record) for t in (
-            'lwheel_tangent_vel_target', 'rwheel_tangent_vel_target',
-            'lwheel_angular_vel_motor', 'rwheel_angular_vel_motor')]
+                if recording[0]:
+                    values.append(m.data)
+        for t in ('lwheel_tangent_vel_target', 'rwheel_tangent_vel_target',
+                  'lwheel_angular_vel_motor', 'rwheel_angular_vel_motor'):
+            self.chain.subscribe(t, Float32, record)
+        self.chain.wait_connected()
         self.chain.drive(0.1, 0.0, 1.0)
         bad = Twist()
         bad.linear.x = float('nan')
@@ -74,8 +77,8 @@ class DiffDriveChainTest(unittest.TestCase):
         self.chain.wait_stopped(timeout=10.0)
         self.chain.drive(0.1, 0.0, 1.0)
         self.chain.wait_stopped()
-        for s in subs:
-            s.unregister()
+        with lock:
+            recording[0] = False  # kept subscribed: a lockstep subscription ends with the test
         x, y, yaw = self.chain.pose()
         vx, wz = self.chain.speed()
         for v in (x, y, yaw, vx, wz):

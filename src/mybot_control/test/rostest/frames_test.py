@@ -23,14 +23,14 @@ class FramesTest(unittest.TestCase):
         cls.tf_buffer = tf2_ros.Buffer()
         cls.tf_listener = tf2_ros.TransformListener(cls.tf_buffer)
         cls.chain = Chain()
-        cls.chain.wait_ready()
         cls.notf = None
-        rospy.Subscriber('notf/odom', Odometry, cls._on_notf)
+        cls.chain.subscribe('notf/odom', Odometry, cls._on_notf)
         cls.lock = threading.Lock()
         cls.last = {}
         for topic in ('lwheel_tangent_vel_target', 'rwheel_tangent_vel_target',
                       'lwheel_angular_vel_target', 'rwheel_angular_vel_target'):
-            rospy.Subscriber(topic, Float32, cls._on_float, callback_args=topic)
+            cls.chain.subscribe(topic, Float32, cls._on_float, callback_args=topic)
+        cls.chain.wait_ready()
 
     @classmethod
     def _on_notf(cls, msg):

@@ -21,7 +21,7 @@ class LimitsTest(unittest.TestCase):
         cls.chain = Chain()
         cls.lock = threading.Lock()
         cls.out = []
-        rospy.Subscriber('diffdrive_controller/cmd_vel_out', TwistStamped, cls._on_out, queue_size=100)
+        cls.chain.subscribe('diffdrive_controller/cmd_vel_out', TwistStamped, cls._on_out, queue_size=100)
         cls.chain.wait_ready()
 
     @classmethod

@@ -97,6 +97,9 @@ class Participant:
         then arrival), once everything owed to this node for the period is in."""
         if not self.active:
             return rospy.Subscriber(topic, data_class, callback, queue_size=queue_size, **kw)
+        if 'callback_args' in kw:  # rospy's: handed to the callback after the message
+            args = kw.pop('callback_args')
+            callback = (lambda msg, cb=callback: cb(msg, args))
         resolved = rospy.resolve_name(topic)
         with self._cond:  # two subscriptions to a topic each receive every message
             self._counted[resolved] = self._counted.get(resolved, 0) + 1

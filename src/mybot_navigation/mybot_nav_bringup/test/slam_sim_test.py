@@ -55,7 +55,10 @@ class SlamSimTest(unittest.TestCase):
         self.listener = tf2_ros.TransformListener(self.tf)
         # A lockstep participant (mybot_lockstep): the route is driven period by period on
         # ground truth, so the run is the same on an idle and on a busy machine.
-        self.ls = participant()
+        # It joins at its first sleep (sleep_until below), set up: joined here, time would run
+        # from its first tick until that sleep, a wall-time stretch, and the drive would start at
+        # a moment that depends on the load.
+        self.ls = participant(defer_join=True)
         self.ls.Subscriber("ground_truth/odom", Odometry, self.on_truth, queue_size=50)
         self.cmd = self.ls.Publisher("cmd_vel", Twist, queue_size=1)
         self.left = self.ls.Publisher("left_wheel_hinge/command", Float64, queue_size=1)
@@ -186,6 +189,11 @@ class SlamSimTest(unittest.TestCase):
         self.drive_route()
         # Let the last scans be processed before reading the map.
         rospy.sleep(2.0)
+        # The listener is tf2_ros's (it fills the buffer in wall time, while this node holds
+        # time at start_at too): every sample is read once the transforms at the last one are in.
+        last = self.to_sample[-1][0]
+        self.wait(lambda: self.tf.can_transform("map", self.base_frame, last), 30,
+                  "tf map -> %s at %.2f s" % (self.base_frame, last.to_sec()))
         self.estimates()
         self.assertGreater(len(self.samples), 20)
         if self.mode == "accuracy":
