@@ -15,6 +15,7 @@ from mybot_common.geometry import wrap, yaw_of
 from mybot_gazebo_lite.msg import ContactsState
 from mybot_gazebo_lite.srv import GetModelState
 from mybot_lockstep import participant
+from mybot_lockstep.start_paused import unpause_when
 
 
 def twist(vx=0.0, vy=0.0, wz=0.0):
@@ -27,7 +28,7 @@ class TutorialRobots(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("tutorial_robots_test")
-        cls.ls = participant()
+        cls.ls = participant(defer_join=True)  # joins with everything below set up
         cls.lock = threading.Lock()
         cls.sonar = None
         cls.bumper = None
@@ -38,11 +39,13 @@ class TutorialRobots(unittest.TestCase):
         cls.ls.Subscriber("/skid/sonar", Range, cls._store("sonar"))
         cls.ls.Subscriber("/skid/bumper", ContactsState, cls._store("bumper"))
         cls.pubs = {n: cls.ls.Publisher("/%s/cmd_vel" % n, Twist, queue_size=1) for n in ("fourwheel", "skid", "planar")}
-        cls.ls.release()
         rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
         cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
-        ok = cls.ls.wait_for(lambda: all(cls.model(model_name=n).success for n in cls.pubs), 30.0)
-        assert ok, "the three robots were not spawned"
+        # The world starts paused: the spawners start in wall time, so time starts once the three
+        # robots stand in it (the same moment every run); this joins (named in lockstep_wait_for)
+        # and holds the first period after the unpause.
+        unpause_when(cls.ls, lambda: all(cls.model(model_name=n).success for n in cls.pubs),
+                     "the three robots were not spawned")
         cls.ls.sleep(1.0)  # settle on the ground
 
     @classmethod

@@ -11,16 +11,23 @@ import rospy
 import rostest
 from sensor_msgs.msg import LaserScan
 
+from mybot_gazebo_lite.srv import GetModelState
 from mybot_lockstep import participant
+from mybot_lockstep.start_paused import unpause_when
 
 
 class DepthToScanTest(unittest.TestCase):
     def test_depth_scan_matches_the_laser(self):
         rospy.init_node("depth_to_scan_test")
-        ls = participant()
+        ls = participant(defer_join=True)  # joins with its subscriptions made
         got = {}
         ls.Subscriber("/laser_scan", LaserScan, lambda m: got.__setitem__("laser", m))
         ls.Subscriber("/depth_scan", LaserScan, lambda m: got.__setitem__("depth", m))
+        # The world starts paused: the spawner starts in wall time, so time starts once the head
+        # stands in it (the same moment every run).
+        rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
+        state = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
+        unpause_when(ls, lambda: state(model_name="sensor_head").success, "the sensor head was not spawned")
         self.assertTrue(ls.wait_for(lambda: "laser" in got and "depth" in got, 60.0), "no scans: %s" % list(got))
         # The head stands still: any pair of scans sees the same walls.
         laser, depth = got["laser"], got["depth"]
