@@ -2,6 +2,7 @@
 """explore's return_to_init: once no frontier is left, the initial pose is its last goal."""
 import math
 import threading
+import time
 import unittest
 
 import actionlib
@@ -24,7 +25,7 @@ class FakeMoveBase:
         self.got_status = threading.Event()
         self.server = actionlib.SimpleActionServer(ns + "/move_base", MoveBaseAction, self.execute, auto_start=False)
         self.server.start()
-        rospy.Subscriber(ns + "/explore/status", String, self.on_status)
+        self.status_sub = rospy.Subscriber(ns + "/explore/status", String, self.on_status)
 
     def execute(self, goal):
         p = goal.target_pose.pose
@@ -70,6 +71,12 @@ class ReturnToInit(unittest.TestCase):
         cls.tf.sendTransform(t)
         cls.home = FakeMoveBase("/home")
         cls.stay = FakeMoveBase("/stay")
+        # The explorers start on the map. Their status is latched, so a subscription that connects
+        # after they finished would get only the last one ("exiting ..."): connected first.
+        deadline = time.monotonic() + 60.0
+        while not all(f.status_sub.get_num_connections() for f in (cls.home, cls.stay)):
+            assert time.monotonic() < deadline and not rospy.is_shutdown(), "no explore/status publisher"
+            time.sleep(0.05)
         cls.maps = [rospy.Publisher(ns + "/map", OccupancyGrid, queue_size=1, latch=True) for ns in ("/home", "/stay")]
         for pub in cls.maps:
             pub.publish(known_room())
