@@ -2,6 +2,7 @@
 """twist_mux: priority override, timeout fall-back, lock, one zero twist on timeout, diagnostics."""
 import sys
 import threading
+import time
 import unittest
 
 import rospy
@@ -10,16 +11,18 @@ from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Bool, String
 
+from mybot_lockstep import participant
+
 
 class Source:
-    """Publishes a constant twist at 20 Hz while running."""
+    """Publishes a constant twist at 20 Hz of sim time while running."""
 
-    def __init__(self, topic, vx):
-        self.pub = rospy.Publisher(topic, Twist, queue_size=10)
+    def __init__(self, ls, topic, vx):
+        self.pub = ls.Publisher(topic, Twist, queue_size=10)
         self.msg = Twist()
         self.msg.linear.x = vx
         self.running = False
-        self.timer = rospy.Timer(rospy.Duration(0.05), self._tick)
+        ls.Timer(0.05, self._tick)
 
     def _tick(self, _):
         if self.running:
@@ -30,18 +33,26 @@ class TwistMuxTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('twist_mux_test')
+        # A lockstep participant (named in lockstep_wait_for): time starts once it has joined,
+        # set up and connected, and each period's messages are in before the period ends.
+        cls.ls = participant(defer_join=True)
         cls.lock = threading.Lock()
         cls.out = []
         cls.active = None
         cls.diag = None
-        rospy.Subscriber('cmd_vel', Twist, cls._on_out)
-        rospy.Subscriber('twist_mux/active', String, cls._on_active)
-        rospy.Subscriber('/diagnostics', DiagnosticArray, cls._on_diag)
-        cls.nav = Source('nav_vel', 0.1)
-        cls.key = Source('key_vel', 0.2)
-        cls.joy = Source('joy_vel', 0.3)
-        cls.pause = rospy.Publisher('pause_navigation', Bool, queue_size=1, latch=True)
-        rospy.sleep(1.0)  # connections
+        subs = [cls.ls.Subscriber('cmd_vel', Twist, cls._on_out),
+                cls.ls.Subscriber('twist_mux/active', String, cls._on_active),
+                cls.ls.Subscriber('/diagnostics', DiagnosticArray, cls._on_diag)]
+        cls.nav = Source(cls.ls, 'nav_vel', 0.1)
+        cls.key = Source(cls.ls, 'key_vel', 0.2)
+        cls.joy = Source(cls.ls, 'joy_vel', 0.3)
+        cls.pause = cls.ls.Publisher('pause_navigation', Bool, latch=True)
+        # A message on a connection not yet open is lost: every one open before time starts.
+        links = subs + [s.pub for s in (cls.nav, cls.key, cls.joy)] + [cls.pause]
+        deadline = time.monotonic() + 60.0
+        while not all(link.get_num_connections() for link in links):
+            assert time.monotonic() < deadline and not rospy.is_shutdown(), 'twist_mux not connected'
+            time.sleep(0.05)
 
     @classmethod
     def _on_out(cls, m):
@@ -67,12 +78,9 @@ class TwistMuxTest(unittest.TestCase):
             del self.out[:]
 
     def wait(self, cond, what, timeout=5.0):
-        end = rospy.get_time() + timeout
-        while rospy.get_time() < end:
-            if cond():
-                return
-            rospy.sleep(0.01)
-        self.fail('timed out waiting for ' + what)
+        """Until cond(), within `timeout` s of sim time (joins lockstep on the first call)."""
+        if not self.ls.wait_for(cond, timeout):
+            self.fail('timed out waiting for ' + what)
 
     def last(self):
         with self.lock:
@@ -96,7 +104,7 @@ class TwistMuxTest(unittest.TestCase):
         self.joy.running = True
         self.wait(lambda: self.last() == 0.3 and self.active == 'joystick', 'joystick override')
         t = rospy.get_time()
-        rospy.sleep(0.5)
+        self.ls.sleep(0.5)
         self.assertNotIn(0.1, self.since(t))  # navigation is not forwarded meanwhile
         self.joy.running = False
         t = rospy.get_time()
@@ -109,7 +117,7 @@ class TwistMuxTest(unittest.TestCase):
         self.key.running = False
         t = rospy.get_time()
         self.wait(lambda: self.active == 'idle', 'timeout')
-        rospy.sleep(1.0)
+        self.ls.sleep(1.0)
         self.assertEqual(self.after_last(0.2, t), [0.0])  # exactly one zero twist, then silence
 
     def test_lock(self):
@@ -119,7 +127,7 @@ class TwistMuxTest(unittest.TestCase):
         t = rospy.get_time()
         self.pause.publish(Bool(True))
         self.wait(lambda: self.active == 'idle', 'lock to stop everything up to priority 100')
-        rospy.sleep(0.5)
+        self.ls.sleep(0.5)
         self.assertEqual(self.after_last(0.3, t), [0.0])
         self.pause.publish(Bool(False))
         self.wait(lambda: self.last() == 0.3, 'joystick after unlock')
