@@ -8,7 +8,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from std_srvs.srv import Trigger
 
-from mybot_lockstep import participant
+from mybot_lockstep import participant, wait_connected
 from mybot_common.geometry import wrap, yaw_of  # noqa: F401 (the tests import them from here)
 
 
@@ -32,10 +32,9 @@ class Chain:
         return sub
 
     def wait_connected(self, timeout=60.0):
-        """Until every subscribe() subscription has a publisher connected (a connection is made
-        in wall time, so otherwise a loaded machine can miss the first messages)."""
-        self.wait_for(lambda: all(s.get_num_connections() > 0 for s in self._subs), timeout,
-                      'a publisher on each of %s' % [s.resolved_name for s in self._subs])
+        """Until every subscribe() subscription has a publisher connected (otherwise a loaded
+        machine can miss the first messages)."""
+        wait_connected(self._subs, timeout)
 
     def _on_odom(self, msg):
         with self.lock:
@@ -76,9 +75,7 @@ class Chain:
         while self.odom is None and time.time() - t0 < 60.0 and not rospy.is_shutdown():
             time.sleep(0.05)
         assert self.odom is not None, 'no odom received'
-        while (not all(s.get_num_connections() > 0 for s in self._subs) and time.time() - t0 < 60.0
-               and not rospy.is_shutdown()):
-            time.sleep(0.05)
+        self.wait_connected()
 
     def pose(self):
         with self.lock:

@@ -2,7 +2,6 @@
 """twist_mux: priority override, timeout fall-back, lock, one zero twist on timeout, diagnostics."""
 import sys
 import threading
-import time
 import unittest
 
 import rospy
@@ -11,7 +10,7 @@ from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Bool, String
 
-from mybot_lockstep import participant
+from mybot_lockstep import participant, wait_connected
 
 
 class Source:
@@ -48,11 +47,7 @@ class TwistMuxTest(unittest.TestCase):
         cls.joy = Source(cls.ls, 'joy_vel', 0.3)
         cls.pause = cls.ls.Publisher('pause_navigation', Bool, latch=True)
         # A message on a connection not yet open is lost: every one open before time starts.
-        links = subs + [s.pub for s in (cls.nav, cls.key, cls.joy)] + [cls.pause]
-        deadline = time.monotonic() + 60.0
-        while not all(link.get_num_connections() for link in links):
-            assert time.monotonic() < deadline and not rospy.is_shutdown(), 'twist_mux not connected'
-            time.sleep(0.05)
+        wait_connected(subs + [s.pub for s in (cls.nav, cls.key, cls.joy)] + [cls.pause])
 
     @classmethod
     def _on_out(cls, m):

@@ -29,11 +29,26 @@ from tf2_msgs.msg import TFMessage
 from mybot_lockstep.msg import Ack, LinkCount, Tick
 from mybot_lockstep.time_jump import TimeJump
 
-__all__ = ['Participant', 'participant', 'lockstep_requested', 'TransformListener']
+__all__ = ['Participant', 'participant', 'lockstep_requested', 'TransformListener', 'wait_connected']
 
 
 def lockstep_requested():
     return bool(rospy.get_param('/use_sim_time', False)) and bool(rospy.get_param('/lockstep', False))
+
+
+def wait_connected(links, timeout=60.0):
+    """Waits, in wall time (a connection is made in wall time, whatever the sim time), until every
+    rospy Publisher or Subscriber of `links` has a connection: a message sent before its
+    connection is open is lost. Raises RuntimeError naming the unconnected topics after
+    `timeout` s."""
+    deadline = time.monotonic() + timeout
+    while not rospy.is_shutdown():
+        missing = [link.resolved_name for link in links if not link.get_num_connections()]
+        if not missing:
+            return
+        if time.monotonic() > deadline:
+            raise RuntimeError('no connection within %.0f s on %s' % (timeout, missing))
+        time.sleep(0.05)
 
 
 def _sent_links(me):

@@ -2,7 +2,6 @@
 """explore's return_to_init: once no frontier is left, the initial pose is its last goal."""
 import math
 import threading
-import time
 import unittest
 
 import actionlib
@@ -14,6 +13,8 @@ from geometry_msgs.msg import TransformStamped
 from move_base_msgs.msg import MoveBaseAction
 from nav_msgs.msg import OccupancyGrid
 from std_msgs.msg import String
+
+from mybot_lockstep import wait_connected
 
 
 class FakeMoveBase:
@@ -73,10 +74,7 @@ class ReturnToInit(unittest.TestCase):
         cls.stay = FakeMoveBase("/stay")
         # The explorers start on the map. Their status is latched, so a subscription that connects
         # after they finished would get only the last one ("exiting ..."): connected first.
-        deadline = time.monotonic() + 60.0
-        while not all(f.status_sub.get_num_connections() for f in (cls.home, cls.stay)):
-            assert time.monotonic() < deadline and not rospy.is_shutdown(), "no explore/status publisher"
-            time.sleep(0.05)
+        wait_connected([cls.home.status_sub, cls.stay.status_sub])
         cls.maps = [rospy.Publisher(ns + "/map", OccupancyGrid, queue_size=1, latch=True) for ns in ("/home", "/stay")]
         for pub in cls.maps:
             pub.publish(known_room())
