@@ -101,3 +101,18 @@ TEST(RayCaster, GivesCastRaysRangesWhereverTheRayStartsAndHowTheMapLies)
     else
       EXPECT_NEAR(fast[i], slow[i], 1e-5) << "beam " << i;
 }
+
+TEST(DriveFixtures, RouteClearanceIsTheLeastDistanceToAWall)
+{
+  // A 10 x 10 m room (0.1 m walls) with a 1 m box at (4..5, 4..5).
+  const GridMap world = makeWorld(10.0, 10.0, 0.02, {{4.0, 4.0, 5.0, 5.0}});
+  // Along y = 2, 1.9 m from the south wall's face and 2 m from the box: the wall is nearest.
+  EXPECT_NEAR(routeClearance(world, {{2.0, 2.0}, {8.0, 2.0}}, 3.0), 1.9, 0.03);
+  // Passing 0.5 m south of the box.
+  EXPECT_NEAR(routeClearance(world, {{2.0, 3.5}, {8.0, 3.5}}), 0.5, 0.03);
+  // Through the box, and out of the world.
+  EXPECT_EQ(routeClearance(world, {{2.0, 4.5}, {8.0, 4.5}}), 0.0);
+  EXPECT_EQ(routeClearance(world, {{2.0, 2.0}, {12.0, 2.0}}), 0.0);
+  // Nothing within reach: the reach.
+  EXPECT_EQ(routeClearance(world, {{2.5, 2.5}, {2.5, 2.6}}, 0.5), 0.5);
+}
