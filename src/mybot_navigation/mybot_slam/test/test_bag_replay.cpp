@@ -72,8 +72,9 @@ TEST(BagReplay, IntelFirstMinutesOnTheirRelations)
               odom_score.rotation_deg.mean);
   // The mapper corrects the odometry's heading (0.17 against 1.36 deg on 2026-11-28) and, since
   // every scan is tracked against the local map and then placed against the keyframes around it
-  // (Slam::placeScans, with its point-to-line step), its translation too: 0.0154 against
-  // 0.0231 m (0.0155 before search_window_motion_scale) (0.0188 against 0.0240 before that step and before the scorer
+  // (Slam::placeScans, with its point-to-line step), its translation too: 0.0155 against
+  // 0.0231 m (0.0154 before placeScans took a corridor match's heading, 2026-11-30; 0.0155 before
+  // search_window_motion_scale) (0.0188 against 0.0240 before that step and before the scorer
   // took the nearest stamp; 0.026 when only keyframes were matched). The replay is deterministic: same figures every
   // run.
   EXPECT_LT(slam_score.rotation_deg.mean, 0.5 * odom_score.rotation_deg.mean);

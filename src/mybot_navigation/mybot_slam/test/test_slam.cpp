@@ -14,12 +14,13 @@ using namespace mybot_navigation;
 
 namespace
 {
-// A loop through both rooms of the office world, back to the start. It passes through the pillar,
-// the shelf and the table (routeClearance 0; README, known limits): four tests' premises rest on
-// what the laser then sees from inside, so rerouting it means redesigning them.
-const std::vector<Point2D> kOfficeLoop{{1.0, 1.0},  {5.0, 0.8}, {5.0, 4.2}, {7.5, 4.2}, {10.5, 1.0},
-                                       {10.5, 6.5}, {7.0, 9.0}, {6.8, 4.3}, {3.0, 4.2}, {0.8, 6.5},
-                                       {3.0, 9.0},  {4.5, 6.0}, {1.0, 3.0}, {1.0, 1.0}};
+// A loop through both rooms of the office world, back to the start: round the east room's shelf,
+// along the west room's table, through the door twice. It keeps at least 0.5 m from every wall and
+// piece of furniture (TheOfficeLoopKeepsClearOfTheFurniture), so the laser never sees one from inside.
+const std::vector<Point2D> kOfficeLoop{{1.0, 0.6},  {5.0, 0.6},  {5.0, 4.2},  {7.5, 4.2},  {8.0, 1.0},
+                                       {10.2, 1.0}, {10.2, 6.5}, {11.2, 7.0}, {11.2, 8.8}, {7.0, 8.9},
+                                       {6.8, 4.3},  {3.0, 4.2},  {1.5, 6.2},  {0.9, 6.5},  {0.9, 8.7},
+                                       {3.0, 9.0},  {4.5, 6.0},  {1.0, 3.0},  {1.0, 0.6}};
 
 SlamParams testParams()
 {
@@ -41,6 +42,11 @@ Score evaluate(const Slam& slam, const OfflineRun& run, const GridMap& world)
   return {scoreMap(slam.map(), world, align, 1), absoluteTrajectoryRmse(run.estimate, run.truth, align)};
 }
 }  // namespace
+
+TEST(Slam, TheOfficeLoopKeepsClearOfTheFurniture)
+{
+  EXPECT_GE(routeClearance(officeWorld(0.01), kOfficeLoop), 0.5);
+}
 
 TEST(Slam, OfficeLoopWithOdometryNoiseMeetsAccuracyTargets)
 {
@@ -75,7 +81,11 @@ TEST(Slam, OfficeLoopWithOdometryNoiseMeetsAccuracyTargets)
 
 namespace
 {
-// A shorter usable range, tiny local maps and strong odometry noise make the front end drift.
+// The front end drifts where the laser sees nothing for a while (an open hall beyond its range,
+// people crowding it): the odometry alone, strongly noisy here, places those scans, and with tiny
+// local maps the front end carries on from wherever they ended. Twice for 6 s: in the east room's
+// south-west corner and on the way back to the door. (With the laser always seeing walls, this
+// front end did not drift in the office: ATE 0.005 m over the loop.)
 struct DriftRun
 {
   Slam slam;
@@ -90,13 +100,15 @@ DriftRun driveOfficeWithDrift(bool loop_closure)
   OdometryNoise noise;
   noise.alpha_trans = 0.15;
   noise.alpha_rot = 0.15;
-  noise.drift_rot = 0.1;
+  noise.drift_rot = 0.03;
   DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 1);
   SlamParams p = testParams();
   p.loop_closure = loop_closure;
   p.local_map_scans = 4;
   DriftRun r{Slam(p), {}, {}};
-  r.run = runSlamOnDrive(r.slam, drive, laser, 8.0);
+  r.run = runSlamOnDrive(r.slam, drive, laser, 8.0, nullptr, nullptr,
+                         [](const DriveSample& s)
+                         { return (s.stamp >= 30.0 && s.stamp < 36.0) || (s.stamp >= 70.0 && s.stamp < 76.0); });
   r.score = evaluate(r.slam, r.run, world);
   return r;
 }
@@ -126,6 +138,9 @@ TEST(Slam, LoopClosureImprovesMapUnderOdometryDrift)
       "(%d closures, %d held for confirmation, %d of them dropped)\n",
       open.map.precision, open.map.recall, open.ate, closed.map.precision, closed.map.recall, closed.ate,
       s_closed.loop_closures, s_closed.loop_held, s_closed.loop_unconfirmed);
+  // Measured 2026-11-30: ATE 0.299 m, precision 0.409 open; 0.036 m, 0.952 closed (23 closures,
+  // one held and confirmed). The drive's seeds 2-4: open 0.249 / 0.134 / 0.066 m, closed 0.035 /
+  // 0.034 / 0.033 m (none held).
   EXPECT_GT(s_closed.loop_closures, 0);
   // The drift here needs corrections beyond loop_confirm_correction: they were held, then confirmed.
   EXPECT_GT(s_closed.loop_held, 0);
@@ -225,15 +240,17 @@ TEST(Slam, FinalOptimizationTiesEveryRevisitAndTightensTheTrajectory)
       online.map.precision, online.map.recall, online.ate, closures, final.map.precision, final.map.recall, final.ate,
       slam.stats().final_edges, slam.stats().final_edges_dropped, slam.stats().final_consistency_before,
       slam.stats().final_consistency_after);
-  // Every pass through the start and the middle corridor is tied (2026-11-27: 103 edges within
-  // 4 m, half the 8 m usable range, against 26 closures online); the trajectory tightens a little
-  // (ATE 4.04 -> 3.65 cm; map precision 0.952 -> 0.946) and the map stays as good as the online
-  // one is required to be (LoopClosureImprovesMapUnderOdometryDrift).
+  // Every pass through the start, the door and the east room's west side is tied (2026-11-30:
+  // 120 edges within 4 m, half the 8 m usable range, against 23 closures online), and the
+  // trajectory and the map tighten against the truth (ATE 3.59 -> 3.43 cm, map precision 0.952 ->
+  // 0.972). How well the keyframes agree with the map they render is not asserted: it fell (0.975
+  // -> 0.970) while both improved; on the old route, through the furniture, it rose (0.947 ->
+  // 0.950) while precision fell (0.952 -> 0.946). A few thousandths of it say nothing either way
+  // (runFinalOptimization); MapConsistencyRanksMapsAsGroundTruthDoes is what it is for.
   EXPECT_GT(slam.stats().final_edges, closures);
   EXPECT_EQ(slam.stats().final_edges_dropped, 0);
-  // ... and the keyframes agree better with the map they render (0.947 -> 0.950).
-  EXPECT_GT(slam.stats().final_consistency_after, slam.stats().final_consistency_before);
   EXPECT_LT(final.ate, online.ate);
+  EXPECT_GE(final.map.precision, online.map.precision);
   EXPECT_GE(final.map.precision, 0.85);
   EXPECT_GE(final.map.recall, 0.9);
   // map -> odom still takes the last scan's odometry onto its (moved) tracked pose.
@@ -282,7 +299,7 @@ TEST(Slam, PlaceScansPullsATrackedScanOntoTheKeyframesAroundIt)
   // 2026-11-27, the grid match alone: 40 of 48 matched, median 0.0094 m, 90th percentile 0.0167,
   // worst 0.0267. 2026-11-28, with the point-to-line step (final_scan_point_to_line), which also
   // pins the corridors' scans across them: 48 of 48, median 0.0068, 90th percentile 0.0121,
-  // worst 0.0194.
+  // worst 0.0194. 2026-11-30, the route clear of the furniture: 51 of 51, 0.0063, 0.0118, 0.0196.
   EXPECT_GE(errors.size(), 3 * (scans.size() - 1) / 4);
   EXPECT_LT(median, 0.009);
   EXPECT_LT(p90, 0.016);
@@ -292,7 +309,9 @@ TEST(Slam, PlaceScansPullsATrackedScanOntoTheKeyframesAroundIt)
   EXPECT_NEAR(placed.back().theta, kept.theta, 1e-12);
 
   // A scan whose heading tracking kept while the robot turned (odometry 0.33 s stale at 1.5
-  // rad/s on Intel): 0.45 rad off, beyond the small window, it is found by the wide one.
+  // rad/s on Intel): 0.45 rad off, beyond the small window, it is found by the wide one. Where
+  // the match leaves a direction free, its heading is still taken: 2026-11-30, 26 of 26 came back
+  // (17 while such a scan stayed where it was handed over: the route passes 0.5 m from long walls).
   std::vector<ScanToPlace> turned;
   for (size_t k = 0; k < kfs.size(); k += 10)
     turned.push_back({static_cast<int>(k), {0.02, -0.01, 0.45}, kfs[k].match_points});
@@ -377,7 +396,8 @@ Score driveOfficeSlowly(Slam& slam, const std::function<Pose2D(const DriveSample
   return evaluate(slam, run, world);
 }
 
-BackwardOdometryRun driveWithBackwardOdometry(bool motion_fallback, double window_motion_scale = 0.0)
+// The odometry reports each step backwards for 5 s from `from`.
+BackwardOdometryRun driveWithBackwardOdometry(double from, bool motion_fallback, double window_motion_scale = 0.0)
 {
   SlamParams p = testParams();
   p.track_motion_fallback = motion_fallback;
@@ -385,40 +405,45 @@ BackwardOdometryRun driveWithBackwardOdometry(bool motion_fallback, double windo
   Slam slam(p);
   BackwardSteps odometry;
   const Score score = driveOfficeSlowly(
-      slam, [&](const DriveSample& s) { return odometry.next(s.odom, s.stamp >= 15.0 && s.stamp < 20.0); });
+      slam, [&](const DriveSample& s) { return odometry.next(s.odom, s.stamp >= from && s.stamp < from + 5.0); });
   return {score, slam.stats().motion_fallbacks};
 }
 }  // namespace
 
+// The odometry reverses from 12 s, halfway up the loop's second leg: the map's last step is the
+// robot's true motion, which the fallback carries on.
 TEST(Slam, TrackingFollowsTheMapWhereTheOdometryReportsTheWrongDirection)
 {
-  const BackwardOdometryRun without = driveWithBackwardOdometry(false), with = driveWithBackwardOdometry(true);
+  const BackwardOdometryRun without = driveWithBackwardOdometry(12.0, false),
+                            with = driveWithBackwardOdometry(12.0, true);
   std::printf(
       "without the motion fallback: ATE %.3f m, precision %.3f; with: ATE %.3f m, precision %.3f "
       "(%d scans placed by it)\n",
       without.score.ate, without.score.map.precision, with.score.ate, with.score.map.precision, with.motion_fallbacks);
-  // Measured 2026-11-29: ATE 0.885 m, precision 0.116 without; 0.229 m, 0.527 with (6 scans placed
-  // by it; 0.496 m, 0.323 and 4 scans while the map's motion was tried only where the odometry's
-  // match failed: from 0.4 m off, that match can succeed at its window's edge, 0.1 m short).
-  // It recovers only part of it here: once a scan has followed the odometry, the map's last step
-  // points the odometry's way too and the fallback no longer applies (the window that grows with
-  // the odometry's step does, next test). On FR079's perturbed replays it recovered all of it
-  // (worst relation 0.565 -> 0.196 m); README, known limits.
+  // Measured 2026-11-30: ATE 1.487 m, precision 0.187 without; 0.026 m, 0.994 with (13 scans
+  // placed by it). Where the reversal begins just before a turn in place (from 16 s: 0.885 ->
+  // 0.803 m) or just after one (from 10 s: nothing placed), the map's last step is a turn when the
+  // robot drives on, there is no motion to carry on, and the fallback does not apply; nor once a
+  // scan has followed the odometry, whose step the map's then points along. The window that grows
+  // with the odometry's step does (next test). On FR079's perturbed replays the fallback recovered
+  // all of it (worst relation 0.565 -> 0.196 m); README, known limits.
   EXPECT_EQ(without.motion_fallbacks, 0);
   EXPECT_GE(with.motion_fallbacks, 5);
   EXPECT_LT(with.score.ate, 0.35 * without.score.ate);
   EXPECT_GT(with.score.map.precision, without.score.map.precision + 0.3);
 }
 
-// The same drive with the linear window grown to 2.5 odometry steps (config/slam.yaml): the scan
-// the odometry put 0.4 m behind lies within 0.5 m, so each scan is found where it was taken, also
-// after one has followed the odometry (which the motion fallback alone cannot undo).
+// The odometry reverses from 10 s, as the robot sets off after its first turn in place, where the
+// motion fallback has no step to carry on. With the linear window grown to 2.5 odometry steps
+// (config/slam.yaml) the scan the odometry put 0.4 m behind lies within 0.5 m, so each scan is
+// found where it was taken, also after one has followed the odometry.
 TEST(Slam, AWindowThatGrowsWithTheOdometrysStepFindsScansTheOdometryPutBehind)
 {
-  const BackwardOdometryRun fallback = driveWithBackwardOdometry(true), grown = driveWithBackwardOdometry(true, 2.5);
+  const BackwardOdometryRun fallback = driveWithBackwardOdometry(10.0, true),
+                            grown = driveWithBackwardOdometry(10.0, true, 2.5);
   std::printf("motion fallback alone: ATE %.3f m, precision %.3f; with the grown window: ATE %.3f m, precision %.3f\n",
               fallback.score.ate, fallback.score.map.precision, grown.score.ate, grown.score.map.precision);
-  // Measured 2026-11-29: ATE 0.229 -> 0.035 m, precision 0.527 -> 0.966.
+  // Measured 2026-11-30: ATE 1.417 -> 0.025 m, precision 0.208 -> 0.995.
   EXPECT_LT(grown.score.ate, 0.25 * fallback.score.ate);
   EXPECT_GT(grown.score.map.precision, fallback.score.map.precision + 0.3);
 }
@@ -461,8 +486,8 @@ TEST(Slam, AScanAfterAFarCorrectionIsAlsoMatchedWithoutIt)
       "odometry heading swung 0.25 then 0.5 rad for two scans: the correction kept: ATE %.3f m, precision %.3f; "
       "also matched without it: ATE %.3f m, precision %.3f (%d scans placed so)\n",
       kept.score.ate, kept.score.map.precision, undone.score.ate, undone.score.map.precision, undone.undone);
-  // Measured 2026-11-29: ATE 0.219 m, precision 0.433 with the correction kept (the map turned
-  // 0.5 rad from 21 s on); 0.029 m, 0.969 also matched without it (one scan placed so).
+  // Measured 2026-11-30: ATE 0.264 m, precision 0.421 with the correction kept (the map turned
+  // 0.5 rad from 21 s on); 0.028 m, 0.986 also matched without it (one scan placed so).
   EXPECT_EQ(kept.undone, 0);
   EXPECT_GE(undone.undone, 1);
   EXPECT_LT(undone.score.ate, 0.25 * kept.score.ate);
@@ -515,10 +540,10 @@ TEST(Slam, TrackingFollowsTheMapsTurnWhereTheOdometryCatchesUpInBursts)
       "odometry in bursts of five scans: without the map's turn: ATE %.3f m, precision %.3f; with it: ATE %.3f m, "
       "precision %.3f (%d scans placed by it)\n",
       without.score.ate, without.score.map.precision, with.score.ate, with.score.map.precision, with.turn_fallbacks);
-  // Measured 2026-11-29: ATE 1.162 m, precision 0.128 without (each turn's catching-up scans
-  // predicted 0.4 rad off); 0.038 m, 0.989 with it (20 scans placed by it).
+  // Measured 2026-11-30: ATE 0.949 m, precision 0.176 without (each turn's catching-up scans
+  // predicted 0.4 rad off); 0.040 m, 0.972 with it (22 scans placed by it).
   EXPECT_EQ(without.turn_fallbacks, 0);
-  EXPECT_GE(with.turn_fallbacks, 5);  // the loop turns in place 13 times
+  EXPECT_GE(with.turn_fallbacks, 5);  // the loop turns in place 17 times
   EXPECT_LT(with.score.ate, 0.1 * without.score.ate);
   EXPECT_GT(with.score.map.precision, without.score.map.precision + 0.5);
 }
@@ -585,7 +610,7 @@ TEST(Slam, TheMapsLastStepSurvivesALoopClosure)
         "seed %u: %d scans reversed after the closure, %.2f m driven, worst error %.3f m (%d placed by the "
         "map's motion)\n",
         seed, r.scans, r.travelled, r.worst, r.motion_fallbacks);
-    // Measured 2026-11-29: worst 0.010 / 0.018 / 0.022 m, every scan placed by the map's motion.
+    // Measured 2026-11-30: worst 0.021 / 0.005 / 0.021 m, every scan placed by the map's motion.
     // Before 52c8acb a closure dropped the step: 0.89 / 1.19 / 1.17 m, each scan a step behind
     // the last; and where the odometry's match succeeded at its window's edge the map's motion
     // was not tried (seed 2 and 3: 0.4 m from the first scan).
@@ -744,7 +769,9 @@ TEST(Slam, OdometryEdgesKeepTheHeadingOfTrustedOdometry)
   // Seeds 1-6 (2026-11-27, the matcher using only points within its local map's reach): with
   // odometry edges 0.0029-0.0084 rad, precision >= 0.908; the chain alone 0.009-0.062 rad. How far
   // the chain turns now depends on the seed (0.009 and 0.010 rad in seeds 2 and 3, where the edges
-  // cannot halve it); seed 4 is one where it turns (0.062 rad, precision 0.788).
+  // cannot halve it); seed 4 is one where it turns (0.062 rad, precision 0.788). 2026-11-30, the
+  // route clear of the furniture, seed 4: the chain 0.0187 rad (precision 0.951), with odometry
+  // edges 0.0055 rad (0.978).
   EXPECT_LT(odom_worst, 0.01);
   EXPECT_LT(odom_worst, 0.5 * chain_worst);
   EXPECT_GE(with_odom.map.precision, 0.85);
