@@ -81,8 +81,8 @@ TEST(Slam, OfficeLoopWithOdometryNoiseMeetsAccuracyTargets)
 
 namespace
 {
-// The front end drifts where the laser sees nothing for a while (an open hall beyond its range,
-// people crowding it): the odometry alone, strongly noisy here, places those scans, and with tiny
+// The front end drifts where the laser gives no valid reading for a while (dazzled by the sun, its
+// window misted over): the odometry alone, strongly noisy here, places those scans, and with tiny
 // local maps the front end carries on from wherever they ended. Twice for 6 s: in the east room
 // south-west corner and on the way back to the door. (With the laser always seeing walls, this
 // front end did not drift in the office: ATE 0.005 m over the loop.)
