@@ -23,3 +23,22 @@ def quaternion_from_yaw(yaw):
 def wrap(a):
     """An angle in (-pi, pi]."""
     return math.atan2(math.sin(a), math.cos(a))
+
+
+def compose(a, b):
+    """Planar pose a (x, y, yaw) followed by b, given in a's frame: a * b."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], wrap(a[2] + b[2]))
+
+
+def inverse(a):
+    """The pose that undoes a: inverse(a) * a is the identity."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (-c * a[0] - s * a[1], s * a[0] - c * a[1], -a[2])
+
+
+def between(a, b):
+    """Pose b in a's frame: inverse(a) * b (a relative pose, as in Kuemmerle et al.'s relations)."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    return (c * dx + s * dy, -s * dx + c * dy, wrap(b[2] - a[2]))

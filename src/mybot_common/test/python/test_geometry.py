@@ -6,7 +6,7 @@ import types
 import pytest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "src"))
-from mybot_common.geometry import quaternion_from_yaw, wrap, yaw_from_quaternion, yaw_of  # noqa: E402
+from mybot_common.geometry import between, compose, inverse, quaternion_from_yaw, wrap, yaw_from_quaternion, yaw_of  # noqa: E402
 
 
 @pytest.mark.parametrize("yaw", [0.0, 0.3, -1.2, math.pi - 1e-9, -math.pi + 1e-9, 2.5])
@@ -28,3 +28,14 @@ def test_yaw_ignores_roll_and_pitch_of_a_tilted_base():
                                         (2 * math.pi, 0.0)])
 def test_wrap(a, wrapped):
     assert wrap(a) == pytest.approx(wrapped, abs=1e-12)
+
+
+def test_planar_poses_compose_invert_and_relate():
+    a = (1.0, 2.0, 0.7)
+    b = (-0.3, 0.5, -2.0)
+    c = compose(a, b)
+    assert compose(inverse(a), c) == pytest.approx(b)
+    assert between(a, c) == pytest.approx(b)
+    assert compose(a, inverse(a)) == pytest.approx((0.0, 0.0, 0.0))
+    # A quarter turn, then a metre ahead: a metre along the world's y.
+    assert compose((0.0, 0.0, math.pi / 2), (1.0, 0.0, 0.0)) == pytest.approx((0.0, 1.0, math.pi / 2))

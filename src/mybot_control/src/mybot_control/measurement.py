@@ -7,21 +7,7 @@ configurable so tests can use fake trees.
 import bisect
 import math
 import os
-from mybot_common.geometry import wrap, yaw_from_quaternion
-
-
-def compose(a, b):
-    """Pose a (x, y, yaw) followed by b, both 2D."""
-    ax, ay, ath = a
-    bx, by, bth = b
-    c, s = math.cos(ath), math.sin(ath)
-    return (ax + c * bx - s * by, ay + s * bx + c * by, wrap(ath + bth))
-
-
-def inverse(a):
-    x, y, th = a
-    c, s = math.cos(th), math.sin(th)
-    return (-c * x - s * y, s * x - c * y, -th)
+from mybot_common.geometry import compose, inverse, wrap, yaw_from_quaternion  # noqa: F401 (yaw_from_quaternion: re-exported)
 
 
 class PoseHistory:

@@ -6,14 +6,6 @@ import pytest
 from mybot_control import measurement as m
 
 
-def test_compose_inverse():
-    a = (1.0, 2.0, 0.7)
-    b = (-0.3, 0.5, -2.0)
-    c = m.compose(a, b)
-    back = m.compose(m.inverse(a), c)
-    assert back == pytest.approx(b)
-
-
 def test_yaw_from_quaternion():
     assert m.yaw_from_quaternion(0, 0, math.sin(0.4), math.cos(0.4)) == pytest.approx(0.8)
 
