@@ -147,6 +147,13 @@ MatchResult Slam::matchLocal(const Pose2D& predicted, const std::vector<Point2D>
     if (wide.ok && (!res.ok || wide.score - res.score >= params_.track_min_gain))
       res = wide;
   }
+  if (!res.ok && params_.weak_match_min_score > 0.0)
+  {
+    req.linear_window = params_.weak_match_window_linear;
+    req.angular_window = params_.weak_match_window_angular;
+    req.min_score = params_.weak_match_min_score;
+    res = matchScan(field, points, req);
+  }
   stats_.last_match_score = res.ok ? res.score : scorePose(field, points, predicted);
   return res;
 }

@@ -95,6 +95,15 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
       number(
           "min_match_score", [](P& p) -> double& { return p.slam.min_match_score; },
           [](double v) { return v >= 0 && v < 1; }, "in [0, 1)"),
+      number(
+          "weak_match_min_score", [](P& p) -> double& { return p.slam.weak_match_min_score; },
+          [](double v) { return v >= 0 && v < 1; }, "in [0, 1)"),
+      number(
+          "weak_match_window_linear", [](P& p) -> double& { return p.slam.weak_match_window_linear; }, nonNegative,
+          "a distance >= 0 (m)"),
+      number(
+          "weak_match_window_angular", [](P& p) -> double& { return p.slam.weak_match_window_angular; }, nonNegative,
+          "an angle >= 0 (rad)"),
       {"track_every_scan", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.track_every_scan; },
        [](double) { return true; }, "a bool"},
       number(

@@ -245,9 +245,11 @@ private:
       case ScanOutcome::Processed:
         break;
     }
-    if (slam_->stats().last_match_score < slam_->params().min_match_score)
+    // Counted, not judged by the score: a weak match close to the prediction is still used
+    // (weak_match_min_score).
+    if (after.weak_matches > before.weak_matches)
       ROS_WARN_THROTTLE(10.0, "slam: weak scan match (score %.2f): using odometry for this step",
-                        slam_->stats().last_match_score);
+                        after.last_match_score);
     if (!published_ || stamp - last_map_publish_ >= map_update_interval_)
       publishMap(scan->header.stamp);
   }
