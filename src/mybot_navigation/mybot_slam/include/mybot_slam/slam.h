@@ -71,6 +71,12 @@ struct SlamParams
   // track_min_gain more (0: never). Odometry that reports the wrong direction puts the scan twice
   // its step from the prediction; a slow laser makes each step long. config/slam.yaml: 2.5.
   double search_window_motion_scale = 0.0;
+  // That wider window reaches at most this far (m). Odometry that reverses a 0.3 m step (FR079
+  // with every third scan) needs 0.6-0.75 m; a log that keeps one scan a metre (the Radish logs,
+  // GMapping's output) got 2.5 m windows, and in the Acapulco hall one scan matched a wrong place
+  // among its pillars 1.9 m off (revisit relations 1.28 m mean, worst 4.9; 0.081 and 0.27 with
+  // 1 m; the other Radish logs unchanged).
+  double search_window_motion_max = 1.0;
   double min_match_score = 0.35;  // below: keep the odometry prediction
   // A scan that scores below min_match_score is matched again close to the prediction
   // (weak_match_window_linear / _angular) and kept where it scores this (0: never): a small

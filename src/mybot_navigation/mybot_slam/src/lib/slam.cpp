@@ -172,7 +172,8 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
   // Where the scan is, by odometry from the last tracked scan (from the last keyframe without
   // tracking: tracked_ is then the keyframe's pose).
   const Pose2D predicted = compose(tracked_, between(tracked_odom_, odom));
-  track_window_linear_ = params_.search_window_motion_scale * translationNorm(between(tracked_odom_, odom));
+  track_window_linear_ = std::min(params_.search_window_motion_max,
+                                  params_.search_window_motion_scale * translationNorm(between(tracked_odom_, odom)));
   const bool moved = translationNorm(delta) >= params_.linear_update ||
                      std::abs(delta.theta) >= params_.angular_update ||
                      (params_.temporal_update >= 0.0 && stamp - last.stamp >= params_.temporal_update);

@@ -75,6 +75,9 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           "search_window_motion_scale", [](P& p) -> double& { return p.slam.search_window_motion_scale; }, nonNegative,
           "a number >= 0 (multiple of the odometry's step)"),
       number(
+          "search_window_motion_max", [](P& p) -> double& { return p.slam.search_window_motion_max; }, nonNegative,
+          "a distance >= 0 (m)"),
+      number(
           "match_translation_weight", [](P& p) -> double& { return p.slam.match_translation_weight; }, nonNegative,
           "a number >= 0 (score per m^2)"),
       number(
