@@ -82,7 +82,7 @@ def test_the_echo_after_each_scan_is_dropped_and_the_stamps_then_run_forward():
 
 
 def test_a_log_whose_stamps_are_unusable_is_refused_unless_stamped_in_record_order():
-    records = [("odom", (0, 0, 0), 0.0), ("scan", [1.0], (0, 0, 0), 0.0)]
+    records = [("odom", (0, 0, 0), 0.0), ("scan", [1.0], (0, 0, 0), (0, 0, 0), 0.0)]
     with pytest.raises(c2b.LogError, match="x.log: every timestamp is 0; use --stamps records"):
         c2b.stamps(records, "log", "x.log")
     assert c2b.stamps(records, "records") == [1e9, pytest.approx(1e9 + 0.01)]
@@ -97,8 +97,9 @@ def test_a_malformed_record_names_the_file_and_the_line():
 
 
 def test_scans_with_no_odometry_between_them_are_reported():
-    records = [("odom", (0, 0, 0), 1.0), ("scan", [1.0], (0, 0, 0), 1.0), ("scan", [1.0], (0, 0, 1.4), 4.0),
-               ("odom", (0, 0, 1.4), 4.1), ("scan", [1.0], (0, 0, 1.4), 4.2)]
+    o = (0, 0, 0)
+    records = [("odom", o, 1.0), ("scan", [1.0], o, o, 1.0), ("scan", [1.0], (0, 0, 1.4), o, 4.0),
+               ("odom", (0, 0, 1.4), 4.1), ("scan", [1.0], (0, 0, 1.4), o, 4.2)]
     assert c2b.odometry_gaps(records, [r[-1] for r in records]) == [(1.0, 4.0)]
 
 
@@ -145,6 +146,29 @@ def test_the_whole_tool_writes_a_bag_slam_replay_reads(tmp_path):
     assert len(lines) == 3
     x, y, yaw = (float(v) for v in (lines[0].split()[2], lines[0].split()[3], lines[0].split()[7]))
     assert close((x, y, yaw), c2b.between(CORRECTED[0], CORRECTED[1]), 1e-5)
+
+
+def test_a_raw_logs_scans_take_the_odometry_their_flaser_carries(tmp_path):
+    rosbag = pytest.importorskip("rosbag")
+    # A raw .clf: FLASER x y theta (the laser's pose by odometry) and odom_x... (CARMEN's odometry
+    # interpolated to the scan's time) between ODOM records logged before and after it.
+    log = tmp_path / "raw.clf"
+    log.write_text("\n".join([
+        odom((0.0, 0.0, 0.0), 1.0),
+        "FLASER 180 %s 0.55 0 0.05 0.5 0 0.05 1.05 pippo 1.05" % " ".join(["2.0"] * 180),
+        odom((1.0, 0.0, 0.1), 1.1),
+    ]) + "\n")
+    records, _ = c2b.parse(open(str(log)), "raw.clf")
+    assert not c2b.is_corrected(records)
+    assert records[1][3] == pytest.approx((0.5, 0.0, 0.05))
+    assert c2b.main([str(log), str(tmp_path / "raw.bag")]) == 0
+    with rosbag.Bag(str(tmp_path / "raw.bag")) as b:
+        order = [(topic, m) for topic, m, _ in b.read_messages(topics=["/odom", "/scan"])]
+    # In bag order: the ODOM before, the scan's own odometry at its stamp, the scan, the ODOM after.
+    assert [topic for topic, _ in order] == ["/odom", "/odom", "/scan", "/odom"]
+    at_scan = order[1][1]
+    assert at_scan.header.stamp.to_sec() == pytest.approx(1.05)
+    assert at_scan.pose.pose.position.x == pytest.approx(0.5)
 
 
 def test_a_log_with_no_reference_is_refused_when_one_is_asked_for(tmp_path, capsys):
