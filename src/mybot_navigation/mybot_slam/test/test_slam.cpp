@@ -426,7 +426,7 @@ TEST(Slam, TrackingFollowsTheMapWhereTheOdometryReportsTheWrongDirection)
       "without the motion fallback: ATE %.3f m, precision %.3f; with: ATE %.3f m, precision %.3f "
       "(%d scans placed by it)\n",
       without.score.ate, without.score.map.precision, with.score.ate, with.score.map.precision, with.motion_fallbacks);
-  // Measured 2026-11-30: ATE 1.487 m, precision 0.188 without; 0.026 m, 0.994 with (13 scans
+  // Measured 2026-11-30: ATE 1.487 m, precision 0.187 without; 0.026 m, 0.994 with (13 scans
   // placed by it). Where the reversal begins just before a turn in place (from 16 s: 0.885 ->
   // 0.803 m) or just after one (from 10 s: nothing placed), the map's last step is a turn when the
   // robot drives on, there is no motion to carry on, and the fallback does not apply; nor once a
@@ -449,7 +449,7 @@ TEST(Slam, AWindowThatGrowsWithTheOdometrysStepFindsScansTheOdometryPutBehind)
                             grown = driveWithBackwardOdometry(10.0, true, 2.5);
   std::printf("motion fallback alone: ATE %.3f m, precision %.3f; with the grown window: ATE %.3f m, precision %.3f\n",
               fallback.score.ate, fallback.score.map.precision, grown.score.ate, grown.score.map.precision);
-  // Measured 2026-11-30: ATE 1.424 -> 0.025 m, precision 0.206 -> 0.995.
+  // Measured 2026-11-30: ATE 1.417 -> 0.025 m, precision 0.208 -> 0.995.
   EXPECT_LT(grown.score.ate, 0.25 * fallback.score.ate);
   EXPECT_GT(grown.score.map.precision, fallback.score.map.precision + 0.3);
 }
@@ -546,7 +546,7 @@ TEST(Slam, TrackingFollowsTheMapsTurnWhereTheOdometryCatchesUpInBursts)
       "odometry in bursts of five scans: without the map's turn: ATE %.3f m, precision %.3f; with it: ATE %.3f m, "
       "precision %.3f (%d scans placed by it)\n",
       without.score.ate, without.score.map.precision, with.score.ate, with.score.map.precision, with.turn_fallbacks);
-  // Measured 2026-11-30: ATE 0.968 m, precision 0.162 without (each turn's catching-up scans
+  // Measured 2026-11-30: ATE 0.949 m, precision 0.176 without (each turn's catching-up scans
   // predicted 0.4 rad off); 0.040 m, 0.972 with it (22 scans placed by it).
   EXPECT_EQ(without.turn_fallbacks, 0);
   EXPECT_GE(with.turn_fallbacks, 5);  // the loop turns in place 17 times
