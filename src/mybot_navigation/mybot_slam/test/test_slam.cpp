@@ -37,6 +37,17 @@ struct Score
   double ate;
 };
 
+// Odometry noise of the drives below: `alpha` of the translation and of the rotation, a heading
+// bias of `drift_rot` rad a metre.
+OdometryNoise odometryNoise(double alpha, double drift_rot)
+{
+  OdometryNoise noise;
+  noise.alpha_trans = alpha;
+  noise.alpha_rot = alpha;
+  noise.drift_rot = drift_rot;
+  return noise;
+}
+
 Score evaluate(const Slam& slam, const OfflineRun& run, const GridMap& world)
 {
   const Pose2D align = alignTrajectories(run.estimate, run.truth);
@@ -98,11 +109,7 @@ DriftRun driveOfficeWithDrift(bool loop_closure)
 {
   const GridMap world = officeWorld(0.01);
   const LaserSpec laser;
-  OdometryNoise noise;
-  noise.alpha_trans = 0.15;
-  noise.alpha_rot = 0.15;
-  noise.drift_rot = 0.03;
-  DriveSimulator drive(world, kOfficeLoop, laser, noise, 0.5, 1.0, 1);
+  DriveSimulator drive(world, kOfficeLoop, laser, odometryNoise(0.15, 0.03), 0.5, 1.0, 1);
   SlamParams p = testParams();
   p.loop_closure = loop_closure;
   p.local_map_scans = 4;
@@ -700,13 +707,9 @@ CrowdRun driveThroughACrowd(double weak_match_min_score)
 {
   const GridMap world = officeWorld(0.01);
   const LaserSpec laser;
-  OdometryNoise noise;
-  noise.alpha_trans = 0.05;
-  noise.alpha_rot = 0.05;
-  noise.drift_rot = 0.1;
   // The loop's first six legs, through the east room and back towards the door (24 m).
   const std::vector<Point2D> route(kOfficeLoop.begin(), kOfficeLoop.begin() + 7);
-  DriveSimulator drive(world, route, laser, noise, 0.5, 1.0, 3);
+  DriveSimulator drive(world, route, laser, odometryNoise(0.05, 0.1), 0.5, 1.0, 3);
   SlamParams p = testParams();
   p.loop_closure = false;
   p.weak_match_min_score = weak_match_min_score;
