@@ -4,6 +4,7 @@
 
 #include <geometry_msgs/TransformStamped.h>
 #include <geometry_msgs/Twist.h>
+#include <mybot_lockstep/ros/participant.h>
 
 #include "mybot_control/ros/swerve.hpp"
 
@@ -35,8 +36,13 @@ OdometryPublisher::OdometryPublisher(const ParamReader& p, ros::NodeHandle& nh, 
   msg_.child_frame_id = base_frame_;
   odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 20);
   twist_pub_ = nh.advertise<geometry_msgs::Twist>("cmd_vel_enc", 20);
-  reset_srv_ = pnh.advertiseService("reset_odometry", &OdometryPublisher::onReset, this);
-  set_srv_ = pnh.advertiseService("set_pose", &OdometryPublisher::onSetPose, this);
+  // Through the participant: under lockstep the services run on the thread of the odometry
+  // updates they change, also in a nodelet manager.
+  auto& ls = mybot_lockstep::Participant::instance();
+  reset_srv_ = ls.advertiseService<std_srvs::Trigger::Request, std_srvs::Trigger::Response>(
+      pnh, "reset_odometry", [this](auto& req, auto& res) { return onReset(req, res); });
+  set_srv_ = ls.advertiseService<SetPose::Request, SetPose::Response>(
+      pnh, "set_pose", [this](auto& req, auto& res) { return onSetPose(req, res); });
 }
 
 void OdometryPublisher::update(const ros::Time& stamp, const Pose2D& p, const Twist2D& t)

@@ -114,7 +114,10 @@ class Chain:
         self.wait_for(still, timeout, 'the robot to stop')
 
     def reset_odom(self, service='diffdrive_odom/reset_odometry'):
-        self.ls.release()  # a blocking call: do not hold the simulation meanwhile
+        # Called while holding a period (the robot stands still): the odometry node serves it
+        # between periods, and the test goes on from the same period on every run. Releasing
+        # the simulation meanwhile let time run for as long as the call took in wall time, so
+        # the next drive started at a period that depended on load, and its metres with it.
         rospy.wait_for_service(service, timeout=30.0)
         assert rospy.ServiceProxy(service, Trigger)().success
         n = self.odom_count

@@ -74,6 +74,22 @@ public:
   // run at once on two threads.
   Timer createTimer(const ros::NodeHandle& nh, double period, const std::function<void(const ros::TimerEvent&)>& cb);
 
+  // A service whose callback runs where this process's period work runs. Under lockstep that is
+  // the global queue (the node's spinner): in a nodelet manager nh's queue is the nodelet's own,
+  // served by a worker thread beside the period's callbacks, so a reset_odometry there could
+  // race the odometry update it resets. Off lockstep it is nh.advertiseService.
+  template <class Req, class Res>
+  ros::ServiceServer advertiseService(ros::NodeHandle& nh, const std::string& service,
+                                      const boost::function<bool(Req&, Res&)>& cb)
+  {
+    if (!active_)
+      return nh.advertiseService(service, cb);
+    ros::AdvertiseServiceOptions ops;
+    ops.template init<Req, Res>(service, cb);
+    ops.callback_queue = ros::getGlobalCallbackQueue();
+    return nh.advertiseService(ops);
+  }
+
   // Subscribes through lockstep. `cb` takes `const M&` or `const M::ConstPtr&`. Under
   // lockstep the message is not handed to `cb` when it arrives but when its period is
   // processed: once everything owed to this process for the period is in and /clock has
