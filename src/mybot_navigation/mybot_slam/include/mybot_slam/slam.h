@@ -78,16 +78,17 @@ struct SlamParams
   // weak_match_min_score 0.2 as well; the other Radish logs unchanged).
   double search_window_motion_max = 1.0;
   double min_match_score = 0.35;  // below: keep the odometry prediction
-  // A scan that scores below min_match_score is matched again close to the prediction
+  // A scan that scores below min_match_score is matched again close to the odometry's prediction
   // (weak_match_window_linear / _angular) and kept where it scores this (0: never): a small
-  // correction is taken from a weak match, a large one is not. Off by default (README: both sides
-  // measured). In a cluttered museum (the Radish FHW log, one scan a metre) 51 of 488 scans scored
-  // under 0.35 and took the odometry's heading, 1.3 deg off a step; the map came back to its start
-  // 12 deg turned (revisit relations 1.05 m mean); 0.075 m at 0.2. But Intel replayed with its
-  // odometry 0.1 s late (bench_slam_robustness) then took weak matches near predictions 50 deg off
-  // in its turns: 0.0376 -> 0.73 m mean (worst relation 12.6 m); with those keyframes' edges as
-  // loose as odometry's, 0.0387, but the Acapulco hall 0.081 -> 4.09 m.
-  double weak_match_min_score = 0.0;
+  // correction is taken from a weak match, a large one is not. In a cluttered museum (the Radish
+  // FHW log, one scan a metre) 51 of 488 scans scored under 0.35 and took the odometry's heading,
+  // 1.3 deg off a step; the map came back to its start 12 deg turned (revisit relations 1.05 m
+  // mean; 0.075 m at 0.2). Only where no rival prediction (track_motion_fallback,
+  // track_undo_correction, track_turn_fallback) contradicts the odometry: with weak matches
+  // everywhere, Intel replayed with its odometry 0.1 s late (bench_slam_robustness) took them
+  // near predictions 50 deg off in its turns, 0.0376 -> 0.73 m mean (worst relation 12.6 m);
+  // 0.0384 with the rule.
+  double weak_match_min_score = 0.2;
   double weak_match_window_linear = 0.1;    // m
   double weak_match_window_angular = 0.05;  // rad
   // Motion prior: score lost per m^2 away from the odometry prediction. Along an aisle the match
@@ -383,6 +384,7 @@ private:
     const Pose2D* from_motion = nullptr;  // predictFromMotion
     const Pose2D* undoing = nullptr;      // predictUndoingCorrection
     const Pose2D* map_turn = nullptr;     // predictMapTurn
+    bool any() const { return from_motion != nullptr || undoing != nullptr || map_turn != nullptr; }
   };
   void trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted, const RivalPredictions& rivals);
   void addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted,
@@ -413,8 +415,9 @@ private:
   void insertIntoLocalMaps(int index);
   // The field of the fuller local map, rebuilt around `around` when the map changed.
   const MatchField& localField(const Pose2D& around, const std::vector<Point2D>& points);
-  // The pose of one scan's points against the local map, starting from `predicted`.
-  MatchResult matchLocal(const Pose2D& predicted, const std::vector<Point2D>& points);
+  // The pose of one scan's points against the local map, starting from `predicted`; with
+  // allow_weak, a weak match near it where no match is found (weak_match_min_score).
+  MatchResult matchLocal(const Pose2D& predicted, const std::vector<Point2D>& points, bool allow_weak = false);
   // The points (base frame) that, with the base at `pose`, lie within the usable range of one of
   // the keyframes a map was rendered from (less the lookup field's fall-off): the others have
   // nothing to match there. localPointsInReach: for the local map the match will use.

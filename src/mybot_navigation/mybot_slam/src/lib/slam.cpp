@@ -125,7 +125,7 @@ std::vector<Point2D> Slam::localPointsInReach(const Pose2D& predicted, const std
   return pointsInReach(local_[local_field_source_].members, predicted, points);
 }
 
-MatchResult Slam::matchLocal(const Pose2D& predicted, const std::vector<Point2D>& points)
+MatchResult Slam::matchLocal(const Pose2D& predicted, const std::vector<Point2D>& points, bool allow_weak)
 {
   const MatchField& field = localField(predicted, points);
   MatchRequest req;
@@ -147,7 +147,11 @@ MatchResult Slam::matchLocal(const Pose2D& predicted, const std::vector<Point2D>
     if (wide.ok && (!res.ok || wide.score - res.score >= params_.track_min_gain))
       res = wide;
   }
-  if (!res.ok && params_.weak_match_min_score > 0.0)
+  // A weak match only where nothing contradicts the odometry (allow_weak: the caller has no
+  // rival prediction). Near a right prediction it takes the small correction a cluttered scan
+  // cannot earn at min_match_score; near a wrong one (odometry 0.1 s late in a turn) a weak
+  // score is found as easily, and only the rivals tell the two apart.
+  if (!res.ok && allow_weak && params_.weak_match_min_score > 0.0)
   {
     req.linear_window = params_.weak_match_window_linear;
     req.angular_window = params_.weak_match_window_angular;
@@ -342,7 +346,7 @@ void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& pr
   {
     const std::vector<Point2D> filtered = matchPoints(scan.hits);
     const std::vector<Point2D> points = localPointsInReach(predicted, filtered);
-    MatchResult res = matchLocal(predicted, points);
+    MatchResult res = matchLocal(predicted, points, !rivals.any());
     // Along a corridor the match is flat but for small bumps, and every scan that followed one
     // would carry its error into the next prediction: the tracked pose leaves the odometry's
     // only where the match explains clearly more of the scan.
@@ -387,7 +391,7 @@ void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, 
   kf.travelled = last.travelled + translationNorm(delta);
   current_pose_ = predicted;
 
-  MatchResult res = matchLocal(predicted, localPointsInReach(predicted, kf.match_points));
+  MatchResult res = matchLocal(predicted, localPointsInReach(predicted, kf.match_points), !rivals.any());
   res = matchFromRivals(res, predicted, rivals, kf.match_points);
   PoseGraphEdge edge;
   edge.from = static_cast<int>(keyframes_.size()) - 1;
