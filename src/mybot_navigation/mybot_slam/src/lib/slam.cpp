@@ -147,10 +147,10 @@ MatchResult Slam::matchLocal(const Pose2D& predicted, const std::vector<Point2D>
     if (wide.ok && (!res.ok || wide.score - res.score >= params_.track_min_gain))
       res = wide;
   }
-  // A weak match only where nothing contradicts the odometry (allow_weak: the caller has no
-  // rival prediction). Near a right prediction it takes the small correction a cluttered scan
-  // cannot earn at min_match_score; near a wrong one (odometry 0.1 s late in a turn) a weak
-  // score is found as easily, and only the rivals tell the two apart.
+  // A weak match near the odometry's prediction only where no rival prediction contradicts it
+  // (allow_weak). Near a right prediction it takes the small correction a cluttered scan cannot
+  // earn at min_match_score; near a wrong one (odometry 0.1 s late in a turn) a weak score is
+  // found as easily, and only the rivals tell the two apart.
   if (!res.ok && allow_weak && params_.weak_match_min_score > 0.0)
   {
     req.linear_window = params_.weak_match_window_linear;
@@ -314,7 +314,10 @@ MatchResult Slam::matchFromRival(const MatchResult& from_odometry, const Pose2D&
     return from_odometry;
   const double odometry_score = stats_.last_match_score;  // what a node reports, if the odometry's match stays
   const std::vector<Point2D> pts = localPointsInReach(*rival, points);
-  const MatchResult res = matchLocal(*rival, pts);
+  // A weak match near the rival too: through a crowd its own match is weak as the odometry's is
+  // (test_slam's AWeakMatchLetsTheMapsMotionOutrunReversedOdometryThroughACrowd). It still has to
+  // explain clearly more than the incumbent, below.
+  const MatchResult res = matchLocal(*rival, pts, true);
   // Both judged on the same local map and points. A match from the wrong prediction can succeed
   // on a lesser optimum at its window's edge (0.3 m towards the truth from 0.4 m off), so it is
   // not enough that it succeeded: the rival wins where it explains clearly more.
