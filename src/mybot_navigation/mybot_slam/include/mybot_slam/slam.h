@@ -78,16 +78,16 @@ struct SlamParams
   // weak_match_min_score 0.2 as well; the other Radish logs unchanged).
   double search_window_motion_max = 1.0;
   double min_match_score = 0.35;  // below: keep the odometry prediction
-  // A scan that scores below min_match_score is matched again close to the odometry's prediction
+  // A scan that scores below min_match_score is matched again close to its prediction
   // (weak_match_window_linear / _angular) and kept where it scores this (0: never): a small
   // correction is taken from a weak match, a large one is not. In a cluttered museum (the Radish
   // FHW log, one scan a metre) 51 of 488 scans scored under 0.35 and took the odometry's heading,
   // 1.3 deg off a step; the map came back to its start 12 deg turned (revisit relations 1.05 m
-  // mean; 0.075 m at 0.2). Only where no rival prediction (track_motion_fallback,
-  // track_undo_correction, track_turn_fallback) contradicts the odometry: with weak matches
-  // everywhere, Intel replayed with its odometry 0.1 s late (bench_slam_robustness) took them
-  // near predictions 50 deg off in its turns, 0.0376 -> 0.73 m mean (worst relation 12.6 m);
-  // 0.0384 with the rule.
+  // mean; 0.075 m at 0.2). Near the odometry's prediction only where no rival prediction
+  // (track_motion_fallback, track_undo_correction, track_turn_fallback) contradicts it: taken
+  // there regardless, Intel replayed with its odometry 0.1 s late (bench_slam_robustness) took
+  // them near predictions 50 deg off in its turns, 0.0376 -> 0.73 m mean (worst relation 12.6 m);
+  // 0.0374 with the rule. Near a rival's prediction always (Slam::matchFromRival).
   double weak_match_min_score = 0.2;
   double weak_match_window_linear = 0.1;    // m
   double weak_match_window_angular = 0.05;  // rad
@@ -417,7 +417,7 @@ private:
   const MatchField& localField(const Pose2D& around, const std::vector<Point2D>& points);
   // The pose of one scan's points against the local map, starting from `predicted`; with
   // allow_weak, a weak match near it where no match is found (weak_match_min_score).
-  MatchResult matchLocal(const Pose2D& predicted, const std::vector<Point2D>& points, bool allow_weak = false);
+  MatchResult matchLocal(const Pose2D& predicted, const std::vector<Point2D>& points, bool allow_weak);
   // The points (base frame) that, with the base at `pose`, lie within the usable range of one of
   // the keyframes a map was rendered from (less the lookup field's fall-off): the others have
   // nothing to match there. localPointsInReach: for the local map the match will use.
