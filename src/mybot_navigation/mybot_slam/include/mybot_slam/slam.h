@@ -60,6 +60,20 @@ struct SlamParams
   // map's step also won where a robot merely started or stopped turning between two scans
   // (ACES with every third scan 0.0356 -> 0.0391 m).
   bool track_turn_fallback = true;
+  // Odometry that stops while the robot moves: a base driver that keeps publishing its last pose,
+  // wheels off the floor while someone turns the robot, a log that lost its odometry records (the
+  // Radish Seattle log: none for 3 s while the robot turned 80 degrees, and the map's whole start
+  // stayed turned). Where the odometry reports exactly the last scan's pose and no prediction
+  // matches, the scan is matched around the last scan's pose in every heading, within
+  // track_stall_window_linear, and placed there where the match scores track_stall_min_score
+  // and is unique: no heading outside the ordinary angular window around it scores
+  // track_stall_unique_ratio of it (a corridor seen from either end fits both ways). A failed
+  // search is not repeated until a scan matches again (a parked robot among people would search
+  // at every scan).
+  bool track_stall_search = true;
+  double track_stall_window_linear = 0.5;  // m
+  double track_stall_min_score = 0.5;
+  double track_stall_unique_ratio = 0.9;
 
   // Scan-to-local-map matching.
   int local_map_scans = 20;             // keyframes in the local map
@@ -295,6 +309,8 @@ struct SlamStats
   int motion_fallbacks = 0;    // scans placed by track_motion_fallback's match
   int corrections_undone = 0;  // scans placed without the last scan's correction (track_undo_correction)
   int turn_fallbacks = 0;      // scans placed by the map's last turn (track_turn_fallback)
+  int stall_searches = 0;      // searches in every heading where the odometry stood still (track_stall_search)
+  int stall_matches = 0;       // scans they placed
   int loop_attempts = 0;
   int loop_closures = 0;
   int loop_rejected = 0;         // matched, but implausible or inconsistent with the graph
@@ -410,6 +426,10 @@ private:
   // matchFromRival for each of `rivals`, in turn.
   MatchResult matchFromRivals(const MatchResult& from_odometry, const Pose2D& predicted, const RivalPredictions& rivals,
                               const std::vector<Point2D>& points);
+  // track_stall_search: the scan's pose in every heading around `predicted` (the last scan's, the
+  // odometry having stood still), where the odometry's and the rivals' matches all failed.
+  MatchResult matchAfterStall(const MatchResult& from_predictions, const Pose2D& predicted,
+                              const std::vector<Point2D>& points);
   // A scan's points as the matcher uses them (match_point_spacing, match_min_points).
   std::vector<Point2D> matchPoints(const std::vector<Point2D>& hits) const;
   void insertIntoLocalMaps(int index);
@@ -499,6 +519,8 @@ private:
   // The last scan's odometry, and whether it was the same as the scan's before (track_turn_fallback).
   Pose2D last_scan_odom_;
   bool odom_stale_ = false;
+  // A stall search failed, and none is tried again before a scan matches (track_stall_search).
+  bool stall_search_spent_ = false;
   // The last scan's prediction, where its match moved it far (track_undo_correction).
   Pose2D uncorrected_;
   bool have_uncorrected_ = false;

@@ -339,6 +339,43 @@ MatchResult Slam::matchFromRivals(const MatchResult& from_odometry, const Pose2D
   return matchFromRival(undone, predicted, rivals.map_turn, points, stats_.turn_fallbacks);
 }
 
+MatchResult Slam::matchAfterStall(const MatchResult& from_predictions, const Pose2D& predicted,
+                                  const std::vector<Point2D>& points)
+{
+  if (from_predictions.ok || !params_.track_stall_search || !odom_stale_ || stall_search_spent_)
+    return from_predictions;
+  ++stats_.stall_searches;
+  // All the scan's points: which of them the local map's keyframes could have seen depends on
+  // the heading, which is what is searched for.
+  const MatchField& field = localField(predicted, points);
+  MatchRequest req;
+  req.initial = predicted;
+  req.linear_window = params_.track_stall_window_linear;
+  req.angular_window = M_PI;
+  req.min_score = params_.track_stall_min_score;
+  const MatchResult found = matchScan(field, points, req);
+  bool unique = found.ok;
+  if (found.ok)
+  {
+    // Every heading outside the ordinary window around the match: a corridor, a symmetric room
+    // seen from its middle, fits the opposite way as well, and the scans cannot say which.
+    MatchRequest rival = req;
+    rival.initial.theta = wrapAngle(found.pose.theta + M_PI);
+    rival.angular_window = M_PI - params_.search_window_angular;
+    rival.min_score = params_.track_stall_unique_ratio * found.score;
+    rival.refine = false;
+    unique = !matchScan(field, points, rival).ok;
+  }
+  if (!unique)
+  {
+    stall_search_spent_ = true;
+    return from_predictions;
+  }
+  ++stats_.stall_matches;
+  stats_.last_match_score = found.score;
+  return found;
+}
+
 void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& predicted, const RivalPredictions& rivals)
 {
   const Keyframe& last = keyframes_.back();
@@ -350,12 +387,17 @@ void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& pr
     const std::vector<Point2D> filtered = matchPoints(scan.hits);
     const std::vector<Point2D> points = localPointsInReach(predicted, filtered);
     MatchResult res = matchLocal(predicted, points, !rivals.any());
+    if (res.ok)
+      stall_search_spent_ = false;
+    const bool matched = res.ok;
     // Along a corridor the match is flat but for small bumps, and every scan that followed one
     // would carry its error into the next prediction: the tracked pose leaves the odometry's
     // only where the match explains clearly more of the scan.
     if (res.ok && res.score - scorePose(local_field_, points, predicted) < params_.track_min_gain)
       res.ok = false;
     res = matchFromRivals(res, predicted, rivals, filtered);
+    if (!matched)
+      res = matchAfterStall(res, predicted, filtered);
     if (res.ok)
       tracked_ = res.pose;
     rememberCorrection(predicted, tracked_);
@@ -395,7 +437,10 @@ void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, 
   current_pose_ = predicted;
 
   MatchResult res = matchLocal(predicted, localPointsInReach(predicted, kf.match_points), !rivals.any());
+  if (res.ok)
+    stall_search_spent_ = false;
   res = matchFromRivals(res, predicted, rivals, kf.match_points);
+  res = matchAfterStall(res, predicted, kf.match_points);
   PoseGraphEdge edge;
   edge.from = static_cast<int>(keyframes_.size()) - 1;
   edge.sigma_xy = params_.sigma_xy;

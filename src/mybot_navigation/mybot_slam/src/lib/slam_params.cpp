@@ -118,6 +118,17 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
        [](P& p) -> bool& { return p.slam.track_undo_correction; }, [](double) { return true; }, "a bool"},
       {"track_turn_fallback", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.track_turn_fallback; },
        [](double) { return true; }, "a bool"},
+      {"track_stall_search", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.track_stall_search; },
+       [](double) { return true; }, "a bool"},
+      number(
+          "track_stall_window_linear", [](P& p) -> double& { return p.slam.track_stall_window_linear; }, nonNegative,
+          "a distance >= 0 (m)"),
+      number(
+          "track_stall_min_score", [](P& p) -> double& { return p.slam.track_stall_min_score; },
+          [](double v) { return v > 0 && v < 1; }, "in (0, 1)"),
+      number(
+          "track_stall_unique_ratio", [](P& p) -> double& { return p.slam.track_stall_unique_ratio; },
+          [](double v) { return v > 0 && v <= 1; }, "in (0, 1]"),
       {"weak_step_cauchy", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.weak_step_cauchy; },
        [](double) { return true; }, "a bool"},
       {"keep_grazing_surfaces", T::Boolean, nullptr, nullptr,

@@ -246,18 +246,19 @@ int main(int argc, char** argv)
   rusage u;
   getrusage(RUSAGE_SELF, &u);
   char timing[1024];
-  std::snprintf(
-      timing, sizeof timing,
-      "{\n  \"bag\": \"%s\",\n  \"scans\": %zu,\n  \"keyframes\": %zu,\n  \"loop_closures\": %d,\n"
-      "  \"global_searches\": %d,\n  \"global_matches\": %d,\n  \"global_closures\": %d,\n"
-      "  \"weak_matches\": %d,\n  \"motion_fallbacks\": %d,\n  \"corrections_undone\": %d,\n  \"turn_fallbacks\": %d,\n"
-      "  \"scans_reangled\": %zu,\n"
-      "  \"log_span_s\": %.3f,\n  \"cpu_s\": %.3f,\n  \"wall_s\": %.3f,\n  \"realtime_factor\": %.2f,\n"
-      "  \"peak_rss_mb\": %.1f\n}\n",
-      opt.bag.c_str(), r.scans, slam.keyframes().size(), slam.stats().loop_closures, slam.stats().loop_global_attempts,
-      slam.stats().loop_global_matches, slam.stats().loop_global_closures, slam.stats().weak_matches,
-      slam.stats().motion_fallbacks, slam.stats().corrections_undone, slam.stats().turn_fallbacks, r.scans_reangled,
-      span, cpu, wall, cpu > 0 ? span / cpu : 0.0, u.ru_maxrss / 1024.0);
+  std::snprintf(timing, sizeof timing,
+                "{\n  \"bag\": \"%s\",\n  \"scans\": %zu,\n  \"keyframes\": %zu,\n  \"loop_closures\": %d,\n"
+                "  \"global_searches\": %d,\n  \"global_matches\": %d,\n  \"global_closures\": %d,\n"
+                "  \"weak_matches\": %d,\n  \"motion_fallbacks\": %d,\n  \"corrections_undone\": %d,\n"
+                "  \"turn_fallbacks\": %d,\n  \"stall_searches\": %d,\n  \"stall_matches\": %d,\n"
+                "  \"scans_reangled\": %zu,\n"
+                "  \"log_span_s\": %.3f,\n  \"cpu_s\": %.3f,\n  \"wall_s\": %.3f,\n  \"realtime_factor\": %.2f,\n"
+                "  \"peak_rss_mb\": %.1f\n}\n",
+                opt.bag.c_str(), r.scans, slam.keyframes().size(), slam.stats().loop_closures,
+                slam.stats().loop_global_attempts, slam.stats().loop_global_matches, slam.stats().loop_global_closures,
+                slam.stats().weak_matches, slam.stats().motion_fallbacks, slam.stats().corrections_undone,
+                slam.stats().turn_fallbacks, slam.stats().stall_searches, slam.stats().stall_matches, r.scans_reangled,
+                span, cpu, wall, cpu > 0 ? span / cpu : 0.0, u.ru_maxrss / 1024.0);
   try
   {
     const GridMap map = slam.map();
