@@ -226,6 +226,31 @@ TEST(Slam, AGlobalMatchsCandidateIsAKeyframeOfTheMapItWasMatchedAgainst)
   EXPECT_EQ(nearestLoopCandidate(kfs, 119, Pose2D{50.0, 0.0, 0.0}, 119, 4.0, 8.0), -1);
 }
 
+TEST(Slam, LoopCandidatesAreTheNearestKeyframeOfEachEarlierPass)
+{
+  // A corridor along y = 0 driven east (keyframes 0-19, a metre apart), west 0.5 m beside it
+  // (20-39) and east again 1 m beside it (40-59), then keyframe 60 at (5, 0.2).
+  std::vector<Keyframe> kfs(61);
+  for (int i = 0; i < 60; ++i)
+  {
+    const int pass = i / 20, along = i % 20;
+    kfs[static_cast<size_t>(i)].travelled = i;
+    kfs[static_cast<size_t>(i)].pose =
+        Pose2D{pass == 1 ? 19.0 - along : double(along), 0.5 * pass, pass == 1 ? M_PI : 0.0};
+  }
+  kfs[60].travelled = 60.0;
+  kfs[60].pose = Pose2D{5.0, 0.2, 0.0};
+  // Nearest first, then the nearest keyframe more than 10 from each chosen one: one per pass.
+  EXPECT_EQ(loopCandidatesByPass(kfs, 60, kfs[60].pose, 60, 4.0, 8.0, 10, 4), (std::vector<int>{5, 34, 45}));
+  EXPECT_EQ(loopCandidatesByPass(kfs, 60, kfs[60].pose, 60, 4.0, 8.0, 10, 2), (std::vector<int>{5, 34}));
+  // Within 10 m of path: the third pass is too recent.
+  EXPECT_EQ(loopCandidatesByPass(kfs, 60, kfs[60].pose, 60, 4.0, 20.0, 10, 3), (std::vector<int>{5, 34}));
+  // With no separation, the nearest keyframes whichever pass they are on.
+  EXPECT_EQ(loopCandidatesByPass(kfs, 60, kfs[60].pose, 60, 4.0, 8.0, 0, 4), (std::vector<int>{5, 34, 45, 4}));
+  EXPECT_EQ(nearestLoopCandidate(kfs, 60, kfs[60].pose, 60, 4.0, 8.0), 5);
+  EXPECT_TRUE(loopCandidatesByPass(kfs, 60, Pose2D{50.0, 0.0, 0.0}, 60, 4.0, 8.0, 10, 3).empty());
+}
+
 TEST(Slam, MapConsistencyRanksMapsAsGroundTruthDoes)
 {
   // The final optimisation is judged without ground truth, by how well the keyframes agree with

@@ -168,6 +168,10 @@ struct SlamParams
   double loop_min_constraint_ratio = 0.3;  // reject closures that leave a direction unconstrained
   int loop_submap_scans = 10;              // candidate's neighbours (each side) rendered for matching
   int loop_check_interval = 3;             // keyframes between closure attempts
+  // Each attempt matches the submap of the nearest keyframe of up to this many earlier passes of
+  // the place (keyframes more than loop_submap_scans apart), nearest first, until one matches:
+  // the nearest pass may have looked the other way. 1 here, 2 in config/slam.yaml (README).
+  int loop_max_candidates = 1;
   double loop_sigma_xy = 0.05;
   double loop_sigma_theta = 0.02;
   // Consistency: a closure may move the current pose at most loop_max_correction plus
@@ -340,6 +344,11 @@ std::vector<LoopClosureRecord> loopClosureEvents(const SlamStats& before, const 
 // `radius` of it among keyframes [0, end) at least `min_travel` of path before `current`; -1 if none.
 int nearestLoopCandidate(const std::vector<Keyframe>& keyframes, int current, const Pose2D& around, int end,
                          double radius, double min_travel);
+// The loop-closure candidates for keyframe `current` at `around`, one for each earlier pass of
+// the place, nearest first: the nearest keyframe as above, then the nearest more than
+// `separation` keyframes from every one already chosen, and so on, at most `count`.
+std::vector<int> loopCandidatesByPass(const std::vector<Keyframe>& keyframes, int current, const Pose2D& around,
+                                      int end, double radius, double min_travel, int separation, int count);
 
 // Whether a closure that moves the current pose by `moved` (m), matched at `score`, must wait
 // for a later attempt to find the same correction (SlamParams::loop_confirm_correction): not

@@ -604,13 +604,29 @@ bool Slam::tryLoopClosure(int current)
   last_loop_attempt_ = current;
   ++stats_.loop_attempts;
   expireHeldClosures();
+  if (!match.global)
+  {
+    // The nearest keyframe's pass may have looked the other way: a forward-looking laser sees
+    // a corridor's two ends from its two passes. The next pass's submap may show what this
+    // keyframe sees.
+    bool matched = false;
+    for (const int c : loopCandidatesByPass(keyframes_, current, kf.pose, current, params_.loop_search_radius,
+                                            params_.loop_min_travel, params_.loop_submap_scans,
+                                            std::max(1, params_.loop_max_candidates)))
+      if (matchCandidateSubmap(current, c, match))
+      {
+        candidate = c;
+        matched = true;
+        break;
+      }
+    if (!matched)
+      return false;
+  }
   return closeLoop(current, candidate, match);
 }
 
 bool Slam::closeLoop(int current, int candidate, LoopMatch& match)
 {
-  if (!match.global && !matchCandidateSubmap(current, candidate, match))
-    return false;
   stats_.last_closure = {
       candidate, current, match.result.score, match.score_at_estimate, match.constraint_ratio, match.correction, false,
       false,     ""};
@@ -637,22 +653,34 @@ bool closureNeedsConfirmation(const SlamParams& params, double moved, double sco
 int nearestLoopCandidate(const std::vector<Keyframe>& keyframes, int current, const Pose2D& around, int end,
                          double radius, double min_travel)
 {
+  const std::vector<int> nearest = loopCandidatesByPass(keyframes, current, around, end, radius, min_travel, 0, 1);
+  return nearest.empty() ? -1 : nearest.front();
+}
+
+std::vector<int> loopCandidatesByPass(const std::vector<Keyframe>& keyframes, int current, const Pose2D& around,
+                                      int end, double radius, double min_travel, int separation, int count)
+{
   const Keyframe& kf = keyframes[static_cast<size_t>(current)];
-  int best = -1;
-  double best_d = radius;
+  std::vector<std::pair<double, int>> near;
   for (int i = 0; i < std::min(current, end); ++i)
   {
     const Keyframe& k = keyframes[static_cast<size_t>(i)];
     if (kf.travelled - k.travelled < min_travel)
       break;  // travelled grows with the index
     const double d = std::hypot(k.pose.x - around.x, k.pose.y - around.y);
-    if (d < best_d)
-    {
-      best_d = d;
-      best = i;
-    }
+    if (d < radius)
+      near.emplace_back(d, i);
   }
-  return best;
+  std::sort(near.begin(), near.end());
+  std::vector<int> chosen;
+  for (const auto& [d, i] : near)
+  {
+    if (static_cast<int>(chosen.size()) >= count)
+      break;
+    if (std::all_of(chosen.begin(), chosen.end(), [&](int c) { return std::abs(c - i) > separation; }))
+      chosen.push_back(i);
+  }
+  return chosen;
 }
 
 void Slam::expireHeldClosures()

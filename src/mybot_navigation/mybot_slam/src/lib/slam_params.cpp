@@ -185,6 +185,8 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           "a positive distance (m)"),
       integer(
           "loop_confirm_attempts", [](P& p) -> int& { return p.slam.loop_confirm_attempts; }, 1, "an integer >= 1"),
+      integer(
+          "loop_max_candidates", [](P& p) -> int& { return p.slam.loop_max_candidates; }, 1, "an integer >= 1"),
       number(
           "loop_global_interval", [](P& p) -> double& { return p.slam.loop_global_interval; }, nonNegative,
           "a distance >= 0 (m; 0 turns the global search off)"),
