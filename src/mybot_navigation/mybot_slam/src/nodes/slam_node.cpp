@@ -231,6 +231,12 @@ private:
     for (const LoopClosureRecord& c : loopClosureEvents(before, after))
       logClosure(c);
     last_stamp_ = std::max(last_stamp_, stamp);
+    // A base driver that stopped sending new poses, or a robot turned by hand (track_stall_search).
+    if (after.stall_matches > before.stall_matches)
+      ROS_WARN_THROTTLE(10.0,
+                        "slam: the odometry (%s -> %s) reported no motion since the last scan, but the scan at %.3f "
+                        "fits elsewhere: placed by a search in every heading (score %.2f)",
+                        odom_frame_.c_str(), base_frame_.c_str(), stamp, after.last_match_score);
     switch (outcome)
     {
       case ScanOutcome::NoValidPoints:
