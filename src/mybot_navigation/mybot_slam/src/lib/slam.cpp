@@ -575,7 +575,11 @@ bool Slam::tryLoopClosure(int current)
 {
   const Keyframe& kf = keyframes_[static_cast<size_t>(current)];
   LoopMatch match;
-  int candidate = findLoopCandidate(current, kf.pose, current);
+  // The nearest keyframe of each earlier pass near the estimate, nearest first (loop_max_candidates).
+  const std::vector<int> passes =
+      loopCandidatesByPass(keyframes_, current, kf.pose, current, params_.loop_search_radius, params_.loop_min_travel,
+                           params_.loop_submap_scans, std::max(1, params_.loop_max_candidates));
+  int candidate = passes.empty() ? -1 : passes.front();
   // Every loop_global_interval of path, wherever the estimate is: drift may have put it among
   // no walls, or among the wrong ones, where the recent path agrees with itself.
   double window = 0.0;
@@ -610,9 +614,7 @@ bool Slam::tryLoopClosure(int current)
     // a corridor's two ends from its two passes. The next pass's submap may show what this
     // keyframe sees.
     bool matched = false;
-    for (const int c : loopCandidatesByPass(keyframes_, current, kf.pose, current, params_.loop_search_radius,
-                                            params_.loop_min_travel, params_.loop_submap_scans,
-                                            std::max(1, params_.loop_max_candidates)))
+    for (const int c : passes)
       if (matchCandidateSubmap(current, c, match))
       {
         candidate = c;
