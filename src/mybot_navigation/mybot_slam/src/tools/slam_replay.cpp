@@ -1,11 +1,16 @@
 // slam_replay: offline mapping from a bag, as slam_toolbox's offline mode or gmapping's
 // slam_gmapping_replay: the same Slam as slam_node over every scan, at full speed, no roscore.
 //
-//   rosrun mybot_slam slam_replay --bag FILE --out DIR [--params slam.yaml]
+//   rosrun mybot_slam slam_replay --bag FILE --out DIR [--params FILE]
 //        [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate]
 //        [--odom-frame odom [--base-frame base_link]] [--laser-pose X,Y,YAW] [--carmen-angles]
 //        [--no-final-optimization] [--quiet]
 //
+// Parameters: --params FILE (slam_node's parameter names, gmapping's where gmapping has one), by
+// default the package's config/slam.yaml, what slam_node's launch files load and every figure in
+// BENCHMARKS.md was measured with: without it, the library's defaults are gmapping's (keyframes every
+// metre) with this package's later remedies off, and a bare replay would not be the mapper the
+// README describes. The file used is named on stderr.
 // Odometry at a scan: `last` (default) takes the pose of the last odometry message before the
 // scan in bag order, which is what CARMEN logs embed in each FLASER (ACES, Intel); `interpolate`
 // interpolates between the odometry messages around the scan's stamp (FR079, whose CARMEN
@@ -32,11 +37,14 @@
 #include <filesystem>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
+
+#include <ros/package.h>
 
 #include "mybot_common/atomic_file.h"
 #include "mybot_nav_common/map_io.h"
@@ -61,8 +69,9 @@ struct Options
 [[noreturn]] void usage(const std::string& error)
 {
   std::fprintf(stderr,
-               "slam_replay: %s\nusage: slam_replay --bag FILE --out DIR [--params slam.yaml] [--scan-topic /scan] "
-               "[--odom-topic /odom] [--odom last|interpolate] [--odom-frame odom [--base-frame base_link]] "
+               "slam_replay: %s\nusage: slam_replay --bag FILE --out DIR [--params FILE (default: mybot_slam's "
+               "config/slam.yaml)] [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate] [--odom-frame "
+               "odom [--base-frame base_link]] "
                "[--laser-pose X,Y,YAW] [--carmen-angles] [--no-final-optimization] [--quiet]\n",
                error.c_str());
   std::exit(2);
@@ -143,10 +152,26 @@ double cpuSeconds()
 int main(int argc, char** argv)
 {
   const Options opt = parseArgs(argc, argv);
+  std::string params = opt.params;
+  if (params.empty())
+  {
+    // Without ROS_PACKAGE_PATH rospack would only add its own error lines to ours.
+    const char* path = std::getenv("ROS_PACKAGE_PATH");
+    const std::string package = path && *path ? ros::package::getPath("mybot_slam") : std::string();
+    if (package.empty())
+    {
+      std::fprintf(stderr,
+                   "slam_replay: no --params given and the package mybot_slam is not on ROS_PACKAGE_PATH "
+                   "to take its config/slam.yaml from: source the workspace's setup.bash or pass --params FILE\n");
+      return 2;
+    }
+    params = package + "/config/slam.yaml";
+  }
+  std::fprintf(stderr, "slam_replay: parameters from %s\n", params.c_str());
   SlamRunParams run;
   try
   {
-    run = loadSlamParams(opt.params);
+    run = loadSlamParams(params);
   }
   catch (const std::exception& e)
   {
