@@ -26,8 +26,20 @@ struct SlipRun
   MapScore map;
 };
 
+struct SlipSetup
+{
+  double global_interval = 10.0;
+  double local_window = 3.0;  // m, the local search's window, growing with the drift possible up to:
+  double local_window_max = 3.0;
+  // A robot that can be carried: a closure may move the pose by up to 10 m whatever the path.
+  double max_correction = 10.0;
+  double max_correction_per_m = 0.05;
+  double global_max_correction_per_m = 0.1;
+  Pose2D slip{6.0, -5.0, 0.3};
+};
+
 // The odometry jumps by `slip` (in the robot's frame) once the first loop is done.
-SlipRun driveWithSlip(double global_interval, double local_window_max)
+SlipRun driveWithSlip(const SlipSetup& setup)
 {
   static const GridMap world = officeWorld(0.01);
   LaserSpec laser;
@@ -39,13 +51,15 @@ SlipRun driveWithSlip(double global_interval, double local_window_max)
   SlamParams p;
   p.linear_update = 0.25;
   p.angular_update = 0.25;
-  // A robot that can be carried: a closure may move the pose by up to 10 m whatever the path.
-  p.loop_max_correction = 10.0;
-  p.loop_window_linear_max = local_window_max;
-  p.loop_global_interval = global_interval;
+  p.loop_max_correction = setup.max_correction;
+  p.loop_max_correction_per_m = setup.max_correction_per_m;
+  p.loop_global_max_correction_per_m = setup.global_max_correction_per_m;
+  p.loop_window_linear = setup.local_window;
+  p.loop_window_linear_max = setup.local_window_max;
+  p.loop_global_interval = setup.global_interval;
   p.weak_step_cauchy = true;  // the jump shows as a step the matcher could not confirm
   SlipRun r{Slam(p), {}, 0.0, {}};
-  const Pose2D slip{6.0, -5.0, 0.3};
+  const Pose2D slip = setup.slip;
   bool slipped = false;
   Pose2D jump;  // odometry frame -> slipped odometry frame
   r.run = runSlamOnDrive(r.slam, drive, laser, 30.0,
@@ -68,8 +82,21 @@ SlipRun driveWithSlip(double global_interval, double local_window_max)
 // below, driven once (it takes seconds).
 const SlipRun& neitherSearchReaches()
 {
-  static const SlipRun r = driveWithSlip(0.0, 3.0);
+  SlipSetup setup;
+  setup.global_interval = 0.0;
+  static const SlipRun r = driveWithSlip(setup);
   return r;
+}
+
+// A jump of 6 m (5.5 m, -2.5 m, 0.05 rad) under the drift bounds of config/slam.yaml: 0.3 m + 0.05
+// per metre since the candidate allow 2.75 m at the place one loop (49 m) back and 5.2 m at most,
+// at the start two loops back. The local window and the global search as each test sets them.
+SlipSetup sixMetreJump()
+{
+  SlipSetup setup;
+  setup.max_correction = 0.3;
+  setup.slip = Pose2D{5.5, -2.5, 0.05};
+  return setup;
 }
 }  // namespace
 
@@ -79,7 +106,7 @@ TEST(GlobalSearch, FindsTheMappedPlaceAfterTheOdometryJumpedMetres)
   // loop_window_linear_max): the jump is beyond it in x, so that only the global search can find
   // the place.
   const SlipRun& without = neitherSearchReaches();
-  const SlipRun with = driveWithSlip(10.0, 3.0);
+  const SlipRun with = driveWithSlip(SlipSetup{});
   const SlamStats& s = with.slam.stats();
   std::printf(
       "without the global search: ATE %.3f m, map precision %.3f; with: ATE %.3f m, precision %.3f recall %.3f "
@@ -102,11 +129,55 @@ TEST(LocalSearch, GrowsItsWindowAndSubmapWithTheDriftPossible)
   // 10 m here, so the local window grows to its 6 m cap and the candidate's submap follows its
   // pass that far; the jump is then within reach of the local search alone.
   const SlipRun& held = neitherSearchReaches();
-  const SlipRun grown = driveWithSlip(0.0, 6.0);
+  SlipSetup setup;
+  setup.global_interval = 0.0;
+  setup.local_window_max = 6.0;
+  const SlipRun grown = driveWithSlip(setup);
   std::printf("local window held at 3 m: ATE %.3f m, precision %.3f; grown to 6 m: ATE %.3f m, precision %.3f\n",
               held.ate, held.map.precision, grown.ate, grown.map.precision);
   ASSERT_GT(held.ate, 0.5);
   EXPECT_EQ(grown.slam.stats().loop_global_attempts, 0);
   EXPECT_LT(grown.ate, 0.05);
   EXPECT_GE(grown.map.precision, 0.9);
+}
+
+TEST(GlobalSearch, MayCorrectMoreDriftThanALocalAttempt)
+{
+  // The global search finds the place after the jump; only its own drift bound
+  // (loop_global_max_correction_per_m) lets its proposal through. The outdoor Freiburg campus came
+  // back 71-85 m off after 1050 m, found by the global search and rejected by 0.05's 53 m.
+  SlipSetup setup = sixMetreJump();
+  setup.global_max_correction_per_m = 0.05;
+  const SlipRun local_bound = driveWithSlip(setup);
+  setup.global_max_correction_per_m = 0.2;
+  const SlipRun own_bound = driveWithSlip(setup);
+  std::printf(
+      "global search bounded as a local attempt: ATE %.3f m (%d global closures); by its own: ATE %.3f m, "
+      "precision %.3f (%d global closures)\n",
+      local_bound.ate, local_bound.slam.stats().loop_global_closures, own_bound.ate, own_bound.map.precision,
+      own_bound.slam.stats().loop_global_closures);
+  ASSERT_GT(local_bound.ate, 0.5);
+  EXPECT_EQ(local_bound.slam.stats().loop_global_closures, 0);
+  EXPECT_GE(own_bound.slam.stats().loop_global_closures, 1);
+  EXPECT_LT(own_bound.ate, 0.05);
+  EXPECT_GE(own_bound.map.precision, 0.9);
+}
+
+TEST(LocalSearch, KeepsTheLocalDriftBoundWhateverTheGlobalOne)
+{
+  // The jump with the global search off and the local window held at 6 m, wide enough to find it:
+  // a local match has only one scan's word for it, and is held to 0.05 per metre whatever
+  // loop_global_max_correction_per_m (0.1 here) allows the global search.
+  SlipSetup setup = sixMetreJump();
+  setup.global_interval = 0.0;
+  setup.local_window = 6.0;
+  setup.local_window_max = 6.0;
+  setup.max_correction_per_m = 1.0;  // the premise: the local search finds it when allowed to
+  const SlipRun allowed = driveWithSlip(setup);
+  setup.max_correction_per_m = 0.05;
+  const SlipRun bounded = driveWithSlip(setup);
+  std::printf("local closures bounded at 1.0/m: ATE %.3f m; at 0.05/m: ATE %.3f m (%d closures)\n", allowed.ate,
+              bounded.ate, bounded.slam.stats().loop_closures);
+  ASSERT_LT(allowed.ate, 0.05);
+  EXPECT_GT(bounded.ate, 0.5);
 }

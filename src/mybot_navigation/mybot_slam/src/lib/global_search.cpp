@@ -56,7 +56,7 @@ bool Slam::globalSearchDue(int current, double& window) const
     const double lag = kf.travelled - k.travelled;
     if (lag < params_.loop_global_query_travel + params_.loop_min_travel)
       break;
-    const double bound = params_.loop_max_correction + params_.loop_max_correction_per_m * lag;
+    const double bound = params_.loop_max_correction + params_.loop_global_max_correction_per_m * lag;
     const double d = std::hypot(k.pose.x - kf.pose.x, k.pose.y - kf.pose.y);
     if (bound > params_.loop_window_linear && d <= bound)
       window = std::max(window, std::min(bound, params_.loop_global_window_linear));

@@ -787,9 +787,11 @@ const char* Slam::implausibleClosure(int current, int candidate, const LoopMatch
   if (moved > 2.0 * params_.grid.resolution &&
       match.result.score < params_.loop_min_score_gain * match.score_at_estimate)
     return "rejected: it fits hardly better than the current estimate (ambiguous place)";
+  // A global proposal agreed with itself over a query of loop_global_query_travel metres, and waits
+  // for loop_global_confirmations agreeing attempts: it may correct more drift than one scan's.
+  const double per_m = match.global ? params_.loop_global_max_correction_per_m : params_.loop_max_correction_per_m;
   const double max_correction =
-      params_.loop_max_correction +
-      params_.loop_max_correction_per_m * (kf.travelled - keyframes_[static_cast<size_t>(candidate)].travelled);
+      params_.loop_max_correction + per_m * (kf.travelled - keyframes_[static_cast<size_t>(candidate)].travelled);
   if (moved > max_correction)
     return "rejected: correction larger than the drift possible since the candidate";
   return nullptr;

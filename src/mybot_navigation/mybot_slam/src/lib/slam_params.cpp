@@ -204,6 +204,9 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
           "a positive angle (rad)"),
       number(
           "loop_global_min_score", [](P& p) -> double& { return p.slam.loop_global_min_score; }, openUnit, "in (0, 1)"),
+      number(
+          "loop_global_max_correction_per_m", [](P& p) -> double& { return p.slam.loop_global_max_correction_per_m; },
+          nonNegative, "a number >= 0 (m per m travelled)"),
       integer(
           "loop_global_confirmations", [](P& p) -> int& { return p.slam.loop_global_confirmations; }, 2,
           "an integer >= 2"),
