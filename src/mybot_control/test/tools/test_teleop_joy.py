@@ -92,11 +92,15 @@ class TeleopJoyTest(unittest.TestCase):
 
     def test_deadman_sticks_turbo_and_single_stop(self):
         self.start_reader()
-        # joy_reader holds the FIFO open; wait until both nodes are wired up
+        # joy_reader holds the FIFO open; wait until every link is up on its publisher's side: a
+        # subscriber counts its connection when it has the publisher's header, and the publisher
+        # adds it to its topic only after sending that header. A Joy published in between is lost
+        # to that subscriber: a clean clone's gate (2026-11-30) saw this test linked at 22.599 s,
+        # joy_reader's link to it added at 22.604 s, and the first Joy never came.
         end = time.monotonic() + TIMEOUT
-        # and teleop_joy is linked to joy_reader: a Joy sent before that is lost to it.
-        while (self.joy.sub.get_num_connections() == 0 or self.cmd.sub.get_num_connections() == 0
-               or not connected("/joy_reader", "/joy", "/teleop_joy")):
+        me = rospy.get_name()
+        while not (connected("/joy_reader", "/joy", "/teleop_joy") and connected("/joy_reader", "/joy", me)
+                   and connected("/teleop_joy", "/cmd_vel", me)):
             self.assertLess(time.monotonic(), end, "joy_reader/teleop_joy did not connect")
             time.sleep(0.05)
         # initial-state burst: 6 buttons, 4 axes, all at rest
