@@ -11,6 +11,8 @@ from geometry_msgs.msg import PointStamped, PoseStamped
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Float32, Float64
 
+from mybot_lockstep import wait_connected
+
 TIMEOUT = 15.0
 
 
@@ -34,8 +36,9 @@ class Collector:
         raise AssertionError("timed out waiting for %d x %s (got %d)" % (n, what, len(self.msgs)))
 
 
-def wait_connected(pub, n=1):
-    """Wait until a publisher (or subscriber) has n connections."""
+def wait_subscribers(pub, n=1):
+    """Wait until a publisher has n subscribers connected (subscriptions: mybot_lockstep's
+    wait_connected, which waits for the publisher's side of the link)."""
     end = time.monotonic() + TIMEOUT
     while pub.get_num_connections() < n:
         if time.monotonic() > end:
@@ -69,7 +72,7 @@ class MeasurementTest(unittest.TestCase):
     def test_goal_latch_republishes(self):
         out = Collector("/clamped_goal_pose", PoseStamped)
         pub = rospy.Publisher("/move_base_simple/goal", PoseStamped, queue_size=1)
-        wait_connected(pub)
+        wait_subscribers(pub)
         g = PoseStamped()
         g.header.frame_id = "map"
         g.pose.position.x, g.pose.position.y, g.pose.orientation.w = 1.5, -2.0, 1.0
@@ -85,8 +88,10 @@ class MeasurementTest(unittest.TestCase):
         yaw_err = Collector("/pose_error/yaw", Float64)
         gt = rospy.Publisher("/ground_truth/odom", Odometry, queue_size=100)
         od = rospy.Publisher("/odom", Odometry, queue_size=100)
-        for endpoint, n in ((gt, 2), (od, 1), (absolute.sub, 1), (pos_err.sub, 1), (yaw_err.sub, 1)):
-            wait_connected(endpoint, n)
+        wait_subscribers(gt, 2)
+        wait_subscribers(od, 1)
+        # The first pose error is published once, in answer to the first pair below.
+        wait_connected([absolute.sub, pos_err.sub, yaw_err.sub], TIMEOUT)
         # robot starts at (2, 1) facing +y; odometry under-reads distance by 10 % and drifts in yaw
         t0 = rospy.get_time() + 1.0
         for k in range(21):

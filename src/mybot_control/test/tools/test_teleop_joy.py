@@ -7,7 +7,6 @@ import tempfile
 import threading
 import time
 import unittest
-from xmlrpc.client import ServerProxy
 
 import rosgraph
 import rospy
@@ -16,6 +15,7 @@ from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Joy
 
 from mybot_control import joy
+from mybot_lockstep import publisher_has_link, wait_connected
 
 TIMEOUT = 15.0
 AXIS, BUTTON = joy.JS_EVENT_AXIS, joy.JS_EVENT_BUTTON
@@ -43,14 +43,12 @@ class Collector:
 
 
 def connected(publisher, topic, subscriber):
-    """Whether `publisher` has a live connection carrying `topic` to `subscriber` (its bus info):
-    the master only knows who registered, not whether the TCP link is up yet."""
+    """Whether the node `publisher` has added its link carrying `topic` to `subscriber`."""
     try:
         uri = rosgraph.Master(rospy.get_name()).lookupNode(publisher)
-        code, _, info = ServerProxy(uri).getBusInfo(rospy.get_name())
     except Exception:
         return False
-    return code == 1 and any(c[1] == subscriber and c[2] == "o" and c[4] == topic and c[5] for c in info)
+    return publisher_has_link(uri, topic, subscriber)
 
 
 def tw(m):
@@ -92,15 +90,13 @@ class TeleopJoyTest(unittest.TestCase):
 
     def test_deadman_sticks_turbo_and_single_stop(self):
         self.start_reader()
-        # joy_reader holds the FIFO open; wait until every link is up on its publisher's side: a
-        # subscriber counts its connection when it has the publisher's header, and the publisher
-        # adds it to its topic only after sending that header. A Joy published in between is lost
-        # to that subscriber: a clean clone's gate (2026-11-30) saw this test linked at 22.599 s,
-        # joy_reader's link to it added at 22.604 s, and the first Joy never came.
+        # joy_reader holds the FIFO open; wait until every link is up on its publisher's side
+        # (publisher_has_link): a clean clone's gate (2026-11-30) saw this test linked to
+        # joy_reader at 22.599 s, joy_reader's link to it added at 22.604 s, and the first Joy
+        # never came. teleop_joy's link from joy_reader too: a Joy sent before it is lost to it.
+        wait_connected([self.joy.sub, self.cmd.sub], TIMEOUT)
         end = time.monotonic() + TIMEOUT
-        me = rospy.get_name()
-        while not (connected("/joy_reader", "/joy", "/teleop_joy") and connected("/joy_reader", "/joy", me)
-                   and connected("/teleop_joy", "/cmd_vel", me)):
+        while not connected("/joy_reader", "/joy", "/teleop_joy"):
             self.assertLess(time.monotonic(), end, "joy_reader/teleop_joy did not connect")
             time.sleep(0.05)
         # initial-state burst: 6 buttons, 4 axes, all at rest

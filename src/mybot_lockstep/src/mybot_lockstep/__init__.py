@@ -20,6 +20,7 @@ plain rospy one, so the same code runs against a real robot.
 import threading
 import time
 import warnings
+from xmlrpc.client import ServerProxy
 
 import rospy
 from rospy.impl.registration import get_topic_manager
@@ -29,21 +30,46 @@ from tf2_msgs.msg import TFMessage
 from mybot_lockstep.msg import Ack, LinkCount, Tick
 from mybot_lockstep.time_jump import TimeJump
 
-__all__ = ['Participant', 'participant', 'lockstep_requested', 'TransformListener', 'wait_connected']
+__all__ = ['Participant', 'participant', 'lockstep_requested', 'TransformListener', 'wait_connected',
+           'publisher_has_link']
 
 
 def lockstep_requested():
     return bool(rospy.get_param('/use_sim_time', False)) and bool(rospy.get_param('/lockstep', False))
 
 
+def publisher_has_link(publisher_uri, topic, subscriber):
+    """Whether the node at `publisher_uri` (its XML-RPC URI) has a live connection carrying `topic`
+    to the node named `subscriber`, by its own account (getBusInfo). A rospy subscriber counts its
+    connection once it has read the publisher's header, and a rospy publisher adds the connection
+    to its topic only after writing that header: a message published in between is lost to that
+    subscriber (a Joy of test_teleop_joy, 5 ms apart, 2026-11-30). Once the publisher has added
+    it, what it publishes waits in the socket until the subscriber reads it."""
+    try:
+        code, _, info = ServerProxy(publisher_uri).getBusInfo(rospy.get_name())
+    except Exception:  # not serving yet, or gone
+        return False
+    return code == 1 and any(c[1] == subscriber and c[2] == 'o' and c[4] == topic and c[5] for c in info)
+
+
+def _connected(link):
+    """A Publisher: a subscriber is connected. A Subscriber: a publisher has added the link too."""
+    if not isinstance(link, rospy.Subscriber):
+        return link.get_num_connections() > 0
+    impl = link.impl
+    me = rospy.get_name()
+    return impl is not None and any(
+        publisher_has_link(c.endpoint_id, link.resolved_name, me) for c in list(impl.connections))
+
+
 def wait_connected(links, timeout=60.0):
     """Waits, in wall time (a connection is made in wall time, whatever the sim time), until every
-    rospy Publisher or Subscriber of `links` has a connection: a message sent before its
-    connection is open is lost. Raises RuntimeError naming the unconnected topics after
-    `timeout` s."""
+    rospy Publisher or Subscriber of `links` has a connection, a Subscriber's as its publisher
+    counts it (publisher_has_link): a message sent before its connection is open is lost. Raises
+    RuntimeError naming the unconnected topics after `timeout` s."""
     deadline = time.monotonic() + timeout
     while not rospy.is_shutdown():
-        missing = [link.resolved_name for link in links if not link.get_num_connections()]
+        missing = [link.resolved_name for link in links if not _connected(link)]
         if not missing:
             return
         if time.monotonic() > deadline:
