@@ -88,9 +88,10 @@ const SlipRun& neitherSearchReaches()
   return r;
 }
 
-// A jump of 6 m (5.5 m, -2.5 m, 0.05 rad) under the drift bounds of config/slam.yaml: 0.3 m + 0.05
-// per metre since the candidate allow 2.75 m at the place one loop (49 m) back and 5.2 m at most,
-// at the start two loops back. The local window and the global search as each test sets them.
+// A jump of 6 m (5.5 m, -2.5 m, 0.05 rad) under the default drift bounds, which config/slam.yaml
+// keeps: 0.3 m + 0.05 per metre since the candidate allow 2.75 m at the place one loop (49 m) back
+// and 5.2 m at most, at the start two loops back. The local window and the global search as each
+// test sets them.
 SlipSetup sixMetreJump()
 {
   SlipSetup setup;
