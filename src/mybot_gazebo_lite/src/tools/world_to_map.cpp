@@ -14,19 +14,28 @@ using namespace mybot_gazebo_lite;
 
 namespace
 {
+const char* const kUsage =
+    "usage: world_to_map <world file (.world/.sdf/.yaml)> <out_name> [--resolution 0.05]\n"
+    "                    [--height H | --z-min 0.05 --z-max 2.0] [--margin 1.0]\n"
+    "writes <out_name>.pgm and <out_name>.yaml (map_server format).\n"
+    "--height slices at one height (e.g. the laser's); otherwise any static\n"
+    "geometry between z-min and z-max is occupied.\n";
+
 int usage()
 {
-  std::cerr << "usage: world_to_map <world file (.world/.sdf/.yaml)> <out_name> [--resolution 0.05]\n"
-               "                    [--height H | --z-min 0.05 --z-max 2.0] [--margin 1.0]\n"
-               "writes <out_name>.pgm and <out_name>.yaml (map_server format).\n"
-               "--height slices at one height (e.g. the laser's); otherwise any static\n"
-               "geometry between z-min and z-max is occupied.\n";
+  std::cerr << kUsage;
   return 2;
 }
 }  // namespace
 
 int main(int argc, char** argv)
 {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h")
+    {
+      std::cout << kUsage;
+      return 0;
+    }
   if (argc < 3)
     return usage();
   std::string world_file = argv[1], out = argv[2];
@@ -54,7 +63,10 @@ int main(int argc, char** argv)
     else if (a == "--margin")
       margin = v;
     else
+    {
+      std::cerr << "world_to_map: unknown argument " << a << "\n";
       return usage();
+    }
     ++i;
   }
   if (!(res > 0) || zmax < zmin || margin < 0)

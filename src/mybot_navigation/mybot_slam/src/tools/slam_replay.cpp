@@ -66,14 +66,15 @@ struct Options
   bool carmen_angles = false;
 };
 
+const char* const kUsage =
+    "usage: slam_replay --bag FILE --out DIR [--params FILE (default: mybot_slam's config/slam.yaml)] "
+    "[--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate] [--odom-frame odom [--base-frame "
+    "base_link]] [--laser-pose X,Y,YAW] [--carmen-angles] [--no-final-optimization] [--quiet]\n";
+
+// A usage error: what is wrong, then the usage, on stderr, and exit status 2.
 [[noreturn]] void usage(const std::string& error)
 {
-  std::fprintf(stderr,
-               "slam_replay: %s\nusage: slam_replay --bag FILE --out DIR [--params FILE (default: mybot_slam's "
-               "config/slam.yaml)] [--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate] [--odom-frame "
-               "odom [--base-frame base_link]] "
-               "[--laser-pose X,Y,YAW] [--carmen-angles] [--no-final-optimization] [--quiet]\n",
-               error.c_str());
+  std::fprintf(stderr, "slam_replay: %s\n%s", error.c_str(), kUsage);
   std::exit(2);
 }
 
@@ -89,7 +90,12 @@ Options parseArgs(int argc, char** argv)
         usage(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--bag")
+    if (a == "--help" || a == "-h")
+    {
+      std::fputs(kUsage, stdout);
+      std::exit(0);
+    }
+    else if (a == "--bag")
       o.bag = value();
     else if (a == "--out")
       o.out = value();

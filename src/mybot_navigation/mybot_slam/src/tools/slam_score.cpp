@@ -8,6 +8,7 @@
 //              absolute and squared, mean, std and max; all, local (t2 - t1 <= 2 s) and the rest.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <algorithm>
 #include <cstring>
 #include <fstream>
@@ -89,6 +90,26 @@ int scoreRelationsFile(const std::string& relations, const std::string& tum, dou
   }
   return 0;
 }
+
+const char* const kUsage =
+    "usage: slam_score --map MAP.yaml --truth TRUTH.yaml [--traj EST.txt --truth-traj GT.txt] "
+    "[--tolerance CELLS] [--align-first N]\n"
+    "       slam_score --relations FILE --tum TRAJ.tum [--local-max-dt 2]\n";
+
+// A number on the command line (all of the text, in range, a whole number where counted), or exit 2
+// naming the option: std::stoi would end the tool with an uncaught exception.
+double parseNumber(const std::string& option, const std::string& text, double min, double max, bool whole)
+{
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v) || v < min || v > max || (whole && v != std::floor(v)))
+  {
+    std::fprintf(stderr, "slam_score: %s must be %s in [%g, %g], got '%s'\n", option.c_str(),
+                 whole ? "a whole number" : "a number", min, max, text.c_str());
+    std::exit(2);
+  }
+  return v;
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -109,7 +130,12 @@ int main(int argc, char** argv)
       }
       return argv[++i];
     };
-    if (a == "--map")
+    if (a == "--help" || a == "-h")
+    {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    else if (a == "--map")
       map = value();
     else if (a == "--truth")
       truth = value();
@@ -118,21 +144,18 @@ int main(int argc, char** argv)
     else if (a == "--truth-traj")
       truth_traj = value();
     else if (a == "--tolerance")
-      tolerance = std::stoi(value());
+      tolerance = static_cast<int>(parseNumber(a, value(), 0, 1000, true));
     else if (a == "--align-first")
-      align_first = std::stoi(value());
+      align_first = static_cast<int>(parseNumber(a, value(), 0, 1e9, true));
     else if (a == "--relations")
       relations = value();
     else if (a == "--tum")
       tum = value();
     else if (a == "--local-max-dt")
-      local_max_dt = std::stod(value());
+      local_max_dt = parseNumber(a, value(), 0, 1e9, false);
     else
     {
-      std::fprintf(stderr,
-                   "usage: slam_score --map MAP.yaml --truth TRUTH.yaml [--traj EST.txt --truth-traj GT.txt] "
-                   "[--tolerance CELLS] [--align-first N]\n"
-                   "       slam_score --relations FILE --tum TRAJ.tum [--local-max-dt 2]\n");
+      std::fprintf(stderr, "slam_score: unknown argument %s\n%s", a.c_str(), kUsage);
       return 2;
     }
   }

@@ -1,4 +1,5 @@
-"""slam_replay from the command line, as a user runs it: the parameters it maps with by default."""
+"""slam_replay and slam_score from the command line, as a user runs them: the parameters slam_replay maps
+with by default, and how each answers --help and bad arguments."""
 import math
 import os
 import subprocess
@@ -6,12 +7,16 @@ import subprocess
 import pytest
 
 
-def slam_replay():
-    """The built slam_replay, found as rosrun finds it."""
-    found = subprocess.run(["catkin_find", "--libexec", "mybot_slam", "slam_replay"], capture_output=True,
+def tool(name):
+    """A built tool of mybot_slam, found as rosrun finds it."""
+    found = subprocess.run(["catkin_find", "--libexec", "mybot_slam", name], capture_output=True,
                            text=True).stdout.split()
-    assert found, "slam_replay is not built (catkin_find --libexec mybot_slam slam_replay)"
+    assert found, "%s is not built (catkin_find --libexec mybot_slam %s)" % (name, name)
     return [found[0]]
+
+
+def slam_replay():
+    return tool("slam_replay")
 
 
 def room_ranges(x, n=181, half=2.0):
@@ -84,3 +89,34 @@ def test_slam_replay_without_params_or_the_package_says_what_to_do(tmp_path):
         "slam_replay: no --params given and the package mybot_slam is not on ROS_PACKAGE_PATH to take its "
         "config/slam.yaml from: source the workspace's setup.bash or pass --params FILE"]
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("name", ["slam_replay", "slam_score"])
+@pytest.mark.parametrize("flag", ["--help", "-h"])
+def test_help_prints_the_usage_on_stdout_and_succeeds(name, flag):
+    run = subprocess.run(tool(name) + [flag], capture_output=True, text=True)
+    assert run.returncode == 0
+    assert run.stdout.startswith("usage: " + name + " ")
+    assert run.stderr == ""
+
+
+@pytest.mark.parametrize("name", ["slam_replay", "slam_score"])
+def test_an_unknown_argument_is_named_before_the_usage(name):
+    run = subprocess.run(tool(name) + ["--bogus"], capture_output=True, text=True)
+    assert run.returncode == 2
+    lines = run.stderr.splitlines()
+    assert lines[0] == name + ": unknown argument --bogus"
+    assert lines[1].startswith("usage: " + name + " ")
+
+
+@pytest.mark.parametrize("args, error", [
+    (["--local-max-dt", "two"], "slam_score: --local-max-dt must be a number in [0, 1e+09], got 'two'"),
+    (["--local-max-dt", "-1"], "slam_score: --local-max-dt must be a number in [0, 1e+09], got '-1'"),
+    (["--tolerance", "1.5"], "slam_score: --tolerance must be a whole number in [0, 1000], got '1.5'"),
+    (["--align-first", "3x"], "slam_score: --align-first must be a whole number in [0, 1e+09], got '3x'"),
+])
+def test_slam_score_names_the_option_of_a_bad_number(tmp_path, args, error):
+    run = subprocess.run(tool("slam_score") + ["--map", str(tmp_path / "m.yaml"), "--truth", str(tmp_path / "t.yaml")]
+                         + args, capture_output=True, text=True)
+    assert run.returncode == 2
+    assert run.stderr.strip().splitlines() == [error]
