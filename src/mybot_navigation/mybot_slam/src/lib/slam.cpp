@@ -339,19 +339,21 @@ MatchResult Slam::matchFromRivals(const MatchResult& from_odometry, const Pose2D
   return matchFromRival(undone, predicted, rivals.map_turn, points, stats_.turn_fallbacks);
 }
 
-MatchResult Slam::matchAfterStall(const MatchResult& from_predictions, const Pose2D& predicted,
-                                  const std::vector<Point2D>& points)
+MatchResult Slam::matchInWiderHeadings(const MatchResult& from_predictions, const Pose2D& predicted,
+                                       const std::vector<Point2D>& points)
 {
-  if (from_predictions.ok || !params_.track_stall_search || !odom_stale_ || stall_search_spent_)
+  const bool stalled = odom_stale_ && params_.track_stall_search;
+  const bool retry = !odom_stale_ && params_.track_retry_window_angular > params_.search_window_angular;
+  if (from_predictions.ok || stall_search_spent_ || !(stalled || retry))
     return from_predictions;
-  ++stats_.stall_searches;
+  ++(stalled ? stats_.stall_searches : stats_.retry_searches);
   // All the scan's points: which of them the local map's keyframes could have seen depends on
   // the heading, which is what is searched for.
   const MatchField& field = localField(predicted, points);
   MatchRequest req;
   req.initial = predicted;
   req.linear_window = params_.track_stall_window_linear;
-  req.angular_window = M_PI;
+  req.angular_window = stalled ? M_PI : params_.track_retry_window_angular;
   req.min_score = params_.track_stall_min_score;
   // The heading is free, the translation is not: the ordinary motion prior keeps a match that
   // slides along a wall (Intel, replayed with its beam angles as the bag has them: a 0.22 m
@@ -359,8 +361,12 @@ MatchResult Slam::matchAfterStall(const MatchResult& from_predictions, const Pos
   req.translation_weight = params_.match_translation_weight;
   req.translation_prior_cap = params_.match_prior_cap;
   const MatchResult found = matchScan(field, points, req);
-  bool unique = found.ok;
-  if (found.ok)
+  // The retry is for a heading the ordinary window could not reach. A best fit within that window
+  // is one the ordinary match judged too weak, and its wider linear window must not overrule
+  // that (the mybot room's 3.5 m laser: 35 such scans a run, precision 0.892 -> 0.871 in one).
+  bool unique =
+      found.ok && (stalled || std::abs(wrapAngle(found.pose.theta - predicted.theta)) > params_.search_window_angular);
+  if (unique)
   {
     // Every heading outside the ordinary window around the match: a corridor, a symmetric room
     // seen from its middle, fits the opposite way as well, and the scans cannot say which.
@@ -376,7 +382,7 @@ MatchResult Slam::matchAfterStall(const MatchResult& from_predictions, const Pos
     stall_search_spent_ = true;
     return from_predictions;
   }
-  ++stats_.stall_matches;
+  ++(stalled ? stats_.stall_matches : stats_.retry_matches);
   stats_.last_match_score = found.score;
   return found;
 }
@@ -402,7 +408,7 @@ void Slam::trackScan(const Pose2D& odom, const RangeScan& scan, const Pose2D& pr
       res.ok = false;
     res = matchFromRivals(res, predicted, rivals, filtered);
     if (!matched)
-      res = matchAfterStall(res, predicted, filtered);
+      res = matchInWiderHeadings(res, predicted, filtered);
     if (res.ok)
       tracked_ = res.pose;
     rememberCorrection(predicted, tracked_);
@@ -445,7 +451,7 @@ void Slam::addKeyframe(double stamp, const Pose2D& odom, const RangeScan& scan, 
   if (res.ok)
     stall_search_spent_ = false;
   res = matchFromRivals(res, predicted, rivals, kf.match_points);
-  res = matchAfterStall(res, predicted, kf.match_points);
+  res = matchInWiderHeadings(res, predicted, kf.match_points);
   PoseGraphEdge edge;
   edge.from = static_cast<int>(keyframes_.size()) - 1;
   edge.sigma_xy = params_.sigma_xy;

@@ -129,6 +129,9 @@ const std::vector<SlamParamSpec>& slamParamSpecs()
       number(
           "track_stall_unique_ratio", [](P& p) -> double& { return p.slam.track_stall_unique_ratio; },
           [](double v) { return v > 0 && v <= 1; }, "in (0, 1]"),
+      number(
+          "track_retry_window_angular", [](P& p) -> double& { return p.slam.track_retry_window_angular; },
+          [](double v) { return v >= 0 && v <= M_PI; }, "an angle in [0, pi] (rad; 0 = never)"),
       {"weak_step_cauchy", T::Boolean, nullptr, nullptr, [](P& p) -> bool& { return p.slam.weak_step_cauchy; },
        [](double) { return true; }, "a bool"},
       {"keep_grazing_surfaces", T::Boolean, nullptr, nullptr,

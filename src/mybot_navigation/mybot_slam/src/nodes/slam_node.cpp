@@ -237,6 +237,12 @@ private:
                         "slam: the odometry (%s -> %s) reported no motion since the last scan, but the scan at %.3f "
                         "fits elsewhere: placed by a search in every heading (score %.2f)",
                         odom_frame_.c_str(), base_frame_.c_str(), stamp, after.last_match_score);
+    // Odometry late against the scans in a turn (track_retry_window_angular).
+    if (after.retry_matches > before.retry_matches)
+      ROS_WARN_THROTTLE(10.0,
+                        "slam: the scan at %.3f fits beyond the matcher's window around the odometry's (%s -> %s) "
+                        "heading: placed by a search in a wider one (score %.2f); is the odometry stamped late?",
+                        stamp, odom_frame_.c_str(), base_frame_.c_str(), after.last_match_score);
     switch (outcome)
     {
       case ScanOutcome::NoValidPoints:

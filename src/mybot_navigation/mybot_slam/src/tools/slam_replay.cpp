@@ -72,6 +72,26 @@ const char* const kUsage =
     "base_link]] [--laser-pose X,Y,YAW] [--carmen-angles] [--no-final-optimization] [--quiet]\n";
 
 // A usage error: what is wrong, then the usage, on stderr, and exit status 2.
+// `text` as a JSON string literal: quoted, with quotes, backslashes and control characters escaped.
+std::string jsonString(const std::string& text)
+{
+  std::string out = "\"";
+  for (const unsigned char c : text)
+  {
+    if (c == '"' || c == '\\')
+      out += std::string("\\") + static_cast<char>(c);
+    else if (c < 0x20)
+    {
+      char code[8];
+      std::snprintf(code, sizeof code, "\\u%04x", c);
+      out += code;
+    }
+    else
+      out += static_cast<char>(c);
+  }
+  return out + "\"";
+}
+
 [[noreturn]] void usage(const std::string& error)
 {
   std::fprintf(stderr, "slam_replay: %s\n%s", error.c_str(), kUsage);
@@ -276,20 +296,24 @@ int main(int argc, char** argv)
   }
   rusage u;
   getrusage(RUSAGE_SELF, &u);
-  char timing[1024];
-  std::snprintf(timing, sizeof timing,
-                "{\n  \"bag\": \"%s\",\n  \"scans\": %zu,\n  \"keyframes\": %zu,\n  \"loop_closures\": %d,\n"
+  // The bag's path as a JSON string (any path a user gives), then the figures, which fit the buffer.
+  char figures[1024];
+  std::snprintf(figures, sizeof figures,
+                "  \"scans\": %zu,\n  \"keyframes\": %zu,\n  \"loop_closures\": %d,\n"
                 "  \"global_searches\": %d,\n  \"global_matches\": %d,\n  \"global_closures\": %d,\n"
                 "  \"weak_matches\": %d,\n  \"motion_fallbacks\": %d,\n  \"corrections_undone\": %d,\n"
                 "  \"turn_fallbacks\": %d,\n  \"stall_searches\": %d,\n  \"stall_matches\": %d,\n"
+                "  \"retry_searches\": %d,\n  \"retry_matches\": %d,\n"
                 "  \"scans_reangled\": %zu,\n"
                 "  \"log_span_s\": %.3f,\n  \"cpu_s\": %.3f,\n  \"wall_s\": %.3f,\n  \"realtime_factor\": %.2f,\n"
                 "  \"peak_rss_mb\": %.1f\n}\n",
-                opt.bag.c_str(), r.scans, slam.keyframes().size(), slam.stats().loop_closures,
-                slam.stats().loop_global_attempts, slam.stats().loop_global_matches, slam.stats().loop_global_closures,
-                slam.stats().weak_matches, slam.stats().motion_fallbacks, slam.stats().corrections_undone,
-                slam.stats().turn_fallbacks, slam.stats().stall_searches, slam.stats().stall_matches, r.scans_reangled,
-                span, cpu, wall, cpu > 0 ? span / cpu : 0.0, u.ru_maxrss / 1024.0);
+                r.scans, slam.keyframes().size(), slam.stats().loop_closures, slam.stats().loop_global_attempts,
+                slam.stats().loop_global_matches, slam.stats().loop_global_closures, slam.stats().weak_matches,
+                slam.stats().motion_fallbacks, slam.stats().corrections_undone, slam.stats().turn_fallbacks,
+                slam.stats().stall_searches, slam.stats().stall_matches, slam.stats().retry_searches,
+                slam.stats().retry_matches, r.scans_reangled, span, cpu, wall, cpu > 0 ? span / cpu : 0.0,
+                u.ru_maxrss / 1024.0);
+  const std::string timing = "{\n  \"bag\": " + jsonString(opt.bag) + ",\n" + figures;
   try
   {
     const GridMap map = slam.map();

@@ -80,6 +80,22 @@ def test_slam_replay_maps_with_the_packages_slam_yaml_when_given_no_params(tmp_p
     assert (out / "map.yaml").exists() and (out / "timing.json").exists()
 
 
+def test_timing_json_names_any_bag_path_and_counts_each_fallback(tmp_path):
+    import json
+    bag = tmp_path / 'a "quoted" \\ bag.bag'
+    write_room_bag(bag)
+    out = tmp_path / "out"
+    run = subprocess.run(slam_replay() + ["--bag", str(bag), "--out", str(out), "--quiet"], capture_output=True,
+                         text=True)
+    assert run.returncode == 0, run.stderr
+    timing = json.load(open(str(out / "timing.json")))
+    assert timing["bag"] == str(bag)
+    assert timing["scans"] == 6
+    for key in ("weak_matches", "motion_fallbacks", "corrections_undone", "turn_fallbacks", "stall_searches",
+                "stall_matches", "retry_searches", "retry_matches"):
+        assert timing[key] == 0, key
+
+
 def test_slam_replay_without_params_or_the_package_says_what_to_do(tmp_path):
     env = {k: v for k, v in os.environ.items() if k != "ROS_PACKAGE_PATH"}
     run = subprocess.run(slam_replay() + ["--bag", str(tmp_path / "none.bag"), "--out", str(tmp_path / "out")],
