@@ -333,9 +333,8 @@ struct SlamStats
   int turn_fallbacks = 0;      // scans placed by the map's last turn (track_turn_fallback)
   int stall_searches = 0;      // searches in every heading where the odometry stood still (track_stall_search)
   int stall_matches = 0;       // scans they placed
-  int retry_searches =
-      0;                  // searches in a wider heading window where no prediction matched (track_retry_window_angular)
-  int retry_matches = 0;  // scans they placed
+  int retry_searches = 0;  // searches in a wider heading window where the odometry moved (track_retry_window_angular)
+  int retry_matches = 0;   // scans they placed
   int loop_attempts = 0;
   int loop_closures = 0;
   int loop_rejected = 0;         // matched, but implausible or inconsistent with the graph

@@ -71,7 +71,6 @@ const char* const kUsage =
     "[--scan-topic /scan] [--odom-topic /odom] [--odom last|interpolate] [--odom-frame odom [--base-frame "
     "base_link]] [--laser-pose X,Y,YAW] [--carmen-angles] [--no-final-optimization] [--quiet]\n";
 
-// A usage error: what is wrong, then the usage, on stderr, and exit status 2.
 // `text` as a JSON string literal: quoted, with quotes, backslashes and control characters escaped.
 std::string jsonString(const std::string& text)
 {
@@ -92,6 +91,7 @@ std::string jsonString(const std::string& text)
   return out + "\"";
 }
 
+// A usage error: what is wrong, then the usage, on stderr, and exit status 2.
 [[noreturn]] void usage(const std::string& error)
 {
   std::fprintf(stderr, "slam_replay: %s\n%s", error.c_str(), kUsage);
