@@ -45,6 +45,7 @@ class CameraTests(unittest.TestCase):
         cls.image = Collector('/mybot/camera1/image_raw', Image)
         cls.info = Collector('/mybot/camera1/camera_info', CameraInfo)
         cls.depth = Collector('/depth_cam/depth/image_raw', Image)
+        cls.rgb = Collector('/depth_cam/rgb/image_raw', Image)
 
     def test_image_and_info_sizes_rate(self):
         # From the first frame received: the camera renders only while someone listens, on its
@@ -93,6 +94,35 @@ class CameraTests(unittest.TestCase):
         self.assertAlmostEqual(float(np.median(centre)), truth, delta=0.005)
         self.assertLess(abs(float(np.std(centre)) - 0.005), 0.002)  # the configured noise
         self.assertTrue(np.isnan(d[0:5, :]).all())  # sky: no reading
+
+    def test_depth_camera_sees_another_robot_in_its_colour(self):
+        # The crate (another robot, spawned by the launch file) 1.5 m ahead and 0.5 m to the
+        # right: its near face, 0.2 m wide and high, covers columns 118-135 and rows 52-69.
+        get_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
+        rospy.wait_for_service('/gazebo/get_model_state', WALL_TIMEOUT)
+        end = time.time() + WALL_TIMEOUT
+        while not get_state(model_name='crate').success:
+            self.assertLess(time.time(), end, 'the crate was never spawned')
+            time.sleep(0.05)
+        crate = get_state(model_name='crate').pose.position
+        cam = get_state(model_name='depth_cam').pose.position
+        truth = (crate.y - 0.1) - (cam.y + 0.05)
+
+        def face(msgs):
+            d = np.frombuffer(msgs[-1].data, dtype=np.float32).reshape(120, 160)[56:66, 122:132]
+            return float(np.median(d))
+        # Frames rendered before the crate stood there show the floor (about 3 m at these rows).
+        msgs = self.depth.wait(lambda m: len(m) > 0 and abs(face(m) - truth) < 0.02, 'the crate in the depth image')
+        self.assertAlmostEqual(face(msgs), truth, delta=0.02)
+        # Beside it, the wall 2.9 m ahead is still there.
+        d = np.frombuffer(msgs[-1].data, dtype=np.float32).reshape(120, 160)
+        self.assertAlmostEqual(float(np.median(d[30:50, 70:90])), 5.0 - (cam.y + 0.05), delta=0.01)
+        # In Gazebo/Orange (1, 0.51, 0.05), shaded by the angle it is seen at.
+        def orange(msgs):
+            img = np.frombuffer(msgs[-1].data, dtype=np.uint8).reshape(120, 160, 3)[56:66, 122:132]
+            r, g, b = img.reshape(-1, 3).mean(axis=0)
+            return r > 150 and 0.4 < g / r < 0.6 and b < 25
+        self.rgb.wait(lambda m: len(m) > 0 and orange(m), 'the orange crate in the colour image')
 
 
 if __name__ == '__main__':

@@ -56,6 +56,44 @@ TEST(Loaders, UrdfGazeboTagsNotReadAreWarnedNamingThem)
   EXPECT_NE(r.warnings[1].find("w.urdf: <gazebo reference='wheel'> <minDepth> = '0.001' is not simulated"),
             std::string::npos)
       << r.warnings[1];
+  // The stock material is the colour the cameras draw the link in.
+  const LinkSpec* wheel = r.link("wheel");
+  ASSERT_NE(wheel, nullptr);
+  EXPECT_FLOAT_EQ(wheel->color[0], 1.0f);
+  EXPECT_FLOAT_EQ(wheel->color[1], 0.0f);
+  EXPECT_FLOAT_EQ(wheel->color[2], 0.0f);
+}
+
+// A link's <material> picks its camera colour from Gazebo's stock scripts; any other script is
+// drawn grey, with a warning naming it.
+TEST(Loaders, UrdfMaterialColoursTheLinkForTheCameras)
+{
+  const std::string urdf = wheelUrdf("<inertia ixx='0.001' iyy='0.001' izz='0.002'/>");
+  const std::string head = urdf.substr(0, urdf.rfind("</robot>"));
+  RobotSpec r =
+      parseUrdf(head + "<gazebo reference='wheel'><material>\n  Gazebo/Orange\n</material></gazebo></robot>", "w.urdf");
+  EXPECT_TRUE(r.warnings.empty());
+  EXPECT_FLOAT_EQ(r.link("wheel")->color[0], 1.0f);
+  EXPECT_FLOAT_EQ(r.link("wheel")->color[1], 0.5088f);
+  EXPECT_FLOAT_EQ(r.link("wheel")->color[2], 0.0468f);
+  r = parseUrdf(head + "<gazebo reference='wheel'><material>MyPkg/Chrome</material></gazebo></robot>", "w.urdf");
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("w.urdf: <gazebo reference='wheel'> <material> 'MyPkg/Chrome': not one of Gazebo's "
+                               "stock colours, drawn grey"),
+            std::string::npos)
+      << r.warnings[0];
+  EXPECT_FLOAT_EQ(r.link("wheel")->color[0], 0.7f);
+  // A world's <material><script><name> too.
+  WorldSpec w = parseSdfWorld(
+      "<sdf version='1.6'><world name='w'><model name='m'><static>true</static><link name='l'>"
+      "<collision name='c'><geometry><sphere><radius>0.5</radius></sphere></geometry></collision>"
+      "<visual name='v'><material><script><uri>file://media/materials/scripts/gazebo.material</uri>"
+      "<name>Gazebo/Blue</name></script></material></visual></link></model></world></sdf>",
+      "w.world", ".");
+  ASSERT_EQ(w.models.size(), 1u);
+  EXPECT_TRUE(w.models[0].links[0].has_color);
+  EXPECT_FLOAT_EQ(w.models[0].links[0].color[2], 1.0f);
+  EXPECT_FLOAT_EQ(w.models[0].links[0].color[0], 0.0f);
 }
 
 // Zero inertia (the robot then never moved): corrected from the collision cylinder, with a

@@ -1,3 +1,4 @@
+#include "mybot_gazebo_lite/camera_model.h"
 #include "mybot_gazebo_lite/parsing.h"
 #include "mybot_gazebo_lite/physics.h"
 
@@ -25,6 +26,22 @@ WorldSpec flatWorld()
   WorldSpec w;
   w.ground_plane = true;
   return w;
+}
+
+// A model of one box link centred at `center`.
+WorldModel boxModel(const std::string& name, const btVector3& center, const btVector3& size, bool is_static)
+{
+  WorldModel m;
+  m.name = name;
+  m.is_static = is_static;
+  m.pose.setOrigin(center);
+  WorldLink l;
+  l.name = "link";
+  Shape box;
+  box.size = size;
+  l.shapes.push_back(box);
+  m.links.push_back(l);
+  return m;
 }
 
 void run(PhysicsWorld& w, double seconds)
@@ -94,16 +111,7 @@ TEST(Physics, CountsContactsWithObstaclesNotTheGround)
 {
   auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
   WorldSpec world = flatWorld();
-  WorldModel wall;
-  wall.name = "wall";
-  wall.pose.setOrigin(btVector3(1.5, 0, 0.25));
-  WorldLink l;
-  l.name = "link";
-  Shape box;
-  box.size = btVector3(0.2, 2.0, 0.5);
-  l.shapes.push_back(box);
-  wall.links.push_back(l);
-  world.models.push_back(wall);
+  world.models.push_back(boxModel("wall", btVector3(1.5, 0, 0.25), btVector3(0.2, 2.0, 0.5), true));
   PhysicsWorld w(world, {});
   Robot& r = w.addRobot(spec, "bot", "", btTransform::getIdentity());
   run(w, 1.0);  // settled on the ground plane: no contact
@@ -121,6 +129,66 @@ TEST(Physics, CountsContactsWithObstaclesNotTheGround)
   w.resetWorld();
   EXPECT_EQ(r.contacts().steps, 0u);
   EXPECT_LT(r.contacts().first_time, 0.0);
+}
+
+// What a camera draws besides the static world: every other robot's and every dynamic body's
+// shapes where they stand at this frame, never the camera's own robot.
+TEST(Physics, CamerasSeeOtherRobotsAndDynamicBodiesWhereTheyStand)
+{
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
+  WorldSpec world = flatWorld();
+  // A dynamic green 0.3 m cube at (0, 2).
+  WorldModel crate = boxModel("crate", btVector3(0, 2, 0.15), btVector3(0.3, 0.3, 0.3), false);
+  crate.links[0].has_color = true;
+  crate.links[0].color[0] = 0.0f;
+  crate.links[0].color[1] = 1.0f;
+  crate.links[0].color[2] = 0.0f;
+  world.models.push_back(crate);
+  PhysicsWorld w(world, {});
+  Robot& me = w.addRobot(spec, "me", "", btTransform::getIdentity());
+  Robot& other = w.addRobot(spec, "other", "", makeTransform(btVector3(2, 0, 0), btVector3(0, 0, 0)));
+  run(w, 0.5);
+
+  // The other robot's six collisions (chassis, two casters, two wheels, the laser's box) and the
+  // crate; none of mine.
+  const std::vector<PlacedShape> seen = w.movingShapes(&me);
+  ASSERT_EQ(seen.size(), 7u);
+  EXPECT_EQ(w.movingShapes(nullptr).size(), 13u);
+  EXPECT_EQ(w.movingShapes(&other).size(), 7u);
+  const btVector3 chassis = other.linkPose("chassis").getOrigin();
+  EXPECT_NEAR(seen[0].tf.getOrigin().x(), chassis.x(), 1e-9);
+  EXPECT_NEAR(chassis.x(), 2.0, 0.01);
+
+  // My camera, level 0.2 m ahead of my base at the chassis's height, looking along +x: the other
+  // robot's chassis's back face at x = 1.8 fills the centre of the image.
+  const CameraIntrinsics k = gazeboIntrinsics(81, 61, 1.0);
+  RenderSettings settings;
+  std::vector<float> depth(81 * 61);
+  std::vector<uint8_t> rgb(81 * 61 * 3);
+  const PrismScene empty_world(world);  // its static part: nothing but the ground
+  const double z = chassis.z();
+  PrismScene moving(seen);
+  renderCamera(empty_world, &moving, k, CameraPose{0.2, 0, z, 0}, settings, rgb.data(), depth.data());
+  EXPECT_NEAR(depth[30 * 81 + 40], 1.6, 0.01);
+  // Turned to the crate at (0, 2): its face at y = 1.85, in its own colour.
+  renderCamera(empty_world, &moving, k, CameraPose{0, 0, 0.15, M_PI / 2}, settings, rgb.data(), depth.data());
+  EXPECT_NEAR(depth[30 * 81 + 40], 1.85, 0.01);
+  const uint8_t* px = &rgb[(30 * 81 + 40) * 3];
+  EXPECT_EQ(px[0], 0);
+  EXPECT_GT(px[1], 200);
+  EXPECT_EQ(px[2], 0);
+
+  // Moved, the other robot is drawn where it stands now, one metre farther.
+  w.setModelState("other", makeTransform(btVector3(3, 0, 0), btVector3(0, 0, 0)), btVector3(0, 0, 0),
+                  btVector3(0, 0, 0));
+  run(w, 0.2);
+  moving = PrismScene(w.movingShapes(&me));
+  renderCamera(empty_world, &moving, k, CameraPose{0.2, 0, other.linkPose("chassis").getOrigin().z(), 0}, settings,
+               nullptr, depth.data());
+  EXPECT_NEAR(depth[30 * 81 + 40], 2.6, 0.01);
+  // Without the moving scene, as before, the cameras see only the static world: the floor.
+  renderCamera(empty_world, k, CameraPose{0.2, 0, z, 0}, settings, nullptr, depth.data());
+  EXPECT_GT(depth[30 * 81 + 40], 1e6);
 }
 
 int main(int argc, char** argv)

@@ -3,7 +3,8 @@
 // extruded over its z-extent). One 2D ray per image column gives every prism
 // the column crosses; each pixel of the column then takes the nearest prism
 // face (side, top or bottom) its 3D ray meets, else the floor, else the sky.
-// Exact for upright boxes and cylinders; spheres render as cylinders.
+// Exact for upright boxes and cylinders; spheres render as cylinders. Robots and
+// dynamic bodies are sliced the same way, anew for each frame.
 #pragma once
 
 #include "mybot_gazebo_lite/model.h"
@@ -41,21 +42,29 @@ public:
     double zmin, zmax;
     float color[3];
   };
+  // The world's static models (and its ground plane).
   explicit PrismScene(const WorldSpec& world, double cell = 0.5);
+  // Shapes placed anywhere, no ground: the robots and dynamic bodies of one frame.
+  explicit PrismScene(const std::vector<PlacedShape>& shapes, double cell = 0.5);
   const std::vector<Prism>& prisms() const { return prisms_; }
   bool ground() const { return ground_; }
+  bool empty() const { return prisms_.empty(); }
 
   // The prism entered/exited by a horizontal ray, with the entry's 2D normal.
   struct ColumnHit
   {
-    int prism;
+    const Prism* prism;
     double t_in, t_out;  // along the unit 2D direction
     double nx, ny;
   };
   // Hits sorted by t_in; scratch is reused between calls.
   void column(double x, double y, double dx, double dy, double max_range, std::vector<ColumnHit>& out) const;
+  // This scene's hits appended to `out`, unsorted (a column through several scenes).
+  void appendColumn(double x, double y, double dx, double dy, double max_range, std::vector<ColumnHit>& out) const;
 
 private:
+  void addShape(const Shape& s, const btTransform& tf, const float color[3]);
+  void index(double cell);
   std::vector<Prism> prisms_;
   std::vector<Segment2> segments_;
   std::vector<Circle2> circles_;
@@ -75,8 +84,15 @@ struct RenderSettings
 // where nothing lies within [near, far] (the sky), or nullptr.
 // Pixel (u, v) looks along ((u - cx) / fx, (v - cy) / fy, 1) in the optical
 // frame (x right, y down, z forward), so the image agrees with its CameraInfo.
-void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const CameraPose& pose, const RenderSettings& s,
-                  uint8_t* rgb, float* depth);
+// `moving` (may be null): robots and dynamic bodies where they are at this frame, drawn with the
+// static scene (whose ground plane counts).
+void renderCamera(const PrismScene& scene, const PrismScene* moving, const CameraIntrinsics& k, const CameraPose& pose,
+                  const RenderSettings& s, uint8_t* rgb, float* depth);
+inline void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const CameraPose& pose,
+                         const RenderSettings& s, uint8_t* rgb, float* depth)
+{
+  renderCamera(scene, nullptr, k, pose, s, rgb, depth);
+}
 
 // Cheap Gaussian noise for images: a table of N(0, 1) samples read from a
 // random start with a random odd stride, so a 640x480 frame costs no Box-Muller.

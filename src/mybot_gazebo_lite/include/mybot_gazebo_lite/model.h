@@ -91,6 +91,8 @@ struct LinkSpec
   Inertial inertial;
   std::vector<Shape> collisions;
   std::vector<XmlNode> sensors;  // <sensor> blocks from <gazebo reference>
+  // <gazebo reference><material> (Gazebo/Red, ...) as RGB in [0, 1], for the cameras; grey otherwise.
+  float color[3] = {0.7f, 0.7f, 0.7f};
 };
 
 struct JointSpec
@@ -183,6 +185,15 @@ struct PhysicsSpec
   double max_step_size = 0.001;
   int iterations = 10;  // <ode><solver><iters> (or <bullet><solver><iters>)
   double real_time_factor = 1.0;
+};
+
+// A shape where it stands now, in its colour: what the cameras draw of robots and dynamic bodies
+// (PhysicsWorld::movingShapes). `shape` points into a spec that outlives the frame.
+struct PlacedShape
+{
+  const Shape* shape = nullptr;
+  btTransform tf = btTransform::getIdentity();  // the shape's frame in the world
+  float color[3] = {0.7f, 0.7f, 0.7f};
 };
 
 struct WorldSpec

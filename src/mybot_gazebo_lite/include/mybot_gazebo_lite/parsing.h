@@ -40,6 +40,9 @@ btVector3 parseVec3(const std::string& s, const std::string& what);
 btTransform parsePose6(const std::string& s, const std::string& what);  // "x y z r p y"
 btTransform makeTransform(const btVector3& xyz, const btVector3& rpy);
 XmlNode toXmlNode(const tinyxml2::XMLElement* e);
+// The diffuse RGB of one of Gazebo's stock material scripts (media/materials/scripts/gazebo.material:
+// Gazebo/Grey, Gazebo/Orange, ...); false for any other name.
+bool gazeboMaterialColor(const std::string& name, float rgb[3]);
 std::shared_ptr<const std::vector<Triangle>> loadMesh(const std::string& path, const btVector3& scale);
 
 }  // namespace mybot_gazebo_lite

@@ -77,6 +77,8 @@ public:
 
   // World pose and velocity of a URDF link frame.
   Pose linkState(const std::string& link) const;
+  // Its world pose alone (no velocities to compute).
+  btTransform linkPose(const std::string& link) const;
   double jointPosition(const std::string& joint) const;
   double jointVelocity(const std::string& joint) const;
   const Joint& joint(const std::string& n) const { return joints_.at(joint_index_.at(n)); }
@@ -189,6 +191,9 @@ public:
 
   const WorldSpec& worldSpec() const { return spec_; }
   std::vector<DynamicObstacle> dynamicObstacles(const Robot* exclude) const;
+  // Every collision shape of the robots (but `exclude`) and of the dynamic world bodies, where it
+  // is now: what a camera draws besides the static world.
+  std::vector<PlacedShape> movingShapes(const Robot* exclude) const;
   // Distance along the ray to the object (or -1 when missed).
   double rayTestObject(const btCollisionObject* obj, const btVector3& from, const btVector3& to) const;
   // Closest hit of a ray against all collision objects except those of `exclude`; -1 when missed.
@@ -226,7 +231,8 @@ private:
   {
     std::string model;
     btCollisionObject* obj;
-    btRigidBody* body;  // null for static
+    btRigidBody* body;      // null for static
+    const WorldLink* link;  // its spec, for dynamic bodies (null for static)
     btTransform initial;
     bool ground;  // a plane: wheels touch it all the time
   };

@@ -80,33 +80,47 @@ PrismScene::PrismScene(const WorldSpec& world, double cell) : ground_(world.grou
   for (const auto& m : world.models)
   {
     if (!m.is_static)
-      continue;  // dynamic bodies move; the cameras draw the static world only
+      continue;  // dynamic bodies move: each frame places them anew (the other constructor)
     for (const auto& l : m.links)
       for (const auto& s : l.shapes)
-      {
-        btTransform tf = m.pose * l.pose * s.pose;
-        Prism p;
-        if (!zExtent(s, tf, p.zmin, p.zmax) || p.zmax - p.zmin < 1e-9)
-          continue;
-        Slice2D cut;
-        sliceShape(s, tf, 0.5 * (p.zmin + p.zmax), cut);
-        if (cut.empty())
-          continue;
-        std::copy(l.color, l.color + 3, p.color);
-        const int id = static_cast<int>(prisms_.size());
-        prisms_.push_back(p);
-        for (const auto& seg : cut.allSegments())
-        {
-          segments_.push_back(seg);
-          seg_prism_.push_back(id);
-        }
-        for (const auto& c : cut.circles)
-        {
-          circles_.push_back(c);
-          circle_prism_.push_back(id);
-        }
-      }
+        addShape(s, m.pose * l.pose * s.pose, l.color);
   }
+  index(cell);
+}
+
+PrismScene::PrismScene(const std::vector<PlacedShape>& shapes, double cell)
+{
+  for (const auto& p : shapes)
+    addShape(*p.shape, p.tf, p.color);
+  index(cell);
+}
+
+void PrismScene::addShape(const Shape& s, const btTransform& tf, const float color[3])
+{
+  Prism p;
+  if (!zExtent(s, tf, p.zmin, p.zmax) || p.zmax - p.zmin < 1e-9)
+    return;
+  Slice2D cut;
+  sliceShape(s, tf, 0.5 * (p.zmin + p.zmax), cut);
+  if (cut.empty())
+    return;
+  std::copy(color, color + 3, p.color);
+  const int id = static_cast<int>(prisms_.size());
+  prisms_.push_back(p);
+  for (const auto& seg : cut.allSegments())
+  {
+    segments_.push_back(seg);
+    seg_prism_.push_back(id);
+  }
+  for (const auto& c : cut.circles)
+  {
+    circles_.push_back(c);
+    circle_prism_.push_back(id);
+  }
+}
+
+void PrismScene::index(double cell)
+{
   Slice2D all;
   all.segments = segments_;  // no polygons: allSegments() keeps this order
   all.circles = circles_;
@@ -116,10 +130,18 @@ PrismScene::PrismScene(const WorldSpec& world, double cell) : ground_(world.grou
 void PrismScene::column(double x, double y, double dx, double dy, double max_range, std::vector<ColumnHit>& out) const
 {
   out.clear();
+  appendColumn(x, y, dx, dy, max_range, out);
+  std::sort(out.begin(), out.end(), [](const ColumnHit& a, const ColumnHit& b) { return a.t_in < b.t_in; });
+}
+
+void PrismScene::appendColumn(double x, double y, double dx, double dy, double max_range,
+                              std::vector<ColumnHit>& out) const
+{
+  const size_t first = out.size();  // this scene's hits start here
   caster_->castAll(x, y, dx, dy, max_range, crossings_);
   for (const auto& c : crossings_)
   {
-    const int prism = c.circle ? circle_prism_[c.index] : seg_prism_[c.index];
+    const Prism* prism = &prisms_[c.circle ? circle_prism_[c.index] : seg_prism_[c.index]];
     double nx, ny;
     if (c.circle)
     {
@@ -134,7 +156,8 @@ void PrismScene::column(double x, double y, double dx, double dy, double max_ran
       nx = len > 0 ? -ey / len : 0;
       ny = len > 0 ? ex / len : 0;
     }
-    auto it = std::find_if(out.begin(), out.end(), [&](const ColumnHit& h) { return h.prism == prism; });
+    auto it = std::find_if(out.begin() + static_cast<long>(first), out.end(),
+                           [&](const ColumnHit& h) { return h.prism == prism; });
     if (it == out.end())
     {
       out.push_back({prism, c.t, c.t, nx, ny});
@@ -148,17 +171,17 @@ void PrismScene::column(double x, double y, double dx, double dy, double max_ran
     }
     it->t_out = std::max(it->t_out, c.t);
   }
-  std::sort(out.begin(), out.end(), [](const ColumnHit& a, const ColumnHit& b) { return a.t_in < b.t_in; });
 }
 
-void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const CameraPose& pose, const RenderSettings& s,
-                  uint8_t* rgb, float* depth)
+void renderCamera(const PrismScene& scene, const PrismScene* moving, const CameraIntrinsics& k, const CameraPose& pose,
+                  const RenderSettings& s, uint8_t* rgb, float* depth)
 {
+  if (moving && moving->empty())
+    moving = nullptr;
   const int w = k.width, h = k.height;
   const double fwx = std::cos(pose.yaw), fwy = std::sin(pose.yaw);
   const double rx = fwy, ry = -fwx;  // image x (right) in the world
   const double zc = pose.z;
-  const auto& prisms = scene.prisms();
   std::vector<PrismScene::ColumnHit> hits;
   // Per-row vertical slope of the pixel ray: z = zc + m * depth.
   // Floor depth, haze and sky colour depend on the row only.
@@ -179,6 +202,12 @@ void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const Came
     const double kn = std::sqrt(1 + a * a);  // 2D ray length per unit of depth
     const double dx = (fwx + a * rx) / kn, dy = (fwy + a * ry) / kn;
     scene.column(pose.x, pose.y, dx, dy, s.far * kn, hits);
+    if (moving)
+    {
+      moving->appendColumn(pose.x, pose.y, dx, dy, s.far * kn, hits);
+      std::sort(hits.begin(), hits.end(),
+                [](const PrismScene::ColumnHit& a, const PrismScene::ColumnHit& b) { return a.t_in < b.t_in; });
+    }
     for (int v = 0; v < h; ++v)
     {
       const double m = slope[v];
@@ -190,7 +219,7 @@ void renderCamera(const PrismScene& scene, const CameraIntrinsics& k, const Came
         const double din = c.t_in / kn, dout = c.t_out / kn;
         if (din >= d_floor || din > s.far)
           break;
-        const PrismScene::Prism& p = prisms[c.prism];
+        const PrismScene::Prism& p = *c.prism;
         const double zin = zc + m * din;
         double dh = kInf, sh = 0;
         if (zin >= p.zmin && zin <= p.zmax)

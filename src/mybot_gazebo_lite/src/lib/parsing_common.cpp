@@ -180,6 +180,53 @@ btTransform parsePose6(const std::string& s, const std::string& what)
   return makeTransform(btVector3(v[0], v[1], v[2]), btVector3(v[3], v[4], v[5]));
 }
 
+bool gazeboMaterialColor(const std::string& name, float rgb[3])
+{
+  // Each script's diffuse colour (its ambient where it has no diffuse), from Gazebo classic's
+  // media/materials/scripts/gazebo.material; the transparent ones drawn opaque.
+  struct Entry
+  {
+    const char* name;
+    float r, g, b;
+  };
+  static const Entry kStock[] = {
+      {"Gazebo/Grey", 0.7f, 0.7f, 0.7f},
+      {"Gazebo/DarkGrey", 0.175f, 0.175f, 0.175f},
+      {"Gazebo/White", 1.0f, 1.0f, 1.0f},
+      {"Gazebo/FlatBlack", 0.1f, 0.1f, 0.1f},
+      {"Gazebo/Black", 0.0f, 0.0f, 0.0f},
+      {"Gazebo/Red", 1.0f, 0.0f, 0.0f},
+      {"Gazebo/RedBright", 0.87f, 0.26f, 0.07f},
+      {"Gazebo/Green", 0.0f, 1.0f, 0.0f},
+      {"Gazebo/Blue", 0.0f, 0.0f, 1.0f},
+      {"Gazebo/SkyBlue", 0.0f, 0.0f, 1.0f},
+      {"Gazebo/Yellow", 1.0f, 1.0f, 0.0f},
+      {"Gazebo/ZincYellow", 0.9725f, 0.9529f, 0.2078f},
+      {"Gazebo/Purple", 1.0f, 0.0f, 1.0f},
+      {"Gazebo/Turquoise", 0.0f, 1.0f, 1.0f},
+      {"Gazebo/Orange", 1.0f, 0.5088f, 0.0468f},
+      {"Gazebo/Gold", 0.8f, 0.64869f, 0.120759f},
+      {"Gazebo/GreyTransparent", 0.5f, 0.5f, 0.5f},
+      {"Gazebo/GreenTransparent", 0.0f, 1.0f, 0.0f},
+      {"Gazebo/BlueTransparent", 0.0f, 0.0f, 1.0f},
+      {"Gazebo/YellowTransparent", 1.0f, 1.0f, 0.0f},
+      {"Gazebo/OrangeTransparent", 1.0f, 0.44f, 0.0f},
+      {"Gazebo/Pioneer2Body", 0.681193f, 0.000923f, 0.000923f},
+  };
+  // Element text as written: "\n  Gazebo/Orange\n".
+  const size_t first = name.find_first_not_of(" \t\r\n"), last = name.find_last_not_of(" \t\r\n");
+  const std::string bare = first == std::string::npos ? std::string() : name.substr(first, last - first + 1);
+  for (const Entry& e : kStock)
+    if (bare == e.name)
+    {
+      rgb[0] = e.r;
+      rgb[1] = e.g;
+      rgb[2] = e.b;
+      return true;
+    }
+  return false;
+}
+
 XmlNode toXmlNode(const tinyxml2::XMLElement* e)
 {
   XmlNode n;

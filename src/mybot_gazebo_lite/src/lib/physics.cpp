@@ -111,6 +111,14 @@ std::vector<std::string> Robot::movableJoints() const
   return out;
 }
 
+btTransform Robot::linkPose(const std::string& link) const
+{
+  const LinkRef& ref = links_.at(link);
+  const btTransform& body_world =
+      ref.body < 0 ? mb_->getBaseWorldTransform() : mb_->getLink(ref.body).m_cachedWorldTransform;
+  return body_world * ref.in_body_inertial;
+}
+
 Pose Robot::linkState(const std::string& link) const
 {
   const LinkRef& ref = links_.at(link);
@@ -357,7 +365,7 @@ void PhysicsWorld::addWorldModel(const WorldModel& m)
     if (shape == compound)
       obj->setUserPointer(mus.get());
     world_mu_.push_back(std::move(mus));
-    world_bodies_.push_back({m.name, obj, body, tf, has_plane});
+    world_bodies_.push_back({m.name, obj, body, body ? &l : nullptr, tf, has_plane});
   }
 }
 
@@ -862,6 +870,38 @@ std::vector<DynamicObstacle> PhysicsWorld::dynamicObstacles(const Robot* exclude
   for (const auto& wb : world_bodies_)
     if (wb.body)
       add(wb.obj);
+  return out;
+}
+
+std::vector<PlacedShape> PhysicsWorld::movingShapes(const Robot* exclude) const
+{
+  std::vector<PlacedShape> out;
+  auto add = [&](const Shape& s, const btTransform& tf, const float color[3])
+  {
+    if (s.type == Shape::PLANE)
+      return;
+    PlacedShape p;
+    p.shape = &s;
+    p.tf = tf;
+    std::copy(color, color + 3, p.color);
+    out.push_back(p);
+  };
+  for (const auto& r : robots_)
+  {
+    if (r.get() == exclude)
+      continue;
+    for (const LinkSpec& l : r->spec_->links)
+      if (!l.collisions.empty() && r->hasLink(l.name))
+      {
+        const btTransform link = r->linkPose(l.name);
+        for (const Shape& s : l.collisions)
+          add(s, link * s.pose, l.color);
+      }
+  }
+  for (const auto& wb : world_bodies_)
+    if (wb.body && wb.link)
+      for (const Shape& s : wb.link->shapes)
+        add(s, wb.obj->getWorldTransform() * s.pose, wb.link->color);
   return out;
 }
 

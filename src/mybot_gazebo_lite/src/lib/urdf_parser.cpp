@@ -535,6 +535,13 @@ void parseGazeboExtensions(const Ctx& c, const XMLElement* robot, const std::set
       {
         link->sensors.push_back(x);
       }
+      else if (tag.kind == GazeboTag::COSMETIC && x.name == "material" && link)
+      {
+        // The colour the cameras draw the link in; any other script renders grey.
+        if (!gazeboMaterialColor(x.text, link->color))
+          spec.warnings.push_back(source + ": " + where + " '" + x.text +
+                                  "': not one of Gazebo's stock colours, drawn grey by the cameras");
+      }
       else if (tag.kind == GazeboTag::UNKNOWN)
       {
         spec.warnings.push_back(source + ": " + where + ": unknown tag ignored (gazebo_lite reads the tags listed in " +

@@ -215,7 +215,14 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
       if (!col)
         col = mat->FirstChildElement("ambient");
       if (!col || !col->GetText())
+      {
+        // <script><name>Gazebo/Orange</name>: one of the stock scripts.
+        const XMLElement* script = mat->FirstChildElement("script");
+        const XMLElement* name = script ? script->FirstChildElement("name") : nullptr;
+        if (name && name->GetText())
+          link.has_color = gazeboMaterialColor(name->GetText(), link.color);
         continue;
+      }
       std::string vw = lw + " <visual><material><" + col->Name() + ">";
       std::istringstream ss(col->GetText());
       double rgb[3];

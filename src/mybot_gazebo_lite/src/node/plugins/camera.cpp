@@ -116,7 +116,11 @@ public:
     const bool need_rgb = want_image || want_points;
     rgb_.resize(need_rgb ? n * 3 : 0);
     depth_.resize(n);
-    renderCamera(c_.slices->prisms(), k_, pose, settings_, need_rgb ? rgb_.data() : nullptr, depth_.data());
+    // Other robots and dynamic bodies where they stand now. Not the camera's own robot: its
+    // collision shapes stand in for its visuals, and the 2.5D prism of a body the camera is
+    // mounted on or in would fill the image.
+    const PrismScene moving(c_.world->movingShapes(c_.robot));
+    renderCamera(c_.slices->prisms(), &moving, k_, pose, settings_, need_rgb ? rgb_.data() : nullptr, depth_.data());
     const ros::Time stamp(t);
     info_.header.stamp = stamp;
     if (need_rgb && !depth_sensor_ && noise_sd_ > 0)
