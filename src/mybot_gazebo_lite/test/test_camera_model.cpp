@@ -244,6 +244,19 @@ TEST(CameraNoise, TableStatistics)
   n.addToFloats(inf.data(), inf.size(), 0.0, 0.5);
   for (float x : inf)
     EXPECT_TRUE(std::isinf(x));
+  // Bytes: stddev and mean in units of 255 (a mid grey gets 0.02 * 255 = 5.1 levels of offset
+  // and 2.55 of spread, plus the rounding to whole levels: sqrt(2.55^2 + 1/12) = 2.57).
+  std::vector<uint8_t> grey(200000, 128);
+  n.addToBytes(grey.data(), grey.size(), 0.02, 0.01);
+  sum = sq = 0;
+  for (uint8_t x : grey)
+  {
+    sum += x - 128.0;
+    sq += (x - 128.0) * (x - 128.0);
+  }
+  const double grey_mean = sum / grey.size(), grey_sd = std::sqrt(sq / grey.size() - grey_mean * grey_mean);
+  EXPECT_NEAR(grey_mean, 5.1, 0.05);
+  EXPECT_NEAR(grey_sd, 2.57, 0.05);
   // Bytes saturate instead of wrapping.
   std::vector<uint8_t> b(1000, 255);
   n.addToBytes(b.data(), b.size(), 0.0, 0.5);

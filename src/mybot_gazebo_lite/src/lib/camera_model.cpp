@@ -182,104 +182,154 @@ void renderCamera(const PrismScene& scene, const PrismScene* moving, const Camer
   const double fwx = std::cos(pose.yaw), fwy = std::sin(pose.yaw);
   const double rx = fwy, ry = -fwx;  // image x (right) in the world
   const double zc = pose.z;
-  std::vector<PrismScene::ColumnHit> hits;
   // Per-row vertical slope of the pixel ray: z = zc + m * depth.
-  // Floor depth, haze and sky colour depend on the row only.
-  std::vector<double> slope(h), floor_d(h), fog(h), sky(3 * h);
+  // Floor depth, haze and sky colour depend on the row only; so do the floor's two checker
+  // greys, hazed. Colours are turned into bytes once a row (and once a face a column below).
+  std::vector<double> slope(h), floor_d(h);
+  std::vector<uint8_t> sky(3 * h), checker(2 * h);
   for (int v = 0; v < h; ++v)
   {
     const double m = slope[v] = -(v - k.cy) / k.fy;
     floor_d[v] = (scene.ground() && m < 0 && zc > 0) ? zc / -m : kInf;
-    fog[v] = 1 - std::exp(-floor_d[v] / 30.0);     // checker fades into haze: no aliasing at the horizon
+    const double fog = 1 - std::exp(-floor_d[v] / 30.0);  // checker fades into haze: no aliasing at the horizon
+    checker[2 * v] = toByte(0.42 * (1 - fog) + 0.7 * fog);
+    checker[2 * v + 1] = toByte(0.55 * (1 - fog) + 0.7 * fog);
     const double e = std::clamp(m * 2, 0.0, 1.0);  // sky: pale at the horizon, blue above
-    sky[3 * v] = 0.75 - 0.3 * e;
-    sky[3 * v + 1] = 0.85 - 0.2 * e;
-    sky[3 * v + 2] = 0.95 - 0.05 * e;
+    sky[3 * v] = toByte(0.75 - 0.3 * e);
+    sky[3 * v + 1] = toByte(0.85 - 0.2 * e);
+    sky[3 * v + 2] = toByte(0.95 - 0.05 * e);
   }
-  for (int u = 0; u < w; ++u)
+  // Columns are drawn in blocks, row by row across a block: the images are row-major, and a
+  // column at a time wrote each pixel a row apart (2.4 kB for 800 colour pixels), a cache miss
+  // a pixel.
+  constexpr int kBlock = 16;
+  struct Column
   {
-    const double a = (u - k.cx) / k.fx;
-    const double kn = std::sqrt(1 + a * a);  // 2D ray length per unit of depth
-    const double dx = (fwx + a * rx) / kn, dy = (fwy + a * ry) / kn;
-    scene.column(pose.x, pose.y, dx, dy, s.far * kn, hits);
-    if (moving)
+    double dx = 0, dy = 0, kn = 0;  // the 2D ray, and its length per unit of depth
+    std::vector<PrismScene::ColumnHit> hits;
+    std::vector<double> din, dout;  // each hit's entry and exit as depth along the optical axis
+    // The prisms' faces in bytes: side (lit by the angle between ray and normal), top, underside.
+    std::vector<uint8_t> faces;
+  };
+  constexpr double kTopShade = 0.95, kUndersideShade = 0.25;
+  Column block[kBlock];
+  for (int u0 = 0; u0 < w; u0 += kBlock)
+  {
+    const int u1 = std::min(w, u0 + kBlock);
+    for (int u = u0; u < u1; ++u)
     {
-      moving->appendColumn(pose.x, pose.y, dx, dy, s.far * kn, hits);
-      std::sort(hits.begin(), hits.end(),
-                [](const PrismScene::ColumnHit& a, const PrismScene::ColumnHit& b) { return a.t_in < b.t_in; });
-    }
-    for (int v = 0; v < h; ++v)
-    {
-      const double m = slope[v];
-      const double d_floor = floor_d[v];
-      double d = kInf, shade = 0;
-      const PrismScene::Prism* hit = nullptr;
-      for (const auto& c : hits)
+      Column& col = block[u - u0];
+      const double a = (u - k.cx) / k.fx;
+      col.kn = std::sqrt(1 + a * a);
+      col.dx = (fwx + a * rx) / col.kn;
+      col.dy = (fwy + a * ry) / col.kn;
+      scene.column(pose.x, pose.y, col.dx, col.dy, s.far * col.kn, col.hits);
+      if (moving)
       {
-        const double din = c.t_in / kn, dout = c.t_out / kn;
-        if (din >= d_floor || din > s.far)
-          break;
-        const PrismScene::Prism& p = *c.prism;
-        const double zin = zc + m * din;
-        double dh = kInf, sh = 0;
-        if (zin >= p.zmin && zin <= p.zmax)
-        {
-          dh = din;  // side face, lit by the angle between ray and normal
-          sh = 0.3 + 0.7 * std::abs(dx * c.nx + dy * c.ny);
-        }
-        else if (zin > p.zmax && m < 0)
-        {
-          dh = (p.zmax - zc) / m;
-          sh = 0.95;  // top face
-        }
-        else if (zin < p.zmin && m > 0)
-        {
-          dh = (p.zmin - zc) / m;
-          sh = 0.25;  // underside
-        }
-        if (dh <= dout + 1e-9 && dh >= s.near && dh <= s.far)
-        {
-          d = dh;
-          shade = sh;
-          hit = &p;
-          break;
-        }
+        moving->appendColumn(pose.x, pose.y, col.dx, col.dy, s.far * col.kn, col.hits);
+        std::sort(col.hits.begin(), col.hits.end(),
+                  [](const PrismScene::ColumnHit& a, const PrismScene::ColumnHit& b) { return a.t_in < b.t_in; });
       }
-      const bool floor = !hit && d_floor >= s.near && d_floor <= s.far;
-      if (floor)
-        d = d_floor;
-      const size_t idx = static_cast<size_t>(v) * w + u;
-      if (depth)
-        depth[idx] = static_cast<float>(d);
+      col.din.resize(col.hits.size());
+      col.dout.resize(col.hits.size());
+      for (size_t i = 0; i < col.hits.size(); ++i)
+      {
+        col.din[i] = col.hits[i].t_in / col.kn;
+        col.dout[i] = col.hits[i].t_out / col.kn;
+      }
       if (!rgb)
         continue;
-      double c[3];
-      if (hit)
+      col.faces.resize(9 * col.hits.size());
+      for (size_t i = 0; i < col.hits.size(); ++i)
       {
-        for (int i = 0; i < 3; ++i)
-          c[i] = hit->color[i] * shade;
+        const double side = 0.3 + 0.7 * std::abs(col.dx * col.hits[i].nx + col.dy * col.hits[i].ny);
+        for (int ch = 0; ch < 3; ++ch)
+        {
+          col.faces[9 * i + ch] = toByte(col.hits[i].prism->color[ch] * side);
+          col.faces[9 * i + 3 + ch] = toByte(col.hits[i].prism->color[ch] * kTopShade);
+          col.faces[9 * i + 6 + ch] = toByte(col.hits[i].prism->color[ch] * kUndersideShade);
+        }
       }
-      else if (floor)
-      {
-        const double px = pose.x + dx * d * kn, py = pose.y + dy * d * kn;
-        const double g = ((static_cast<long>(std::floor(px)) + static_cast<long>(std::floor(py))) & 1) ? 0.55 : 0.42;
-        for (double& ci : c)
-          ci = g * (1 - fog[v]) + 0.7 * fog[v];
-      }
-      else
-      {
-        std::copy(&sky[3 * v], &sky[3 * v] + 3, c);
-      }
-      for (int i = 0; i < 3; ++i)
-        rgb[idx * 3 + i] = toByte(c[i]);
     }
+    for (int v = 0; v < h; ++v)
+      for (int u = u0; u < u1; ++u)
+      {
+        const Column& col = block[u - u0];
+        const std::vector<PrismScene::ColumnHit>& hits = col.hits;
+        const double kn = col.kn, dx = col.dx, dy = col.dy;
+        const double m = slope[v];
+        const double d_floor = floor_d[v];
+        double d = kInf;
+        bool hit = false;
+        const uint8_t* face = nullptr;  // the bytes of the face hit, with rgb
+        for (size_t i = 0; i < hits.size(); ++i)
+        {
+          const double din = col.din[i], dout = col.dout[i];
+          if (din >= d_floor || din > s.far)
+            break;
+          const PrismScene::Prism& p = *hits[i].prism;
+          const double zin = zc + m * din;
+          double dh = kInf;
+          int which = 0;
+          if (zin >= p.zmin && zin <= p.zmax)
+          {
+            dh = din;  // side face
+          }
+          else if (zin > p.zmax && m < 0)
+          {
+            dh = (p.zmax - zc) / m;
+            which = 1;  // top face
+          }
+          else if (zin < p.zmin && m > 0)
+          {
+            dh = (p.zmin - zc) / m;
+            which = 2;  // underside
+          }
+          if (dh <= dout + 1e-9 && dh >= s.near && dh <= s.far)
+          {
+            d = dh;
+            hit = true;
+            if (rgb)
+              face = &col.faces[9 * i + 3 * static_cast<size_t>(which)];
+            break;
+          }
+        }
+        const bool floor = !hit && d_floor >= s.near && d_floor <= s.far;
+        if (floor)
+          d = d_floor;
+        const size_t idx = static_cast<size_t>(v) * w + u;
+        if (depth)
+          depth[idx] = static_cast<float>(d);
+        if (!rgb)
+          continue;
+        uint8_t* px = &rgb[idx * 3];
+        if (hit)
+        {
+          px[0] = face[0];
+          px[1] = face[1];
+          px[2] = face[2];
+        }
+        else if (floor)
+        {
+          const double fx = pose.x + dx * d * kn, fy = pose.y + dy * d * kn;
+          const uint8_t g =
+              checker[2 * v + ((static_cast<long>(std::floor(fx)) + static_cast<long>(std::floor(fy))) & 1)];
+          px[0] = px[1] = px[2] = g;
+        }
+        else
+        {
+          px[0] = sky[3 * v];
+          px[1] = sky[3 * v + 1];
+          px[2] = sky[3 * v + 2];
+        }
+      }
   }
 }
 
 NoiseTable::NoiseTable(uint32_t seed, size_t size) : state_(seed * 2654435761ull + 1)
 {
   size_t len = 2;
-  while (len < size)
+  while (len < std::max(size, kBytesA + kBytesB))
     len <<= 1;  // power of two, so an odd stride visits every entry
   table_.resize(len);
   std::mt19937 gen(seed);
@@ -302,10 +352,38 @@ size_t NoiseTable::start(size_t* stride)
 
 void NoiseTable::addToBytes(uint8_t* data, size_t n, double mean, double stddev)
 {
-  size_t stride, i = start(&stride);
-  const size_t mask = table_.size() - 1;
-  for (size_t j = 0; j < n; ++j, i = (i + stride) & mask)
-    data[j] = toByte(data[j] / 255.0 + mean + stddev * table_[i]);
+  if (mean != bytes_mean_ || stddev != bytes_stddev_)
+  {
+    // 1/256 of a grey level a unit; the mean goes in the first table.
+    const double scale = 255.0 * 256.0 * stddev / std::sqrt(2.0);
+    bytes_a_.resize(kBytesA);
+    bytes_b_.resize(kBytesB);
+    for (size_t k = 0; k < kBytesA; ++k)
+      bytes_a_[k] = static_cast<int32_t>(std::lround(255.0 * 256.0 * mean + scale * table_[k]));
+    for (size_t k = 0; k < kBytesB; ++k)
+      bytes_b_[k] = static_cast<int32_t>(std::lround(scale * table_[kBytesA + k]));
+    bytes_mean_ = mean;
+    bytes_stddev_ = stddev;
+  }
+  // Both walked in order from random starts: a frame reads a stretch of one long noise tape.
+  size_t stride_unused;
+  size_t a = start(&stride_unused) % kBytesA, b = start(&stride_unused) % kBytesB;
+  const int32_t* ta = bytes_a_.data();
+  const int32_t* tb = bytes_b_.data();
+  for (size_t j = 0; j < n;)
+  {
+    // Up to where either table wraps, a plain loop the compiler vectorises.
+    const size_t run = std::min({n - j, kBytesA - a, kBytesB - b});
+    for (size_t r = 0; r < run; ++r)
+    {
+      // round(level + noise), in 1/256 of a level; >> floors (arithmetic on a negative sum).
+      const int32_t v = (static_cast<int32_t>(data[j + r]) << 8) + ta[a + r] + tb[b + r] + 128;
+      data[j + r] = static_cast<uint8_t>(std::clamp(v >> 8, 0, 255));
+    }
+    j += run;
+    a = (a + run) % kBytesA;
+    b = (b + run) % kBytesB;
+  }
 }
 
 void NoiseTable::addToFloats(float* data, size_t n, double mean, double stddev)
