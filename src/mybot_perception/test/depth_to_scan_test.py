@@ -27,7 +27,8 @@ class DepthToScanTest(unittest.TestCase):
         # stands in it (the same moment every run).
         rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
         state = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
-        unpause_when(ls, lambda: state(model_name="sensor_head").success, "the sensor head was not spawned")
+        unpause_when(ls, lambda: state(model_name="sensor_head").success and state(model_name="post").success,
+                     "the sensor head or the post was not spawned")
         self.assertTrue(ls.wait_for(lambda: "laser" in got and "depth" in got, 60.0), "no scans: %s" % list(got))
         # The head stands still: any pair of scans sees the same walls.
         laser, depth = got["laser"], got["depth"]
@@ -52,6 +53,27 @@ class DepthToScanTest(unittest.TestCase):
         # at 70 degrees of incidence that is 5 cm of range; most beams agree within 1 cm.
         self.assertLess(np.median(errors), 0.01)
         self.assertLess(np.percentile(errors, 95), 0.05)
+
+        # The post, another robot, is seen by both: the beams towards its middle end on its near
+        # face, not on the east wall 2 m behind it.
+        head, post = state(model_name="sensor_head").pose, state(model_name="post").pose
+        yaw = 2 * math.atan2(head.orientation.z, head.orientation.w)
+        sx, sy = head.position.x + 0.1 * math.cos(yaw), head.position.y + 0.1 * math.sin(yaw)
+        bearing = math.atan2(post.position.y - sy, post.position.x - sx) - yaw
+        centre = math.hypot(post.position.x - sx, post.position.y - sy)
+        da = depth.angle_min + depth.angle_increment * np.arange(len(depth.ranges))
+        towards = np.abs(da - bearing) < 0.03  # its middle 0.12 m, within 2 degrees
+        self.assertGreater(int(towards.sum()), 5)
+        seen = np.array(depth.ranges)[towards]
+        lj = np.rint((da[towards] - laser.angle_min) / laser.angle_increment).astype(int)
+        rospy.loginfo("the post at %.3f m (centre), %.1f deg: depth %s, laser %s", centre, math.degrees(bearing),
+                      np.round(seen, 3), np.round(lr[lj], 3))
+        self.assertTrue(np.all(np.abs(lr[lj] - (centre - 0.15)) < 0.03), "the laser misses the post: %s" % lr[lj])
+        # Near the image's centre a pixel spans 1.24 beams (0.0059 rad against 0.0048), so some
+        # beams there take no pixel and read NaN, as in depthimage_to_laserscan.
+        finite = np.isfinite(seen)
+        self.assertGreater(int(finite.sum()), 0.7 * len(seen), "the depth scan has no post: %s" % seen)
+        self.assertTrue(np.all(np.abs(seen[finite] - lr[lj][finite]) < 0.03), "the depth scan misses the post: %s" % seen)
 
 
 if __name__ == "__main__":
