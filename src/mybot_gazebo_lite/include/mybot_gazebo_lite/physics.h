@@ -125,6 +125,8 @@ public:
 
 private:
   friend class PhysicsWorld;
+  // The world pose of the body a link lives in (the base or a multibody link).
+  btTransform bodyWorld(const LinkRef& ref) const;
   std::string name_, ns_;
   std::shared_ptr<const RobotSpec> spec_;
   btTransform spawn_;

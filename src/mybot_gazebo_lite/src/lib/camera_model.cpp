@@ -58,6 +58,12 @@ bool zExtent(const Shape& s, const btTransform& tf, double& zmin, double& zmax)
   return false;
 }
 
+// A column's prisms in the order its ray enters them.
+bool nearestFirst(const PrismScene::ColumnHit& a, const PrismScene::ColumnHit& b)
+{
+  return a.t_in < b.t_in;
+}
+
 inline uint8_t toByte(double v)
 {
   return static_cast<uint8_t>(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5);
@@ -131,7 +137,7 @@ void PrismScene::column(double x, double y, double dx, double dy, double max_ran
 {
   out.clear();
   appendColumn(x, y, dx, dy, max_range, out);
-  std::sort(out.begin(), out.end(), [](const ColumnHit& a, const ColumnHit& b) { return a.t_in < b.t_in; });
+  std::sort(out.begin(), out.end(), nearestFirst);
 }
 
 void PrismScene::appendColumn(double x, double y, double dx, double dy, double max_range,
@@ -227,8 +233,7 @@ void renderCamera(const PrismScene& scene, const PrismScene* moving, const Camer
       if (moving)
       {
         moving->appendColumn(pose.x, pose.y, col.dx, col.dy, s.far * col.kn, col.hits);
-        std::sort(col.hits.begin(), col.hits.end(),
-                  [](const PrismScene::ColumnHit& a, const PrismScene::ColumnHit& b) { return a.t_in < b.t_in; });
+        std::sort(col.hits.begin(), col.hits.end(), nearestFirst);
       }
       col.din.resize(col.hits.size());
       col.dout.resize(col.hits.size());

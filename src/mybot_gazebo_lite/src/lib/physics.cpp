@@ -111,29 +111,30 @@ std::vector<std::string> Robot::movableJoints() const
   return out;
 }
 
+btTransform Robot::bodyWorld(const LinkRef& ref) const
+{
+  return ref.body < 0 ? mb_->getBaseWorldTransform() : mb_->getLink(ref.body).m_cachedWorldTransform;
+}
+
 btTransform Robot::linkPose(const std::string& link) const
 {
   const LinkRef& ref = links_.at(link);
-  const btTransform& body_world =
-      ref.body < 0 ? mb_->getBaseWorldTransform() : mb_->getLink(ref.body).m_cachedWorldTransform;
-  return body_world * ref.in_body_inertial;
+  return bodyWorld(ref) * ref.in_body_inertial;
 }
 
 Pose Robot::linkState(const std::string& link) const
 {
   const LinkRef& ref = links_.at(link);
   Pose p;
-  btTransform body_world;
+  const btTransform body_world = bodyWorld(ref);
   btVector3 v, w;
   if (ref.body < 0)
   {
-    body_world = mb_->getBaseWorldTransform();
     v = mb_->getBaseVel();
     w = mb_->getBaseOmega();
   }
   else
   {
-    body_world = mb_->getLink(ref.body).m_cachedWorldTransform;
     // Link velocities in local frames; index 0 is the base.
     btAlignedObjectArray<btVector3> omega, vel;
     omega.resize(mb_->getNumLinks() + 1);
