@@ -1,25 +1,11 @@
 """carmen_to_bag: a corrected CARMEN log's raw odometry, stamps, beams and reference relations."""
 import gzip
-import importlib.machinery
-import importlib.util
 import math
-import os
 
 import pytest
+from scripts_under_test import load_script
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SCRIPT = os.path.join(HERE, "..", "..", "scripts", "carmen_to_bag")
-
-
-def load():
-    loader = importlib.machinery.SourceFileLoader("carmen_to_bag", SCRIPT)
-    spec = importlib.util.spec_from_loader("carmen_to_bag", loader)
-    module = importlib.util.module_from_spec(spec)
-    loader.exec_module(module)
-    return module
-
-
-c2b = load()
+c2b = load_script("carmen_to_bag")
 
 
 def close(a, b, tol=1e-9):
