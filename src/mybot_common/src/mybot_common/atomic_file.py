@@ -2,6 +2,7 @@
 a part. Several files (a map's NAME.pgm and NAME.yaml) are all written to temporaries beside
 their paths and renamed into place only once every one is complete, so a failure before that
 leaves the old set untouched. The C++ twin is mybot_common/atomic_file.h. No rospy."""
+import contextlib
 import errno
 import os
 import tempfile
@@ -15,7 +16,8 @@ def _fail(path, err):
     raise AtomicFileError(err, "cannot write %s: %s" % (path, os.strerror(err)), path)
 
 
-def _write_temporary(path, content):
+def _temporary_beside(path):
+    """(fd, name) of a new empty file in path's folder, with the mode open(path, "w") would give."""
     if os.path.isdir(path):
         _fail(path, errno.EISDIR)
     folder = os.path.dirname(path) or "."
@@ -23,11 +25,16 @@ def _write_temporary(path, content):
         fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".tmp-", dir=folder)
     except OSError as e:
         _fail(path, e.errno)
+    # mkstemp makes the file 0600; give it what open(path, "w") would have.
+    mask = os.umask(0)
+    os.umask(mask)
+    os.fchmod(fd, 0o666 & ~mask)
+    return fd, tmp
+
+
+def _write_temporary(path, content):
+    fd, tmp = _temporary_beside(path)
     try:
-        # mkstemp makes the file 0600; give it what open(path, "w") would have.
-        mask = os.umask(0)
-        os.umask(mask)
-        os.fchmod(fd, 0o666 & ~mask)
         data = content.encode("utf-8") if isinstance(content, str) else bytes(content)
         view = memoryview(data)
         while view:
@@ -42,6 +49,30 @@ def _write_temporary(path, content):
         raise
     os.close(fd)
     return tmp
+
+
+@contextlib.contextmanager
+def replaced_atomically(path):
+    """For a writer that wants a file name rather than content (rosbag.Bag): yields the name of a
+    temporary beside `path` for the block to write and close, and renames it onto `path` once the
+    block ends without an exception (flushed to disk first). On an exception, or a kill before the
+    end, `path` keeps its old content; the temporary is removed on an exception."""
+    fd, tmp = _temporary_beside(path)
+    os.close(fd)
+    try:
+        yield tmp
+        fd = os.open(tmp, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(tmp, path)
+    except BaseException as e:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        if isinstance(e, OSError) and not isinstance(e, AtomicFileError):
+            _fail(path, e.errno or errno.EIO)
+        raise
 
 
 def write_files_atomically(files):

@@ -6,6 +6,7 @@ hand the records here in log order, so that slam_replay's `--odom last` pairs ea
 odometry written before it."""
 import collections
 
+from mybot_common.atomic_file import replaced_atomically
 from mybot_common.geometry import quaternion_from_yaw
 
 # A LaserScan's fixed fields: radians, radians, metres, metres.
@@ -15,7 +16,8 @@ ScanGeometry = collections.namedtuple("ScanGeometry", "angle_min angle_increment
 def write_laser_bag(path, records, laser_x):
     """Writes `records`, an iterable of ("scan", stamp, ranges, ScanGeometry) and
     ("odom", stamp, (x, y, yaw)) in log order (stamps in seconds), to the bag `path`, with the
-    laser `laser_x` metres ahead of base_link. Returns (scans, odometry messages) written."""
+    laser `laser_x` metres ahead of base_link. Returns (scans, odometry messages) written. The bag
+    is replaced atomically: a failure or a kill part-way leaves an older bag at `path` whole."""
     import rosbag
     import rospy
     from geometry_msgs.msg import TransformStamped
@@ -24,7 +26,7 @@ def write_laser_bag(path, records, laser_x):
     from tf2_msgs.msg import TFMessage
 
     scans = odoms = 0
-    with rosbag.Bag(path, "w") as bag:
+    with replaced_atomically(path) as tmp, rosbag.Bag(tmp, "w") as bag:
         for record in records:
             kind, stamp = record[0], rospy.Time.from_sec(record[1])
             if scans == 0 and odoms == 0:

@@ -6,8 +6,8 @@ import sys
 import pytest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "src"))
-from mybot_common.atomic_file import (AtomicFileError, write_file_atomically,  # noqa: E402
-                                      write_files_atomically)
+from mybot_common.atomic_file import (AtomicFileError, replaced_atomically,  # noqa: E402
+                                      write_file_atomically, write_files_atomically)
 
 
 def read(p):
@@ -74,3 +74,34 @@ def test_sigkill_mid_write_leaves_the_old_file(tmp_path):
     p.send_signal(signal.SIGKILL)
     p.wait()
     assert read(target) in (b"old", b"x" * (200 << 20))
+
+
+def test_a_writer_that_wants_a_name_replaces_the_file_when_it_is_done(tmp_path):
+    p = str(tmp_path / "log.bag")
+    write_file_atomically(p, "old")
+    with replaced_atomically(p) as tmp:
+        assert os.path.dirname(tmp) == str(tmp_path) and tmp != p
+        with open(tmp, "w") as f:
+            f.write("new")
+        assert read(p) == b"old"  # nothing seen before the block ends
+    assert read(p) == b"new"
+    assert os.listdir(tmp_path) == ["log.bag"]
+
+
+def test_a_writer_that_fails_leaves_the_old_file_and_no_temporary(tmp_path):
+    p = str(tmp_path / "log.bag")
+    write_file_atomically(p, "old")
+    with pytest.raises(ValueError):
+        with replaced_atomically(p) as tmp:
+            with open(tmp, "w") as f:
+                f.write("half")
+            raise ValueError("a bad record")
+    assert read(p) == b"old"
+    assert os.listdir(tmp_path) == ["log.bag"]
+
+
+def test_a_writer_into_a_missing_folder_names_the_path(tmp_path):
+    p = str(tmp_path / "nowhere" / "log.bag")
+    with pytest.raises(AtomicFileError, match="cannot write .*nowhere/log.bag"):
+        with replaced_atomically(p):
+            pass
