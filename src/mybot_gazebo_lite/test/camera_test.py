@@ -12,6 +12,7 @@ import numpy as np
 import rospy
 import rostest
 from sensor_msgs.msg import CameraInfo, Image
+from std_srvs.srv import Empty
 
 from mybot_gazebo_lite.srv import GetModelState
 
@@ -46,6 +47,28 @@ class CameraTests(unittest.TestCase):
         cls.info = Collector('/mybot/camera1/camera_info', CameraInfo)
         cls.depth = Collector('/depth_cam/depth/image_raw', Image)
         cls.rgb = Collector('/depth_cam/rgb/image_raw', Image)
+        # The world starts paused (camera.test) and the three models are spawned in parallel, in
+        # either order: time starts once all three stand, so every frame shows all of them. (When
+        # time ran from mybot's spawn, a state read before the others stood was success=false with
+        # a zero pose: the crate's expected depth came out 2.05 m off, and the clean-clone gate
+        # timed out at 8c82706.)
+        for model in ('mybot', 'depth_cam', 'crate'):
+            cls.spawned(model)
+        rospy.ServiceProxy('/gazebo/unpause_physics', Empty)()
+
+    @staticmethod
+    def spawned(model):
+        """The state of `model` once it is spawned (wall-time bound: the spawners' start-up)."""
+        get_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
+        rospy.wait_for_service('/gazebo/get_model_state', WALL_TIMEOUT)
+        end = time.time() + WALL_TIMEOUT
+        while True:
+            st = get_state(model_name=model)
+            if st.success:
+                return st
+            if time.time() > end:
+                raise AssertionError('the model %s was never spawned' % model)
+            time.sleep(0.05)
 
     def test_image_and_info_sizes_rate(self):
         # From the first frame received: the camera renders only while someone listens, on its
@@ -94,23 +117,9 @@ class CameraTests(unittest.TestCase):
         self.assertLess(abs(float(np.std(centre)) - 0.005), 0.002)  # the configured noise
         self.assertTrue(np.isnan(d[0:5, :]).all())  # sky: no reading
 
-    def spawned(self, model):
-        get_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
-        rospy.wait_for_service('/gazebo/get_model_state', WALL_TIMEOUT)
-        end = time.time() + WALL_TIMEOUT
-        while True:
-            st = get_state(model_name=model)
-            if st.success:
-                return st
-            self.assertLess(time.time(), end, 'the model %s was never spawned' % model)
-            time.sleep(0.05)
-
     def test_depth_camera_sees_another_robot_in_its_colour(self):
         # The crate (another robot, spawned by the launch file) 1.5 m ahead and 0.5 m to the
         # right: its near face, 0.2 m wide and high, covers columns 118-135 and rows 52-69.
-        # The launch file spawns both in parallel, in either order, and the state of a model not
-        # yet spawned is success=false with a zero pose: wait for each (a camera read at the origin
-        # put the crate's truth 2.05 m off, and the clean-clone gate timed out at 8c82706).
         crate = self.spawned('crate').pose.position
         cam = self.spawned('depth_cam').pose.position
         truth = (crate.y - 0.1) - (cam.y + 0.05)
@@ -118,7 +127,6 @@ class CameraTests(unittest.TestCase):
         def face(msgs):
             d = np.frombuffer(msgs[-1].data, dtype=np.float32).reshape(120, 160)[56:66, 122:132]
             return float(np.median(d))
-        # Frames rendered before the crate stood there show the floor (about 3 m at these rows).
         msgs = self.depth.wait(lambda m: len(m) > 0 and abs(face(m) - truth) < 0.02, 'the crate in the depth image')
         self.assertAlmostEqual(face(msgs), truth, delta=0.02)
         # Beside it, the wall 2.9 m ahead is still there.
