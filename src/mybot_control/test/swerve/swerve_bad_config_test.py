@@ -7,6 +7,8 @@ import unittest
 import rospy
 import rostest
 
+from mybot_common.node_process import stop, wait_until_advertising
+
 PID = {'p': 1.0, 'i': 0.0, 'd': 0.0}
 COV = [0.001, 0.001, 1e6, 1e6, 1e6, 0.03]
 
@@ -67,16 +69,14 @@ class SwerveBadConfigTest(unittest.TestCase):
         self.assertIn('required', out)
 
     def test_good_configuration_starts(self):
-        """The same nodes with sane parameters keep running (so the failures above are specific)."""
+        """The same node with sane parameters starts (it advertises its modules' requests once its
+        parameters are valid, and is still running then), so the failures above are specific."""
         proc = subprocess.Popen(['rosrun', 'mybot_control', 'swerve_controller', '__name:=good_controller'],
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         try:
-            out, _ = proc.communicate(timeout=5.0)
-            self.fail('swerve_controller exited (%s) with a good configuration:\n%s' % (proc.returncode, out))
-        except subprocess.TimeoutExpired:
-            proc.terminate()
-            proc.communicate()
-
+            self.assertIn('/swerve_a/rqst_pivot_angle', wait_until_advertising(proc, '/good_controller'))
+        finally:
+            stop(proc)
 
 if __name__ == '__main__':
     rospy.init_node('swerve_bad_config_test')

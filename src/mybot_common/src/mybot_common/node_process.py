@@ -1,0 +1,47 @@
+"""A ROS node started as a process (tests and tools that run a node and watch it come up)."""
+import subprocess
+import time
+
+import rosgraph
+
+
+def advertised(node, master=None):
+    """The topics the master lists `node` (a full name, '/my_node') as publishing, /rosout left
+    out: every node advertises /rosout as it starts, ours advertise their own topics only once
+    their parameters are read and valid."""
+    master = master or rosgraph.Master('/mybot_common_node_process')
+    publishers = master.getSystemState()[0]
+    return sorted(t for t, nodes in publishers if node in nodes and t != '/rosout')
+
+
+def wait_until_advertising(proc, node, timeout=30.0):
+    """Waits until the process `proc` (a subprocess.Popen with its output piped), started as the
+    node `node`, advertises a topic of its own: it is past its start-up and running. Returns those
+    topics. Raises AssertionError with the process's output if it exits first or if `timeout`
+    seconds of wall time pass (start-up is a wall-time matter: the node may not see sim time yet);
+    the process is then killed. A check that a node "keeps running" for a fixed time passes
+    without the node ever starting on a busy machine; this one does not."""
+    master = rosgraph.Master('/mybot_common_node_process')
+    deadline = time.monotonic() + timeout
+    while True:
+        topics = advertised(node, master)
+        if topics and proc.poll() is None:
+            return topics
+        if proc.poll() is not None:
+            out = proc.communicate()[0]
+            raise AssertionError('%s exited (%s) before it advertised a topic:\n%s' % (node, proc.returncode, out))
+        if time.monotonic() > deadline:
+            proc.kill()
+            out = proc.communicate()[0]
+            raise AssertionError('%s advertised no topic within %g s:\n%s' % (node, timeout, out))
+        time.sleep(0.05)
+
+
+def stop(proc, timeout=10.0):
+    """Ends `proc` (SIGINT-like terminate, then kill) and returns its output."""
+    proc.terminate()
+    try:
+        return proc.communicate(timeout=timeout)[0]
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        return proc.communicate()[0]

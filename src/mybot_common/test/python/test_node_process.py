@@ -1,0 +1,60 @@
+"""mybot_common.node_process against a stand-in master (the rostests use it with rostest's)."""
+import os
+import subprocess
+import sys
+
+import pytest
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "src"))
+from mybot_common import node_process  # noqa: E402
+
+
+class FakeMaster:
+    """Answers getSystemState as rosgraph.Master does: [publishers, subscribers, services]."""
+
+    def __init__(self, *states):
+        self.states = list(states)
+
+    def getSystemState(self):
+        return self.states.pop(0) if len(self.states) > 1 else self.states[0]
+
+
+STARTING = [[['/rosout', ['/odom_node', '/other']]], [], []]
+UP = [[['/rosout', ['/odom_node']], ['/odom', ['/odom_node']], ['/tf', ['/odom_node', '/other']]], [], []]
+
+
+def test_advertised_leaves_out_rosout_and_other_nodes():
+    assert node_process.advertised('/odom_node', FakeMaster(STARTING)) == []
+    assert node_process.advertised('/odom_node', FakeMaster(UP)) == ['/odom', '/tf']
+    assert node_process.advertised('/odom', FakeMaster(UP)) == []  # a topic is not a node
+
+
+def sleeper():
+    return subprocess.Popen([sys.executable, '-c', 'import time; print("up"); time.sleep(30)'],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+
+
+def test_waits_until_the_node_advertises(monkeypatch):
+    monkeypatch.setattr(node_process.rosgraph, 'Master', lambda name: FakeMaster(STARTING, STARTING, UP))
+    proc = sleeper()
+    try:
+        assert node_process.wait_until_advertising(proc, '/odom_node', timeout=10) == ['/odom', '/tf']
+        assert proc.poll() is None
+    finally:
+        assert 'up' in node_process.stop(proc)
+
+
+def test_a_node_that_exits_first_is_reported_with_its_output(monkeypatch):
+    monkeypatch.setattr(node_process.rosgraph, 'Master', lambda name: FakeMaster(STARTING))
+    proc = subprocess.Popen(['sh', '-c', 'echo "wheel_radius: must be > 0"; exit 1'],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    with pytest.raises(AssertionError, match=r'(?s)/odom_node exited \(1\).*wheel_radius: must be > 0'):
+        node_process.wait_until_advertising(proc, '/odom_node', timeout=10)
+
+
+def test_a_node_that_never_advertises_is_killed_at_the_timeout(monkeypatch):
+    monkeypatch.setattr(node_process.rosgraph, 'Master', lambda name: FakeMaster(STARTING))
+    proc = sleeper()
+    with pytest.raises(AssertionError, match='advertised no topic within 0.3 s'):
+        node_process.wait_until_advertising(proc, '/odom_node', timeout=0.3)
+    assert proc.poll() is not None
