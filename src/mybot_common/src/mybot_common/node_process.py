@@ -1,4 +1,4 @@
-"""A ROS node started as a process (tests and tools that run a node and watch it come up)."""
+"""A ROS node started as a process, or loaded as a nodelet (tests and tools that watch nodes come up)."""
 import subprocess
 import time
 
@@ -12,6 +12,15 @@ def advertised(node, master=None):
     master = master or rosgraph.Master('/mybot_common_node_process')
     publishers = master.getSystemState()[0]
     return sorted(t for t, nodes in publishers if node in nodes and t != '/rosout')
+
+
+def subscribed(topics, master=None):
+    """Whether every topic of `topics` (full names) has a subscriber: nodelets are loaded into
+    their manager one by one, after it is up, and a command published before the last of them
+    listens is lost."""
+    master = master or rosgraph.Master('/mybot_common_node_process')
+    subscribers = dict(master.getSystemState()[1])
+    return all(subscribers.get(t) for t in topics)
 
 
 def wait_until_advertising(proc, node, timeout=30.0):

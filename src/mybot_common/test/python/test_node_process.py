@@ -58,3 +58,10 @@ def test_a_node_that_never_advertises_is_killed_at_the_timeout(monkeypatch):
     with pytest.raises(AssertionError, match='advertised no topic within 0.3 s'):
         node_process.wait_until_advertising(proc, '/odom_node', timeout=0.3)
     assert proc.poll() is not None
+
+
+def test_subscribed_wants_a_subscriber_on_every_topic():
+    state = [[], [['/cmd_vel', ['/controller']], ['/swerve_a/rqst_pivot_angle', []]], []]
+    assert node_process.subscribed(['/cmd_vel'], FakeMaster(state))
+    assert not node_process.subscribed(['/cmd_vel', '/swerve_a/rqst_pivot_angle'], FakeMaster(state))
+    assert not node_process.subscribed(['/odom'], FakeMaster(state))

@@ -9,6 +9,7 @@ from nav_msgs.msg import Odometry
 from std_srvs.srv import Trigger
 
 from mybot_lockstep import participant, wait_connected
+from mybot_common import node_process
 from mybot_common.geometry import wrap, yaw_of  # noqa: F401 (the tests import them from here)
 
 
@@ -59,14 +60,9 @@ class Chain:
         if self.ls.active:  # sim time waits for this test: its start is the same every run
             assert self.ls.wait_for(lambda: self.odom is not None, 60.0), 'no odom received'
             if subscribed:
-                import rosgraph
-                master = rosgraph.Master(rospy.get_name())
-
-                def listened():
-                    subs = dict(master.getSystemState()[1])
-                    return all(subs.get(rospy.resolve_name(t)) for t in subscribed)
-
-                assert self.ls.wait_for(listened, 60.0), 'no subscriber on one of %s' % (subscribed,)
+                topics = [rospy.resolve_name(t) for t in subscribed]
+                assert self.ls.wait_for(lambda: node_process.subscribed(topics), 60.0), \
+                    'no subscriber on one of %s' % (subscribed,)
             self.wait_connected()
             return
         # Wall-clock bound only for the start-up (clock may not run yet).

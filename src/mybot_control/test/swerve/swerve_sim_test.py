@@ -18,6 +18,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
+from mybot_common import node_process
 from mybot_common.geometry import wrap, yaw_of
 
 MODULES = 'abcd'
@@ -56,6 +57,10 @@ class SwerveSimTest(unittest.TestCase):
         ls.Subscriber('joint_states', JointState, cls.on_joints, queue_size=50)
         cls.wait_for(lambda: cls.gt is not None and cls.odom is not None and len(cls.pivots) == 4, 30.0,
                      'ground truth, odom and joint_states')
+        # The controller and the modules listen (as nodelets they load one by one after their
+        # manager has joined, so odom may flow before a command would reach the wheels).
+        listeners = [rospy.resolve_name(t) for t in ['cmd_vel'] + ['swerve_%s/rqst_pivot_angle' % m for m in 'abcd']]
+        cls.wait_for(lambda: node_process.subscribed(listeners), 30.0, 'the controller and modules to listen')
 
     @classmethod
     def on_gt(cls, msg):
