@@ -206,6 +206,13 @@ int main(int argc, char** argv)
   }
   // Before the run, not after it: a long replay must not end on an output folder it cannot write.
   std::error_code ec;
+  // The first folder on the way to --out that does not exist yet: the run creates it and those below.
+  std::filesystem::path out = std::filesystem::absolute(opt.out, ec).lexically_normal();
+  if (out.filename().empty())  // "out/"
+    out = out.parent_path();
+  std::filesystem::path created;
+  for (std::filesystem::path p = out; !std::filesystem::exists(p, ec) && p != p.parent_path(); p = p.parent_path())
+    created = p;
   std::filesystem::create_directories(opt.out, ec);
   if (ec || !std::filesystem::is_directory(opt.out))
   {
@@ -213,6 +220,16 @@ int main(int argc, char** argv)
                  ec ? ec.message().c_str() : "a file of that name exists");
     return 2;
   }
+  // A run that fails (an unreadable bag, no scans) leaves none of the folders it created behind;
+  // a folder it was given stays, with whatever it held.
+  auto failed = [out, created]
+  {
+    std::error_code ignored;
+    std::filesystem::path p = out;
+    while (!created.empty() && std::filesystem::remove(p, ignored) && p != created)  // only an empty one
+      p = p.parent_path();
+    return 1;
+  };
   const auto wall0 = std::chrono::steady_clock::now();
   const double cpu0 = cpuSeconds();
   Slam slam(run.slam);
@@ -245,7 +262,7 @@ int main(int argc, char** argv)
   catch (const std::exception& e)
   {
     std::fprintf(stderr, "\nslam_replay: %s\n", e.what());
-    return 1;
+    return failed();
   }
   if (!opt.quiet)
     std::fprintf(stderr, "\n");
@@ -257,7 +274,7 @@ int main(int argc, char** argv)
     else
       std::fprintf(stderr, "slam_replay: %s: no scans on %s with tf %s -> %s at their stamps\n", opt.bag.c_str(),
                    opt.scan_topic.c_str(), opt.odom_frame.c_str(), opt.base_frame.c_str());
-    return 1;
+    return failed();
   }
   if (r.scans_without_odometry > 0)
     std::fprintf(stderr,
@@ -336,7 +353,7 @@ int main(int argc, char** argv)
   catch (const std::exception& e)
   {
     std::fprintf(stderr, "slam_replay: %s\n", e.what());
-    return 1;
+    return failed();
   }
   if (!opt.quiet)
     std::fprintf(stderr,
