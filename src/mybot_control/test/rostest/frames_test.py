@@ -49,7 +49,10 @@ class FramesTest(unittest.TestCase):
         self.assertEqual([o.twist.covariance[7 * k] for k in range(6)], [0.004, 0.005, 1e6, 1e6, 1e6, 0.06])
 
     def test_tf_published(self):
-        self.assertTrue(self.tf_buffer.can_transform('my_odom', 'my_base', rospy.Time(0), rospy.Duration(5.0)))
+        # Polled through the chain's sleeps, not can_transform's own timeout: that sleeps in sim
+        # time while this test holds the period, so time would never come to pass it.
+        self.chain.wait_for(lambda: self.tf_buffer.can_transform('my_odom', 'my_base', rospy.Time(0)), 5.0,
+                            'tf my_odom -> my_base')
 
     def test_tf_disabled(self):
         self.chain.wait_for(lambda: self.notf is not None, 10.0, 'notf/odom')

@@ -181,7 +181,10 @@ class SlamSimTest(unittest.TestCase):
         self.ls.sleep_until(rospy.Time(rospy.get_param("~start_at", 1.0)))
         self.wait(lambda: self.truth is not None, 30, "ground_truth/odom")
         # Ground truth at the laser's height, from the same world file the simulator loaded.
-        tf = self.tf.lookup_transform("base_footprint", "hokuyo", rospy.Time(0), rospy.Duration(30))
+        # Polled in wall time: lookup_transform's own timeout sleeps in sim time, which stands here.
+        self.wait(lambda: self.tf.can_transform("base_footprint", "hokuyo", rospy.Time(0)), 30,
+                  "tf base_footprint -> hokuyo")
+        tf = self.tf.lookup_transform("base_footprint", "hokuyo", rospy.Time(0))
         subprocess.run(["rosrun", "mybot_gazebo_lite", "world_to_map", self.world, os.path.join(self.tmp, "truth"),
                         "--resolution", "0.05", "--height", "%.3f" % tf.transform.translation.z],
                        check=True, timeout=60)
