@@ -47,11 +47,11 @@ class CameraTests(unittest.TestCase):
         cls.info = Collector('/mybot/camera1/camera_info', CameraInfo)
         cls.depth = Collector('/depth_cam/depth/image_raw', Image)
         cls.rgb = Collector('/depth_cam/rgb/image_raw', Image)
-        # The world starts paused (camera.test) and the three models are spawned in parallel, in
-        # either order: time starts once all three stand, so every frame shows all of them. (When
-        # time ran from mybot's spawn, a state read before the others stood was success=false with
-        # a zero pose: the crate's expected depth came out 2.05 m off, and the clean-clone gate
-        # timed out at 8c82706.)
+        # The world starts paused (camera.test) and the three models are spawned one after the
+        # other: time starts once all three stand, so every frame shows all of them. (When time ran
+        # from mybot's spawn, a state read before a model stood was success=false with a zero pose:
+        # the crate's expected depth came out 2.05 m off, and the clean-clone gate timed out at
+        # 8c82706.)
         for model in ('mybot', 'depth_cam', 'crate'):
             cls.spawned(model)
         rospy.ServiceProxy('/gazebo/unpause_physics', Empty)()
