@@ -47,7 +47,7 @@ def wait_until_advertising(proc, node, timeout=30.0):
 
 
 def stop(proc, timeout=10.0):
-    """Ends `proc` (SIGINT-like terminate, then kill) and returns its output."""
+    """Ends `proc` (SIGTERM, and SIGKILL if it still runs after `timeout` s) and returns its output."""
     proc.terminate()
     try:
         return proc.communicate(timeout=timeout)[0]

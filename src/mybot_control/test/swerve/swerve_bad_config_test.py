@@ -78,6 +78,7 @@ class SwerveBadConfigTest(unittest.TestCase):
         finally:
             stop(proc)
 
+
 if __name__ == '__main__':
     rospy.init_node('swerve_bad_config_test')
     rostest.rosrun('mybot_control', 'swerve_bad_config', SwerveBadConfigTest, sys.argv)

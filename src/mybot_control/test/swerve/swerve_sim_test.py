@@ -59,7 +59,8 @@ class SwerveSimTest(unittest.TestCase):
                      'ground truth, odom and joint_states')
         # The controller and the modules listen (as nodelets they load one by one after their
         # manager has joined, so odom may flow before a command would reach the wheels).
-        listeners = [rospy.resolve_name(t) for t in ['cmd_vel'] + ['swerve_%s/rqst_pivot_angle' % m for m in 'abcd']]
+        listeners = [rospy.resolve_name(t)
+                     for t in ['cmd_vel'] + ['swerve_%s/rqst_pivot_angle' % m for m in MODULES]]
         cls.wait_for(lambda: node_process.subscribed(listeners), 30.0, 'the controller and modules to listen')
 
     @classmethod

@@ -140,8 +140,8 @@ def test_slam_score_names_the_option_of_a_bad_number(tmp_path, args, error):
 
 def test_a_failed_run_leaves_none_of_the_folders_it_created_and_keeps_a_given_one(tmp_path):
     (tmp_path / "text.bag").write_text("t1 t2 x y z roll pitch yaw\n")
-    run = subprocess.run(slam_replay() + ["--bag", str(tmp_path / "text.bag"), "--out", str(tmp_path / "new" / "out") + "/",
-                                          "--quiet"],
+    out = str(tmp_path / "new" / "out") + "/"  # two folders to create, and a trailing slash
+    run = subprocess.run(slam_replay() + ["--bag", str(tmp_path / "text.bag"), "--out", out, "--quiet"],
                          capture_output=True, text=True)
     assert run.returncode == 1 and "text.bag: not a ROS 1 bag" in run.stderr, run.stderr
     assert not (tmp_path / "new").exists()
