@@ -69,9 +69,15 @@ int main(int argc, char** argv)
     }
     ++i;
   }
-  if (!(res > 0) || zmax < zmin || margin < 0)
+  // One message naming the option and its value, as for a value that is not a number.
+  const char* bad = !(res > 0)    ? "--resolution must be > 0"
+                    : zmax < zmin ? "--z-max must be >= --z-min"
+                    : margin < 0  ? "--margin must be >= 0"
+                                  : nullptr;
+  if (bad)
   {
-    std::cerr << "world_to_map: need resolution > 0, z-max >= z-min, margin >= 0\n";
+    std::cerr << "world_to_map: " << bad << " (resolution " << res << ", z-min " << zmin << ", z-max " << zmax
+              << ", margin " << margin << ")\n";
     return 2;
   }
   WorldSpec world;
