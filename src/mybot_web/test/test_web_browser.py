@@ -161,6 +161,8 @@ class TestWebBrowser(BrowserTest):
 
         # Manual mode (initial): navigation's input is locked out.
         wait_for(lambda: w.nav_lock is True, 5.0, "nav_lock true in manual mode")
+        # Navigation's commands reach the mux (else the robot would stand still for that reason).
+        wait_for(lambda: w.nav_pub.get_num_connections() > 0, 10.0, "twist_mux to subscribe to nav_vel")
         w.nav_speed = -0.2
         x0 = w.x()
         rospy.sleep(1.0)
