@@ -1,8 +1,18 @@
-"""A ROS node started as a process, or loaded as a nodelet (tests and tools that watch nodes come up)."""
+"""A ROS node or tool run as a process, or loaded as a nodelet (tests and tools that watch nodes come up)."""
 import subprocess
 import time
 
 import rosgraph
+
+
+def executable(package, name):
+    """The command line ([path]) of `package`'s built executable `name`, found as rosrun finds it
+    (catkin_find --libexec). Raises FileNotFoundError naming both when it is not built."""
+    found = subprocess.run(["catkin_find", "--libexec", package, name], capture_output=True,
+                           text=True).stdout.split()
+    if not found:
+        raise FileNotFoundError("%s is not built (catkin_find --libexec %s %s)" % (name, package, name))
+    return [found[0]]
 
 
 def advertised(node, master=None):

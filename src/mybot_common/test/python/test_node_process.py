@@ -65,3 +65,8 @@ def test_subscribed_wants_a_subscriber_on_every_topic():
     assert node_process.subscribed(['/cmd_vel'], FakeMaster(state))
     assert not node_process.subscribed(['/cmd_vel', '/swerve_a/rqst_pivot_angle'], FakeMaster(state))
     assert not node_process.subscribed(['/odom'], FakeMaster(state))
+
+
+def test_executable_names_the_package_and_tool_it_cannot_find():
+    with pytest.raises(FileNotFoundError, match="no_such_tool is not built .*no_such_package no_such_tool"):
+        node_process.executable("no_such_package", "no_such_tool")

@@ -5,14 +5,13 @@ import subprocess
 
 import pytest
 
+from mybot_common.node_process import executable
+
 WORLDS = os.path.join(os.path.dirname(__file__), "..", "..", "worlds")
 
 
 def world_to_map():
-    found = subprocess.run(["catkin_find", "--libexec", "mybot_gazebo_lite", "world_to_map"], capture_output=True,
-                           text=True).stdout.split()
-    assert found, "world_to_map is not built (catkin_find --libexec mybot_gazebo_lite world_to_map)"
-    return [found[0]]
+    return executable("mybot_gazebo_lite", "world_to_map")
 
 
 def test_writes_the_map_server_pair_of_a_world(tmp_path):

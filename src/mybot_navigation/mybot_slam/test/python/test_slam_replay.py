@@ -6,13 +6,12 @@ import subprocess
 
 import pytest
 
+from mybot_common.node_process import executable
+
 
 def tool(name):
     """A built tool of mybot_slam, found as rosrun finds it."""
-    found = subprocess.run(["catkin_find", "--libexec", "mybot_slam", name], capture_output=True,
-                           text=True).stdout.split()
-    assert found, "%s is not built (catkin_find --libexec mybot_slam %s)" % (name, name)
-    return [found[0]]
+    return executable("mybot_slam", name)
 
 
 def slam_replay():
