@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <random>
+
 #include "mybot_nav_common/ray_cast.h"
 #include "mybot_slam/scan_matcher.h"
 #include "synthetic_world.h"
@@ -36,6 +40,23 @@ GridMap coarse(const GridMap& fine, double res)
       if (fine.at(x, y) == 100)
         m.at(x / f, y / f) = 100;
   return m;
+}
+// `count` single occupied cells at random (seeded) across a width x height m box centred on the
+// origin, seen from it in one scan.
+OccupancyGrid scatteredWalls(unsigned seed, int count, double width, double height)
+{
+  std::mt19937 random(seed);
+  RangeScan scattered;
+  const auto mm = [&](double span)
+  { return static_cast<double>(random() % static_cast<unsigned>(span * 1000)) * 1e-3; };
+  for (int i = 0; i < count; ++i)
+  {
+    const double x = mm(width) - 0.5 * width;
+    scattered.hits.push_back({x, mm(height) - 0.5 * height});
+  }
+  OccupancyGrid grid;
+  grid.insertScan(Pose2D{}, scattered);
+  return grid;
 }
 }  // namespace
 
@@ -194,4 +215,96 @@ TEST(MatchField, UnobservedWeightScalesTheFallOffBehindAMappedFaceOnly)
   // The coarser levels are pooled from the weighted level 0: still upper bounds of it.
   for (int x = front - 4; x <= behind + 4; ++x)
     EXPECT_GE(weighted.value(2, x - 3, row - 3), weighted.value(0, x, row));
+}
+
+// The field built over only what a search can read equals the whole grid's field there, cell for
+// cell at every level: walls scattered everywhere (2.5 % of the cells, so some lie just past any
+// too small box), for the coarsest block of several windows and two fall-offs.
+TEST(MatchField, AroundASearchEqualsTheWholeGridsFieldWhereTheSearchReads)
+{
+  const OccupancyGrid grid = scatteredWalls(7, 4000, 20.0, 20.0);
+  const Pose2D around{0.3, -0.7, 0.4};
+  const double reach = 4.0;
+  for (double window : {0.3, 0.6, 2.0})
+    for (double sigma : {0.05, 0.1})
+    {
+      const MatchField whole(grid, sigma, matchFieldLevels(window, grid.resolution()));
+      const MatchField part = matchFieldAround(grid, sigma, window, around, reach);
+      ASSERT_EQ(part.levels(), whole.levels());
+      // Every block the search can start at: the points' cells (within reach of `around`)
+      // shifted by up to the window, and the cell beyond that refinement interpolates with. A
+      // block at level h also holds the 2^h - 1 cells above it.
+      const int lo_x = grid.worldToLattice(around.x - reach - window) - 1,
+                hi_x = grid.worldToLattice(around.x + reach + window) + 2,
+                lo_y = grid.worldToLattice(around.y - reach - window) - 1,
+                hi_y = grid.worldToLattice(around.y + reach + window) + 2;
+      int differing = 0, nonzero = 0;
+      for (int level = 0; level < whole.levels(); ++level)
+        for (int gy = lo_y; gy <= hi_y; ++gy)
+          for (int gx = lo_x; gx <= hi_x; ++gx)
+          {
+            nonzero += whole.value(level, gx, gy) > 0.0f;
+            differing += whole.value(level, gx, gy) != part.value(level, gx, gy);
+          }
+      EXPECT_EQ(differing, 0) << "window " << window << ", sigma " << sigma;
+      EXPECT_GT(nonzero, 1000);
+    }
+}
+
+// The same search in the part and in the whole field finds the same pose with the same score:
+// a loop-closure submap's field is built the cheap way with nothing else changed.
+TEST(MatchField, AroundASearchFindsWhatTheWholeFieldFinds)
+{
+  const GridMap world = officeWorld(0.01);
+  OccupancyGrid grid;
+  for (const Pose2D& p : {Pose2D{3.0, 5.5, 0.3}, Pose2D{8.0, 4.0, -1.0}, Pose2D{12.0, 6.0, 2.0}})
+  {
+    RangeScan s;
+    s.hits = scanPoints(world, p);
+    grid.insertScan(p, s);
+  }
+  const Pose2D truth{8.07, 4.13, -0.95};
+  std::vector<Point2D> pts = voxelFilter(scanPoints(world, truth), 0.05);
+  pts.erase(std::remove_if(pts.begin(), pts.end(), [](const Point2D& p) { return std::hypot(p.x, p.y) > 4.0; }),
+            pts.end());
+  ASSERT_GT(pts.size(), 50u);
+  MatchRequest req;
+  req.initial = {8.3, 3.9, -0.85};
+  req.linear_window = 0.6;
+  req.angular_window = 0.2;
+  const MatchField whole(grid, 0.05, matchFieldLevels(req.linear_window, grid.resolution()));
+  const MatchField part = matchFieldAround(grid, 0.05, req.linear_window, req.initial, 4.0);
+  const MatchResult a = matchScan(whole, pts, req), b = matchScan(part, pts, req);
+  ASSERT_TRUE(a.ok && b.ok);
+  EXPECT_EQ(a.pose.x, b.pose.x);
+  EXPECT_EQ(a.pose.y, b.pose.y);
+  EXPECT_EQ(a.pose.theta, b.pose.theta);
+  EXPECT_EQ(a.score, b.score);
+  EXPECT_EQ(translationConstraintRatio(whole, pts, a.pose), translationConstraintRatio(part, pts, b.pose));
+  EXPECT_NEAR(a.pose.x, truth.x, 0.03);
+  EXPECT_NEAR(a.pose.y, truth.y, 0.03);
+}
+
+// Level h holds, at each cell, the largest level-0 value of the 2^h x 2^h block from that cell up
+// and right (nothing beyond the lattice): what makes a block's score bound its cells' scores.
+TEST(MatchField, EachLevelIsTheMaximumOverItsBlockUpToTheLatticesEdge)
+{
+  const OccupancyGrid grid = scatteredWalls(3, 300, 6.0, 4.0);
+  const MatchField field(grid, 0.05, 5);
+  ASSERT_EQ(field.levels(), 5);
+  const int x0 = field.minCellX(), y0 = field.minCellY(), x1 = x0 + field.width(), y1 = y0 + field.height();
+  int checked = 0, differing = 0;
+  for (int level = 1; level < field.levels(); ++level)
+    for (int gy = y0 - 2; gy < y1 + 2; ++gy)
+      for (int gx = x0 - 2; gx < x1 + 2; ++gx)
+      {
+        float best = 0.0f;
+        for (int by = 0; by < (1 << level); ++by)
+          for (int bx = 0; bx < (1 << level); ++bx)
+            if (gx >= x0 && gy >= y0)  // outside the lattice every level reads 0
+              best = std::max(best, field.value(0, gx + bx, gy + by));
+        ++checked;
+        differing += field.value(level, gx, gy) != best;
+      }
+  EXPECT_EQ(differing, 0) << "of " << checked;
 }

@@ -37,6 +37,13 @@ public:
       return 0.0f;
     return levels_[level][static_cast<size_t>(y) * width_ + x] * (1.0f / 255.0f);
   }
+  // The raw lattice of a level (values 0-255 for 0-1), row by row from lattice cell
+  // (minCellX, minCellY), width() cells a row: for loops that check their bounds once.
+  const uint8_t* data(int level) const { return levels_[level].data(); }
+  int minCellX() const { return min_x_; }
+  int minCellY() const { return min_y_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
   // Bilinear interpolation of level 0 at a world point, with its gradient (per metre).
   double interpolate(double wx, double wy, double* dfdx, double* dfdy) const;
 
@@ -61,6 +68,15 @@ inline int matchFieldLevels(double window, double resolution)
     ++levels;
   return levels;
 }
+
+// The part of the field that matchScan (with its refinement, translationConstraintRatio and
+// scorePose) can read when it searches points at most `reach` m from the base within `window`
+// m of `around`: built over only that box of `grid`, and there equal to a field over the whole
+// grid, cell for cell at every level (the box also holds the coarsest block past the window and
+// the fall-off of walls just outside it). A loop-closure submap spans its candidate's whole pass
+// and then 5 m of margin: building the field over all of it was a quarter of FR079's replay.
+MatchField matchFieldAround(const OccupancyGrid& grid, double sigma, double window, const Pose2D& around, double reach,
+                            double unobserved_weight = 1.0);
 
 struct MatchRequest
 {

@@ -68,10 +68,8 @@ void Slam::matchKeyframesAgainstSubmap(const Submap& submap, std::vector<PoseGra
   OccupancyGrid grid(params_.grid);
   std::vector<int> members;
   for (int j = submap.first; j <= submap.last; ++j)
-  {
-    grid.insertScan(keyframes_[static_cast<size_t>(j)].pose, keyframes_[static_cast<size_t>(j)].scan);
     members.push_back(j);
-  }
+  insertKeyframes(grid, members);
   const MatchField field(grid, params_.match_sigma, matchFieldLevels(params_.final_window_linear, grid.resolution()));
   const Pose2D& anchor = keyframes_[static_cast<size_t>(submap.first)].pose;
   for (int i : visitors)
@@ -205,14 +203,14 @@ std::vector<Pose2D> Slam::placeScans(const std::vector<ScanToPlace>& scans) cons
     // The keyframes around the block as a grid, and their hits as lines for the sub-cell step
     // (final_scan_point_to_line).
     std::vector<Point2D> hits;
-    for (int j = std::max(0, first - w); j <= std::min(nk - 1, last + w); ++j)
-    {
-      const Keyframe& k = keyframes_[static_cast<size_t>(j)];
-      grid.insertScan(k.pose, k.scan);
-      if (params_.final_scan_point_to_line)
+    insertKeyframes(grid, std::max(0, first - w), std::min(nk - 1, last + w) + 1);
+    if (params_.final_scan_point_to_line)
+      for (int j = std::max(0, first - w); j <= std::min(nk - 1, last + w); ++j)
+      {
+        const Keyframe& k = keyframes_[static_cast<size_t>(j)];
         for (const Point2D& h : k.scan.hits)
           hits.push_back(transformPoint(k.pose, h));
-    }
+      }
     const MatchField field(grid, params_.match_sigma, matchFieldLevels(kWindowLinear, grid.resolution()));
     const LineReference lines(hits);
     for (size_t i : by_block[b])

@@ -100,25 +100,31 @@ void MatchField::pool(int levels)
   if (levels_.empty())
     return;
   const size_t n = levels_[0].size();
+  // Level h at a cell is the max of level h-1 at the cell and `half` cells right, up, and both:
+  // taken as a max along the rows, then of that along the columns (the same values; plain
+  // loops the compiler vectorises). Beyond the lattice a level reads nothing, as value() does.
+  std::vector<uint8_t> rows(n);
   for (int h = 1; h < levels; ++h)
   {
     const int half = 1 << (h - 1);
-    const std::vector<uint8_t>& prev = levels_.back();
-    std::vector<uint8_t> next(n, 0);
+    const uint8_t* prev = levels_.back().data();
     for (int y = 0; y < height_; ++y)
-      for (int x = 0; x < width_; ++x)
-      {
-        uint8_t m = prev[static_cast<size_t>(y) * width_ + x];
-        if (x + half < width_)
-          m = std::max(m, prev[static_cast<size_t>(y) * width_ + x + half]);
-        if (y + half < height_)
-        {
-          m = std::max(m, prev[static_cast<size_t>(y + half) * width_ + x]);
-          if (x + half < width_)
-            m = std::max(m, prev[static_cast<size_t>(y + half) * width_ + x + half]);
-        }
-        next[static_cast<size_t>(y) * width_ + x] = m;
-      }
+    {
+      const uint8_t* in = prev + static_cast<size_t>(y) * width_;
+      uint8_t* out = rows.data() + static_cast<size_t>(y) * width_;
+      const int inner = std::max(0, width_ - half);
+      for (int x = 0; x < inner; ++x)
+        out[x] = std::max(in[x], in[x + half]);
+      for (int x = inner; x < width_; ++x)
+        out[x] = in[x];
+    }
+    std::vector<uint8_t> next(n);
+    const int inner_rows = std::max(0, height_ - half);
+    const size_t shift = static_cast<size_t>(half) * width_;
+    for (size_t i = 0; i < static_cast<size_t>(inner_rows) * width_; ++i)
+      next[i] = std::max(rows[i], rows[i + shift]);
+    std::copy(rows.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(inner_rows) * width_), rows.end(),
+              next.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(inner_rows) * width_));
     levels_.push_back(std::move(next));
   }
 }
@@ -135,6 +141,20 @@ double MatchField::interpolate(double wx, double wy, double* dfdx, double* dfdy)
   if (dfdy)
     *dfdy = ((v01 - v00) * (1 - fx) + (v11 - v10) * fx) / resolution_;
   return (v00 * (1 - fx) + v10 * fx) * (1 - fy) + (v01 * (1 - fx) + v11 * fx) * fy;
+}
+
+MatchField matchFieldAround(const OccupancyGrid& grid, double sigma, double window, const Pose2D& around, double reach,
+                            double unobserved_weight)
+{
+  const double res = grid.resolution();
+  const int levels = matchFieldLevels(window, res);
+  // Read: the points' cells shifted by up to the window (matchScan rounds it up to whole cells),
+  // the cell beyond for interpolation and refinement (one cell), and the top level's block from
+  // there. Contributing: any wall within the fall-off's radius (splat's) of a read cell.
+  const int fall_off = static_cast<int>(std::ceil(3.0 * std::max(sigma / res, 0.3)));
+  const double margin = reach + window + ((1 << (levels - 1)) + 3 + fall_off) * res;
+  return MatchField(grid, sigma, levels, grid.worldToLattice(around.x - margin), grid.worldToLattice(around.y - margin),
+                    grid.worldToLattice(around.x + margin), grid.worldToLattice(around.y + margin), unobserved_weight);
 }
 
 std::vector<Point2D> voxelFilter(const std::vector<Point2D>& points, double cell)
@@ -205,21 +225,44 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
   const int top = field.levels() - 1;
   const int top_step = 1 << top;
 
-  // Discretised scan for each rotation, in lattice cells, at zero translation offset.
+  // Discretised scan for each rotation, in lattice cells, at zero translation offset: the cells,
+  // their bounding box, and their indices into the field's levels (for offsets that keep the box
+  // inside the field, which then need no check a cell).
+  struct RotatedScan
+  {
+    std::vector<std::pair<int, int>> cells;
+    std::vector<std::ptrdiff_t> index;
+    int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max();
+    int x1 = std::numeric_limits<int>::min(), y1 = std::numeric_limits<int>::min();
+  };
   const int n_rot = 2 * n_angles + 1;
-  std::vector<std::vector<std::pair<int, int>>> scans(static_cast<size_t>(n_rot));
+  const int fx0 = field.minCellX(), fy0 = field.minCellY(), fw = field.width(), fh = field.height();
+  std::vector<RotatedScan> scans(static_cast<size_t>(n_rot));
   for (int k = 0; k < n_rot; ++k)
   {
     Pose2D p = request.initial;
     p.theta = request.initial.theta + (k - n_angles) * angle_step;
-    auto& cells = scans[static_cast<size_t>(k)];
-    cells.reserve(points.size());
+    RotatedScan& r = scans[static_cast<size_t>(k)];
+    r.cells.reserve(points.size());
+    r.index.reserve(points.size());
     for (const Point2D& q : points)
     {
       const Point2D w = transformPoint(p, q);
-      cells.emplace_back(static_cast<int>(std::floor(w.x / res)), static_cast<int>(std::floor(w.y / res)));
+      const int cx = static_cast<int>(std::floor(w.x / res)), cy = static_cast<int>(std::floor(w.y / res));
+      r.cells.emplace_back(cx, cy);
+      r.index.push_back(static_cast<std::ptrdiff_t>(cy - fy0) * fw + (cx - fx0));
+      r.x0 = std::min(r.x0, cx);
+      r.y0 = std::min(r.y0, cy);
+      r.x1 = std::max(r.x1, cx);
+      r.y1 = std::max(r.y1, cy);
     }
   }
+  // value()'s figures as doubles, by raw value. Each is a float (a multiple of 2^-31 in [0, 1]),
+  // so their sum over fewer than 2^22 points is exact in a double, in any order: both paths
+  // below give the same score to the last bit.
+  double lookup[256];
+  for (int v = 0; v < 256; ++v)
+    lookup[v] = static_cast<double>(static_cast<float>(v) * (1.0f / 255.0f));
   const double inv_n = 1.0 / static_cast<double>(points.size());
   const double cap2 = request.translation_prior_cap > 0.0
                           ? request.translation_prior_cap * request.translation_prior_cap
@@ -234,9 +277,18 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
   };
   auto score = [&](int level, int k, int dx, int dy)
   {
+    const RotatedScan& r = scans[static_cast<size_t>(k)];
     double s = 0.0;
-    for (const auto& c : scans[static_cast<size_t>(k)])
-      s += field.value(level, c.first + dx, c.second + dy);
+    if (r.x0 + dx >= fx0 && r.y0 + dy >= fy0 && r.x1 + dx < fx0 + fw && r.y1 + dy < fy0 + fh)
+    {
+      const uint8_t* data = field.data(level);
+      const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(dy) * fw + dx;
+      for (const std::ptrdiff_t i : r.index)
+        s += lookup[data[i + offset]];
+    }
+    else
+      for (const auto& c : r.cells)
+        s += field.value(level, c.first + dx, c.second + dy);
     const int size = 1 << level;
     const double ex = nearest(dx, size), ey = nearest(dy, size), et = (k - n_angles) * angle_step;
     return s * inv_n - request.translation_weight * std::min(ex * ex + ey * ey, cap2) -

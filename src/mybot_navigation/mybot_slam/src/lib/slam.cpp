@@ -548,7 +548,15 @@ const OccupancyGrid& Slam::globalMap() const
 
 void Slam::insertKeyframes(OccupancyGrid& grid, int first, int end) const
 {
-  if (first >= end)
+  std::vector<int> which;
+  for (int i = first; i < end; ++i)
+    which.push_back(i);
+  insertKeyframes(grid, which);
+}
+
+void Slam::insertKeyframes(OccupancyGrid& grid, const std::vector<int>& which) const
+{
+  if (which.empty())
     return;
   Point2D lo{1e300, 1e300}, hi{-1e300, -1e300};
   auto extend = [&](const Point2D& p)
@@ -556,7 +564,7 @@ void Slam::insertKeyframes(OccupancyGrid& grid, int first, int end) const
     lo = Point2D{std::min(lo.x, p.x), std::min(lo.y, p.y)};
     hi = Point2D{std::max(hi.x, p.x), std::max(hi.y, p.y)};
   };
-  for (int i = first; i < end; ++i)
+  for (int i : which)
   {
     const Keyframe& k = keyframes_[static_cast<size_t>(i)];
     extend(transformPoint(k.pose, k.scan.origin));
@@ -566,7 +574,7 @@ void Slam::insertKeyframes(OccupancyGrid& grid, int first, int end) const
       extend(transformPoint(k.pose, p));
   }
   grid.reserve(lo, hi);
-  for (int i = first; i < end; ++i)
+  for (int i : which)
     grid.insertScan(keyframes_[static_cast<size_t>(i)].pose, keyframes_[static_cast<size_t>(i)].scan);
 }
 
@@ -736,20 +744,15 @@ bool Slam::matchCandidateSubmap(int current, int candidate, LoopMatch& match) co
   while (hi < current - 1 && keyframes_[static_cast<size_t>(hi + 1)].travelled - candidate_travelled <= along)
     ++hi;
   for (int j = lo; j <= hi; ++j)
-  {
-    const Keyframe& k = keyframes_[static_cast<size_t>(j)];
-    if (kf.travelled - k.travelled >= 0.5 * params_.loop_min_travel)
-    {
-      sub.insertScan(k.pose, k.scan);
+    if (kf.travelled - keyframes_[static_cast<size_t>(j)].travelled >= 0.5 * params_.loop_min_travel)
       members.push_back(j);
-    }
-  }
+  insertKeyframes(sub, members);
   if (sub.empty())
     return false;
   // Chosen at the estimate: the closure may move the scan by up to the window, but a point is
   // only wrongly kept or left out where the submap's reach ends.
   const std::vector<Point2D> points = pointsInReach(members, kf.pose, kf.match_points);
-  const MatchField field(sub, params_.match_sigma, matchFieldLevels(window, sub.resolution()));
+  const MatchField field = matchFieldAround(sub, params_.match_sigma, window, kf.pose, maxRange(points));
   MatchRequest req;
   req.initial = kf.pose;
   req.linear_window = window;
