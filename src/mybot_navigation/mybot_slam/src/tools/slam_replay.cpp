@@ -205,29 +205,38 @@ int main(int argc, char** argv)
     return 2;
   }
   // Before the run, not after it: a long replay must not end on an output folder it cannot write.
+  // Made one folder at a time along --out as given (through any "..", as the system resolves
+  // it), each one that did not exist remembered.
   std::error_code ec;
-  // The first folder on the way to --out that does not exist yet: the run creates it and those below.
-  std::filesystem::path out = std::filesystem::absolute(opt.out, ec).lexically_normal();
-  if (out.filename().empty())  // "out/"
-    out = out.parent_path();
-  std::filesystem::path created;
-  for (std::filesystem::path p = out; !std::filesystem::exists(p, ec) && p != p.parent_path(); p = p.parent_path())
-    created = p;
-  std::filesystem::create_directories(opt.out, ec);
+  std::vector<std::filesystem::path> created;
+  std::filesystem::path walked;
+  for (const std::filesystem::path& part : std::filesystem::absolute(opt.out, ec))
+  {
+    walked /= part;
+    if (part.empty() || ec || std::filesystem::exists(walked, ec))
+      continue;
+    if (!std::filesystem::create_directory(walked, ec))
+      break;
+    created.push_back(walked);
+  }
+  // A run that fails (an unreadable bag, no scans) leaves none of the folders it created behind,
+  // last made first (only while empty); a folder it was given stays, with whatever it held.
+  auto remove_created = [created]
+  {
+    std::error_code ignored;
+    for (auto it = created.rbegin(); it != created.rend(); ++it)
+      std::filesystem::remove(*it, ignored);
+  };
   if (ec || !std::filesystem::is_directory(opt.out))
   {
     std::fprintf(stderr, "slam_replay: --out %s: cannot create the folder (%s)\n", opt.out.c_str(),
                  ec ? ec.message().c_str() : "a file of that name exists");
+    remove_created();
     return 2;
   }
-  // A run that fails (an unreadable bag, no scans) leaves none of the folders it created behind;
-  // a folder it was given stays, with whatever it held.
-  auto failed = [out, created]
+  auto failed = [&remove_created]
   {
-    std::error_code ignored;
-    std::filesystem::path p = out;
-    while (!created.empty() && std::filesystem::remove(p, ignored) && p != created)  // only an empty one
-      p = p.parent_path();
+    remove_created();
     return 1;
   };
   const auto wall0 = std::chrono::steady_clock::now();

@@ -144,6 +144,12 @@ def test_a_failed_run_leaves_none_of_the_folders_it_created_and_keeps_a_given_on
                          capture_output=True, text=True)
     assert run.returncode == 1 and "text.bag: not a ROS 1 bag" in run.stderr, run.stderr
     assert not (tmp_path / "new").exists()
+    # Through "..": both folders it made go, the one the path only passed through as well.
+    out = str(tmp_path / "passed" / ".." / "made")
+    run = subprocess.run(slam_replay() + ["--bag", str(tmp_path / "text.bag"), "--out", out, "--quiet"],
+                         capture_output=True, text=True)
+    assert run.returncode == 1
+    assert not (tmp_path / "passed").exists() and not (tmp_path / "made").exists()
     given = tmp_path / "given"
     given.mkdir()
     (given / "notes.txt").write_text("kept")
