@@ -2,6 +2,8 @@
 
 #include <mybot_common/ros/params.h>
 
+#include <cmath>
+
 namespace mybot_ros_control
 {
 
@@ -93,6 +95,26 @@ std::string ControllerContext::string(const std::string& param, const std::strin
   return readOrFail(*this, param, def);
 }
 
+// control_toolbox::Pid's parameters under `ns` ("pid" or "<joint>/pid").
+mybot_control::PidConfig readPid(const ControllerContext& c, const std::string& ns, bool angle_wrap)
+{
+  if (!c.nh.hasParam(ns + "/p"))
+    c.fail(ns + "/p", "required parameter missing (the PID needs at least p)");
+  mybot_control::PidConfig cfg;
+  cfg.p = c.number(ns + "/p", 0.0);
+  cfg.i = c.number(ns + "/i", 0.0);
+  cfg.d = c.number(ns + "/d", 0.0);
+  const double clamp = std::abs(c.number(ns + "/i_clamp", 0.0));
+  // control_toolbox: i_clamp bounds the integral term symmetrically; 0 = no integral term.
+  cfg.i_clamp_max = c.number(ns + "/i_clamp_max", clamp);
+  cfg.i_clamp_min = c.number(ns + "/i_clamp_min", -clamp);
+  cfg.angle_wrap = angle_wrap;
+  const std::string bad = cfg.validate(c.nh.resolveName(ns) + "/");
+  if (!bad.empty())
+    c.fail("", bad);
+  return cfg;
+}
+
 const std::map<std::string, ControllerFactory>& controllerTypes()
 {
   using I = Interface;
@@ -109,6 +131,11 @@ const std::map<std::string, ControllerFactory>& controllerTypes()
       {"effort_controllers/JointGroupEffortController",
        [](auto& c) { return makeForwardGroupController(c, I::EFFORT); }},
       {"effort_controllers/JointPositionController", [](auto& c) { return makePidController(c, I::EFFORT, true); }},
+      {"position_controllers/JointTrajectoryController",
+       [](auto& c) { return makeTrajectoryController(c, I::POSITION); }},
+      {"velocity_controllers/JointTrajectoryController",
+       [](auto& c) { return makeTrajectoryController(c, I::VELOCITY); }},
+      {"effort_controllers/JointTrajectoryController", [](auto& c) { return makeTrajectoryController(c, I::EFFORT); }},
       {"effort_controllers/JointVelocityController", [](auto& c) { return makePidController(c, I::EFFORT, false); }},
       {"velocity_controllers/JointPositionController", [](auto& c) { return makePidController(c, I::VELOCITY, true); }},
       {"effort_controllers/JointGroupPositionController",

@@ -16,5 +16,11 @@ std::unique_ptr<Controller> makeForwardGroupController(const ControllerContext& 
 // velocity_controllers/JointPositionController: a PID from the `pid` parameters.
 std::unique_ptr<Controller> makePidController(const ControllerContext& c, Interface output, bool on_position);
 std::unique_ptr<Controller> makePidGroupPositionController(const ControllerContext& c, Interface output);
+// position_controllers / velocity_controllers / effort_controllers JointTrajectoryController:
+// joint_trajectory_controller's splines, `command` topic, follow_joint_trajectory action, state.
+std::unique_ptr<Controller> makeTrajectoryController(const ControllerContext& c, Interface i);
+
+// control_toolbox::Pid's parameters under `ns` ("pid", "<joint>/pid", "gains/<joint>").
+mybot_control::PidConfig readPid(const ControllerContext& c, const std::string& ns, bool angle_wrap);
 
 }  // namespace mybot_ros_control

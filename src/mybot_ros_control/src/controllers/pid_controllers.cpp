@@ -16,26 +16,6 @@ namespace mybot_ros_control
 namespace
 {
 
-// control_toolbox::Pid's parameters under `ns` ("pid" or "<joint>/pid").
-mybot_control::PidConfig readPid(const ControllerContext& c, const std::string& ns, bool angle_wrap)
-{
-  if (!c.nh.hasParam(ns + "/p"))
-    c.fail(ns + "/p", "required parameter missing (the PID needs at least p)");
-  mybot_control::PidConfig cfg;
-  cfg.p = c.number(ns + "/p", 0.0);
-  cfg.i = c.number(ns + "/i", 0.0);
-  cfg.d = c.number(ns + "/d", 0.0);
-  const double clamp = std::abs(c.number(ns + "/i_clamp", 0.0));
-  // control_toolbox: i_clamp bounds the integral term symmetrically; 0 = no integral term.
-  cfg.i_clamp_max = c.number(ns + "/i_clamp_max", clamp);
-  cfg.i_clamp_min = c.number(ns + "/i_clamp_min", -clamp);
-  cfg.angle_wrap = angle_wrap;
-  const std::string bad = cfg.validate(c.nh.resolveName(ns) + "/");
-  if (!bad.empty())
-    c.fail("", bad);
-  return cfg;
-}
-
 class PidGroupController : public Controller
 {
 public:

@@ -19,7 +19,24 @@
 
 namespace mybot_lockstep
 {
-template <class ActionSpec>
+// Where an ActionServer takes its goal and cancel topics and runs its status timer: through this
+// process's lockstep participant. Another wiring (the simulator's controllers are run by the
+// coordinator, not a participant) gives the same two members.
+struct ParticipantWiring
+{
+  template <class M, class F>
+  ros::Subscriber subscribe(ros::NodeHandle& nh, const std::string& topic, uint32_t queue_size, F cb) const
+  {
+    return Participant::instance().subscribe<M>(nh, topic, queue_size, cb);
+  }
+  template <class F>
+  Timer timer(ros::NodeHandle& nh, double period, F cb) const
+  {
+    return Participant::instance().createTimer(nh, period, cb);
+  }
+};
+
+template <class ActionSpec, class Wiring = ParticipantWiring>
 class ActionServer : public actionlib::ActionServerBase<ActionSpec>
 {
 public:
@@ -27,10 +44,11 @@ public:
   ACTION_DEFINITION(ActionSpec)
 
   // As actionlib::ActionServer(n, name, auto_start): topics under `name` in `n`'s namespace.
-  ActionServer(ros::NodeHandle n, const std::string& name, bool auto_start)
+  ActionServer(ros::NodeHandle n, const std::string& name, bool auto_start, Wiring wiring = Wiring())
       : Base(boost::function<void(typename Base::GoalHandle)>(), boost::function<void(typename Base::GoalHandle)>(),
              auto_start),
-        node_(n, name)
+        node_(n, name),
+        wiring_(std::move(wiring))
   {
     if (this->started_)
     {
@@ -40,6 +58,10 @@ public:
   }
 
   ~ActionServer() override = default;
+
+  // The status array, now: for a wiring whose timer() makes none (the simulator's controllers
+  // publish it from their update, at whole multiples of the status period in sim time).
+  void publishStatusNow() { publishStatus(); }
 
 private:
   void initialize() override
@@ -64,15 +86,13 @@ private:
     node_.param("status_list_timeout", status_list_timeout, 5.0);
     this->status_list_timeout_ = ros::Duration(status_list_timeout);
 
-    auto& ls = Participant::instance();
     if (status_frequency > 0)
-      status_timer_ =
-          ls.createTimer(node_, 1.0 / status_frequency, [this](const ros::TimerEvent&) { publishStatus(); });
-    goal_sub_ = ls.subscribe<ActionGoal>(node_, "goal", static_cast<uint32_t>(sub_queue_size),
-                                         [this](const ActionGoalConstPtr& g) { this->goalCallback(g); });
-    cancel_sub_ = ls.subscribe<actionlib_msgs::GoalID>(node_, "cancel", static_cast<uint32_t>(sub_queue_size),
-                                                       [this](const actionlib_msgs::GoalID::ConstPtr& c)
-                                                       { this->cancelCallback(c); });
+      status_timer_ = wiring_.timer(node_, 1.0 / status_frequency, [this](const ros::TimerEvent&) { publishStatus(); });
+    goal_sub_ = wiring_.template subscribe<ActionGoal>(node_, "goal", static_cast<uint32_t>(sub_queue_size),
+                                                       [this](const ActionGoalConstPtr& g) { this->goalCallback(g); });
+    cancel_sub_ = wiring_.template subscribe<actionlib_msgs::GoalID>(
+        node_, "cancel", static_cast<uint32_t>(sub_queue_size),
+        [this](const actionlib_msgs::GoalID::ConstPtr& c) { this->cancelCallback(c); });
   }
 
   void publishResult(const actionlib_msgs::GoalStatus& status, const Result& result) override
@@ -119,6 +139,7 @@ private:
   }
 
   ros::NodeHandle node_;
+  Wiring wiring_;
   ros::Publisher status_pub_, result_pub_, feedback_pub_;
   ros::Subscriber goal_sub_, cancel_sub_;
   Timer status_timer_;

@@ -1,0 +1,213 @@
+#!/usr/bin/env python3
+"""joint_trajectory_controller's three types on an arm, through gazebo_ros_control, measured by the
+simulator's joint states: a goal followed through its points and ended SUCCESSFUL at its positions
+(the continuous wrist the short way round); the velocity and effort finger controllers at theirs;
+bad goals rejected with FollowJointTrajectory's error code and a text naming the joint or the point;
+a cancelled goal stopping the arm short of its target; a path that the joints cannot follow aborted
+with PATH_TOLERANCE_VIOLATED; a trajectory on `command`; `state` and `query_state`."""
+import math
+import threading
+import unittest
+
+import rospy
+import rostest
+from sensor_msgs.msg import JointState
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+from mybot_gazebo_lite.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryActionGoal,
+                                   FollowJointTrajectoryActionResult, FollowJointTrajectoryGoal,
+                                   FollowJointTrajectoryResult, JointTolerance, JointTrajectoryControllerState)
+from mybot_gazebo_lite.srv import ListControllers, QueryTrajectoryState
+from mybot_lockstep import participant
+from mybot_lockstep.start_paused import unpause_when
+from mybot_move_base.action_client import SimpleActionClient
+from actionlib_msgs.msg import GoalStatus
+
+CM = "/controller_manager/"
+ARM = ["shoulder_joint", "elbow_joint", "wrist_joint"]
+R = FollowJointTrajectoryResult
+
+
+def trajectory(names, points):
+    """A JointTrajectory starting on receipt: points as (time_from_start, positions[, velocities])."""
+    t = JointTrajectory(joint_names=list(names))
+    for p in points:
+        q = JointTrajectoryPoint(positions=list(p[1]), time_from_start=rospy.Duration(p[0]))
+        if len(p) > 2:
+            q.velocities = list(p[2])
+        t.points.append(q)
+    return t
+
+
+class ArmTrajectory(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("arm_trajectory_test")
+        cls.ls = participant(defer_join=True)
+        cls.lock = threading.Lock()
+        cls.joints = None
+        cls.state = None
+        cls.history = []  # (sim time, {joint: position})
+        cls.ls.Subscriber("/joint_states", JointState, cls._on_joints)
+        cls.ls.Subscriber("/arm_controller/state", JointTrajectoryControllerState, cls._on_state)
+        cls.command = cls.ls.Publisher("/arm_controller/command", JointTrajectory, queue_size=1)
+        cls.arm = SimpleActionClient("/arm_controller/follow_joint_trajectory", FollowJointTrajectoryAction, ls=cls.ls)
+        cls.left = SimpleActionClient("/left_finger_controller/follow_joint_trajectory", FollowJointTrajectoryAction,
+                                      ls=cls.ls)
+        cls.right = SimpleActionClient("/right_finger_controller/follow_joint_trajectory",
+                                       FollowJointTrajectoryAction, ls=cls.ls)
+        rospy.wait_for_service(CM + "list_controllers", timeout=60)
+        rospy.wait_for_service("/arm_controller/query_state", timeout=60)
+        cls.list = rospy.ServiceProxy(CM + "list_controllers", ListControllers)
+        cls.query = rospy.ServiceProxy("/arm_controller/query_state", QueryTrajectoryState)
+        unpause_when(cls.ls, lambda: sum(c.state == "running" for c in cls.list().controller) == 4,
+                     "the spawner did not start the four controllers")
+        for c in (cls.arm, cls.left, cls.right):
+            assert c.wait_for_server(rospy.Duration(30)), "no follow_joint_trajectory server"
+
+    @classmethod
+    def _on_joints(cls, m):
+        with cls.lock:
+            cls.joints = m
+            cls.history.append((m.header.stamp.to_sec(), dict(zip(m.name, m.position))))
+
+    @classmethod
+    def _on_state(cls, m):
+        with cls.lock:
+            cls.state = m
+
+    def position(self, name):
+        with self.lock:
+            js = self.joints
+        return None if js is None else js.position[js.name.index(name)]
+
+    def run_goal(self, client, goal, timeout=30.0):
+        client.send_goal(goal)
+        self.assertTrue(client.wait_for_result(rospy.Duration(timeout)), "no result")
+        return client.get_state(), client.get_result()
+
+    def test_0_the_action_and_state_speak_control_msgs(self):
+        # control_msgs' MD5 sums (Noetic): MoveIt's and rqt's clients connect to these topics.
+        self.assertEqual(FollowJointTrajectoryActionGoal._md5sum, "cff5c1d533bf2f82dd0138d57f4304bb")
+        self.assertEqual(FollowJointTrajectoryGoal._md5sum, "69636787b6ecbde4d61d711979bc7ecb")
+        self.assertEqual(FollowJointTrajectoryActionResult._md5sum, "c4fb3b000dc9da4fd99699380efcc5d9")
+
+    def test_1_a_goal_is_followed_through_its_points_to_success(self):
+        self.assertTrue(self.ls.wait_for(lambda: self.position("wrist_joint") is not None, 5.0), "no joint_states")
+        self.assertEqual({c.name: c.type for c in self.list().controller}["arm_controller"],
+                         "position_controllers/JointTrajectoryController")
+        t0 = rospy.get_time()
+        goal = FollowJointTrajectoryGoal(trajectory=trajectory(
+            ARM, [(2.0, [0.6, -0.8, 3.0]), (4.0, [1.0, -1.2, 2.5])]))
+        state, result = self.run_goal(self.arm, goal)
+        t1 = rospy.get_time()
+        self.assertEqual(state, GoalStatus.SUCCEEDED, result.error_string)
+        self.assertEqual(result.error_code, R.SUCCESSFUL)
+        self.assertGreaterEqual(t1 - t0, 4.0, "succeeded before the trajectory's end")
+        for name, want in zip(ARM, [1.0, -1.2, 2.5]):
+            self.assertAlmostEqual(self.position(name), want, delta=0.02, msg=name)
+        # It passed its first point: at 2 s the shoulder was near 0.6 (the servo lags the setpoint).
+        with self.lock:
+            at2 = min(self.history, key=lambda h: abs(h[0] - (t0 + 2.0)))[1]
+        self.assertAlmostEqual(at2["shoulder_joint"], 0.6, delta=0.1)
+        self.assertAlmostEqual(at2["wrist_joint"], 3.0, delta=0.15)
+        # state, from past the trajectory's end: desired at rest at the goal, the error within the
+        # goal tolerance.
+        self.assertTrue(self.ls.wait_for(lambda: self.state is not None and self.state.header.stamp.to_sec() >= t1,
+                                         2.0), "no state")
+        with self.lock:
+            s = self.state
+        self.assertEqual(list(s.joint_names), ARM)
+        self.assertAlmostEqual(s.desired.positions[0], 1.0, places=9)
+        self.assertLess(max(abs(e) for e in s.error.positions), 0.02)
+        q = self.query(time=rospy.Time(t1))
+        self.assertEqual(list(q.name), ARM)
+        self.assertAlmostEqual(q.position[1], -1.2, places=9)
+        self.assertEqual(list(q.velocity), [0.0, 0.0, 0.0])
+
+    def test_2_bad_goals_are_rejected_naming_the_joint_or_the_point(self):
+        cases = [
+            (trajectory(["shoulder_joint", "elbow_joint", "wirst_joint"], [(1.0, [0, 0, 0])]), R.INVALID_JOINTS,
+             "wirst_joint"),
+            (trajectory(["shoulder_joint", "elbow_joint"], [(1.0, [0, 0])]), R.INVALID_JOINTS, "wrist_joint"),
+            (trajectory(ARM, [(1.0, [0, 0])]), R.INVALID_GOAL, "point 0: 2 positions for 3 joints"),
+            (trajectory(ARM, [(1.0, [0, 0, 0]), (1.0, [0.1, 0, 0])]), R.INVALID_GOAL, "point 1: time_from_start"),
+            (trajectory(ARM, [(1.0, [0, float("nan"), 0])]), R.INVALID_GOAL, "not finite"),
+        ]
+        self.ls.sleep(0.5)  # the servos close the last of their lag
+        before = [self.position(n) for n in ARM]
+        for traj, code, text in cases:
+            state, result = self.run_goal(self.arm, FollowJointTrajectoryGoal(trajectory=traj))
+            self.assertEqual(state, GoalStatus.REJECTED)
+            self.assertEqual(result.error_code, code, result.error_string)
+            self.assertIn(text, result.error_string)
+        goal = FollowJointTrajectoryGoal(trajectory=trajectory(ARM, [(1.0, [0, 0, 0])]))
+        goal.goal_tolerance = [JointTolerance(name="knee_joint", position=0.1)]
+        state, result = self.run_goal(self.arm, goal)
+        self.assertEqual((state, result.error_code), (GoalStatus.REJECTED, R.INVALID_GOAL))
+        self.assertIn("knee_joint", result.error_string)
+        # Nothing moved.
+        self.ls.sleep(0.5)
+        for n, b in zip(ARM, before):
+            self.assertAlmostEqual(self.position(n), b, delta=1e-3, msg=n)
+
+    def test_3_a_cancelled_goal_stops_the_arm_short_of_its_target(self):
+        start = self.position("shoulder_joint")
+        self.arm.send_goal(FollowJointTrajectoryGoal(trajectory=trajectory(ARM, [(4.0, [start - 2.0, 0.0, 0.0])])))
+        self.ls.sleep(1.5)
+        self.arm.cancel_goal()
+        self.assertTrue(self.arm.wait_for_result(rospy.Duration(5)))
+        self.assertEqual(self.arm.get_state(), GoalStatus.PREEMPTED)
+        # stop_trajectory_duration 0.5: it comes to rest within that (and the servo's lag).
+        self.ls.sleep(1.5)
+        stopped = self.position("shoulder_joint")
+        self.ls.sleep(1.0)
+        self.assertAlmostEqual(self.position("shoulder_joint"), stopped, delta=1e-3, msg="still moving")
+        self.assertLess(stopped, start - 0.4, "it had not moved")
+        self.assertGreater(stopped, start - 1.6, "it went on towards the target")
+
+    def test_4_a_path_the_joints_cannot_follow_aborts(self):
+        # 2.5 rad in 0.5 s against the shoulder's 1.5 rad/s limit, with a 0.05 rad path tolerance.
+        start = self.position("shoulder_joint")
+        goal = FollowJointTrajectoryGoal(trajectory=trajectory(ARM, [(0.5, [start + 2.5, 0.0, 0.0])]))
+        goal.path_tolerance = [JointTolerance(name="shoulder_joint", position=0.05)]
+        state, result = self.run_goal(self.arm, goal)
+        self.assertEqual(state, GoalStatus.ABORTED)
+        self.assertEqual(result.error_code, R.PATH_TOLERANCE_VIOLATED, result.error_string)
+        self.assertIn("shoulder_joint", result.error_string)
+        self.assertIn("path tolerance 0.05", result.error_string)
+        self.ls.sleep(1.5)
+        stopped = self.position("shoulder_joint")
+        self.ls.sleep(1.0)
+        self.assertAlmostEqual(self.position("shoulder_joint"), stopped, delta=1e-3, msg="still moving")
+        self.assertLess(stopped, start + 1.0, "it went on after the abort")
+
+    def test_5_a_trajectory_on_command_is_followed(self):
+        self.command.publish(trajectory(ARM, [(1.5, [0.3, 0.4, 0.5], [0.0, 0.0, 0.0])]))
+        self.ls.sleep(2.5)
+        for name, want in zip(ARM, [0.3, 0.4, 0.5]):
+            self.assertAlmostEqual(self.position(name), want, delta=0.02, msg=name)
+
+    def test_6_the_velocity_and_effort_fingers_reach_their_goals(self):
+        for client, name in ((self.left, "left_finger_joint"), (self.right, "right_finger_joint")):
+            goal = FollowJointTrajectoryGoal(trajectory=trajectory([name], [(1.0, [0.03])]))
+            state, result = self.run_goal(client, goal)
+            self.assertEqual(state, GoalStatus.SUCCEEDED, "%s: %s" % (name, result.error_string))
+            self.assertAlmostEqual(self.position(name), 0.03, delta=0.002, msg=name)
+
+    def test_7_a_continuous_joint_takes_the_short_way_round(self):
+        self.command.publish(trajectory(ARM, [(2.0, [0.0, 0.0, 3.0])]))
+        self.ls.sleep(2.5)
+        self.assertAlmostEqual(self.position("wrist_joint"), 3.0, delta=0.02)
+        # To -3.0 rad: on through pi (+0.28 rad), not back 6 rad, as upstream's wraparound offset.
+        t0 = rospy.get_time()
+        self.command.publish(trajectory(ARM, [(1.0, [0.0, 0.0, -3.0])]))
+        self.ls.sleep(1.5)
+        self.assertAlmostEqual(math.remainder(self.position("wrist_joint") + 3.0, 2.0 * math.pi), 0.0, delta=0.02)
+        with self.lock:
+            passed = [h[1]["wrist_joint"] for h in self.history if h[0] > t0]
+        self.assertGreater(min(math.remainder(w - 3.0, 2.0 * math.pi) for w in passed), -0.05, "it turned back")
+
+
+if __name__ == "__main__":
+    rostest.rosrun("mybot_ros_control", "arm_trajectory", ArmTrajectory)
