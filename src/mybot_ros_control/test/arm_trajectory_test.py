@@ -146,6 +146,12 @@ class ArmTrajectory(unittest.TestCase):
         state, result = self.run_goal(self.arm, goal)
         self.assertEqual((state, result.error_code), (GoalStatus.REJECTED, R.INVALID_GOAL))
         self.assertIn("knee_joint", result.error_string)
+        # Stamped 2 s ago (test 1 ran 4 s) with its one point 0.5 s after that: it ended 1.5 s ago.
+        goal = FollowJointTrajectoryGoal(trajectory=trajectory(ARM, [(0.5, [0, 0, 0])]))
+        goal.trajectory.header.stamp = rospy.Time(rospy.get_time() - 2.0)
+        state, result = self.run_goal(self.arm, goal)
+        self.assertEqual((state, result.error_code), (GoalStatus.REJECTED, R.OLD_HEADER_TIMESTAMP))
+        self.assertIn("before now", result.error_string)
         # Nothing moved.
         self.ls.sleep(0.5)
         for n, b in zip(ARM, before):
@@ -181,6 +187,20 @@ class ArmTrajectory(unittest.TestCase):
         self.ls.sleep(1.0)
         self.assertAlmostEqual(self.position("shoulder_joint"), stopped, delta=1e-3, msg="still moving")
         self.assertLess(stopped, start + 1.0, "it went on after the abort")
+
+    def test_4b_a_goal_the_joints_cannot_reach_aborts_after_goal_time(self):
+        # The shoulder to 3.4 rad, past its 3.0 rad limit (the servo stops there), with its path
+        # tolerance removed (-1): 0.6 s (goal_time) after the end it is still 0.4 rad out.
+        goal = FollowJointTrajectoryGoal(trajectory=trajectory(ARM, [(3.0, [3.4, 0.0, 0.0])]))
+        goal.path_tolerance = [JointTolerance(name="shoulder_joint", position=-1.0)]
+        t0 = rospy.get_time()
+        state, result = self.run_goal(self.arm, goal)
+        self.assertEqual(state, GoalStatus.ABORTED)
+        self.assertEqual(result.error_code, R.GOAL_TOLERANCE_VIOLATED, result.error_string)
+        self.assertIn("joint 'shoulder_joint' is 0.4", result.error_string)
+        self.assertIn("goal_time 0.6 s", result.error_string)
+        self.assertGreater(rospy.get_time() - t0, 3.59)  # the end at 3 s, then goal_time
+        self.assertAlmostEqual(self.position("shoulder_joint"), 3.0, delta=0.01)
 
     def test_5_a_trajectory_on_command_is_followed(self):
         self.command.publish(trajectory(ARM, [(1.5, [0.3, 0.4, 0.5], [0.0, 0.0, 0.0])]))
