@@ -196,3 +196,44 @@ int main(int argc, char** argv)
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }
+
+// A robot whose root link is `world` (UR's and most arms' descriptions) is fixed where it is
+// spawned, as Gazebo fixes it: its base stays in the air while its arm swings down under gravity.
+// Without the `world` link the same robot falls.
+TEST(Physics, ARobotRootedAtAWorldLinkIsFixedWhereItIsSpawned)
+{
+  const std::string arm = R"(<link name="base_link">
+      <collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision>
+      <inertial><mass value="4"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.03"/></inertial>
+    </link>
+    <link name="arm_link">
+      <collision><origin xyz="0.25 0 0"/><geometry><box size="0.5 0.05 0.05"/></geometry></collision>
+      <inertial><origin xyz="0.25 0 0"/><mass value="1"/>
+        <inertia ixx="0.0004" ixy="0" ixz="0" iyy="0.021" iyz="0" izz="0.021"/></inertial>
+    </link>
+    <joint name="shoulder" type="continuous"><parent link="base_link"/><child link="arm_link"/>
+      <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/></joint>)";
+  const std::string world = R"(<link name="world"/>
+    <joint name="world_joint" type="fixed"><parent link="world"/><child link="base_link"/>
+      <origin xyz="0 0 1.0"/></joint>)";
+  for (bool rooted : {true, false})
+  {
+    const std::string urdf = "<robot name='arm'>" + (rooted ? world : std::string()) + arm + "</robot>";
+    auto spec = std::make_shared<RobotSpec>(parseUrdf(urdf, "arm.urdf"));
+    PhysicsWorld w(flatWorld(), {});
+    Robot& r =
+        w.addRobot(spec, "arm", "", btTransform(btQuaternion::getIdentity(), btVector3(0, 0, rooted ? 0.0 : 1.0)));
+    const btVector3 before = r.linkPose("base_link").getOrigin();
+    run(w, 1.0);
+    const btVector3 after = r.linkPose("base_link").getOrigin();
+    if (rooted)
+    {
+      EXPECT_NEAR(before.z(), 1.0, 1e-9);
+      EXPECT_LT((after - before).length(), 1e-6) << "the anchored base moved";
+      // The arm, free about y, has swung down (+pi/2 about y points the link at -z).
+      EXPECT_GT(std::abs(r.jointPosition("shoulder")), 0.5);
+    }
+    else
+      EXPECT_LT(after.z(), 0.5) << "the free robot did not fall";
+  }
+}

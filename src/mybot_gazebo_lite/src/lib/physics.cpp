@@ -407,6 +407,15 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   return *robots_.back();
 }
 
+// A URDF whose root link is named "world" is fixed where it is spawned, its fixed children (the
+// robot's base) with it, as Gazebo's URDF conversion joins such a robot to the world (UR's and
+// most arms' descriptions: `world` -> `world_joint` (fixed) -> `base_link`). Featherstone's
+// multibody then has a fixed base.
+static bool anchoredToWorld(const RobotSpec& rs)
+{
+  return rs.root == "world";
+}
+
 // Fixed joints are lumped: Featherstone's multibody has one link per moving joint, and a fixed
 // child's mass, inertia and colliders join its parent's (as Gazebo's URDF conversion does).
 std::vector<PhysicsWorld::LumpedBody> PhysicsWorld::lumpFixedJoints(const RobotSpec& rs, LinkPlaces& where)
@@ -449,7 +458,7 @@ std::vector<PhysicsWorld::LumpedBody> PhysicsWorld::lumpFixedJoints(const RobotS
     b.mp = composite(b.members);
     if (b.mp.mass <= 0)
     {
-      if (b.parent == -1)
+      if (b.parent == -1 && !anchoredToWorld(rs))
         throw LoadError(rs.source + ": link '" + b.root + "': the root body (with its fixed children) has no mass");
       // Massless moving links are kept with a token mass (Gazebo would drop them).
       b.mp.mass = 1e-3;
@@ -463,7 +472,7 @@ std::vector<PhysicsWorld::LumpedBody> PhysicsWorld::lumpFixedJoints(const RobotS
 void PhysicsWorld::buildMultiBody(const std::vector<LumpedBody>& bodies, Robot& r)
 {
   const int nlinks = static_cast<int>(bodies.size()) - 1;
-  btMultiBody* mb = new btMultiBody(nlinks, bodies[0].mp.mass, bodies[0].mp.diag, false, true);
+  btMultiBody* mb = new btMultiBody(nlinks, bodies[0].mp.mass, bodies[0].mp.diag, anchoredToWorld(*r.spec_), true);
   mb->setLinearDamping(0);
   mb->setAngularDamping(0);
   mb->setHasSelfCollision(false);
