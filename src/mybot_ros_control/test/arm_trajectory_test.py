@@ -208,6 +208,17 @@ class ArmTrajectory(unittest.TestCase):
         for name, want in zip(ARM, [0.3, 0.4, 0.5]):
             self.assertAlmostEqual(self.position(name), want, delta=0.02, msg=name)
 
+    def test_5b_a_trajectory_on_command_replaces_a_running_goal(self):
+        self.arm.send_goal(FollowJointTrajectoryGoal(trajectory=trajectory(ARM, [(4.0, [-1.0, -1.0, -1.0])])))
+        self.ls.sleep(1.0)
+        self.command.publish(trajectory(ARM, [(1.0, [0.2, 0.2, 0.2])]))
+        self.assertTrue(self.arm.wait_for_result(rospy.Duration(5)))
+        self.assertEqual(self.arm.get_state(), GoalStatus.PREEMPTED)
+        self.assertIn("replaced by a trajectory on the command topic", self.arm.get_goal_status_text())
+        self.ls.sleep(2.0)
+        for name in ARM:
+            self.assertAlmostEqual(self.position(name), 0.2, delta=0.02, msg=name)
+
     def test_6_the_velocity_and_effort_fingers_reach_their_goals(self):
         for client, name in ((self.left, "left_finger_joint"), (self.right, "right_finger_joint")):
             goal = FollowJointTrajectoryGoal(trajectory=trajectory([name], [(1.0, [0.03])]))

@@ -161,7 +161,7 @@ public:
 
   void stopping(double) override
   {
-    endGoal(Result::GOAL_TOLERANCE_VIOLATED, "the controller was stopped", false);
+    endGoal(Result::GOAL_TOLERANCE_VIOLATED, "the controller was stopped (or restarted by a simulation reset)", false);
     running_ = false;
     for (SimJoint* j : joints_)
       j->command = interface_ == Interface::POSITION ? j->position : 0.0;
