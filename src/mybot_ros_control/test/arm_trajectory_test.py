@@ -219,6 +219,18 @@ class ArmTrajectory(unittest.TestCase):
         for name in ARM:
             self.assertAlmostEqual(self.position(name), 0.2, delta=0.02, msg=name)
 
+    def test_5c_a_trajectory_stamped_ahead_starts_then(self):
+        # Stamped 1 s ahead: until then the arm holds (the trajectory it had, at rest), then moves.
+        self.ls.sleep(0.5)
+        before = self.position("shoulder_joint")
+        t = trajectory(ARM, [(1.0, [before - 0.5, 0.2, 0.2])])
+        t.header.stamp = rospy.Time(rospy.get_time() + 1.0)
+        self.command.publish(t)
+        self.ls.sleep(0.9)
+        self.assertAlmostEqual(self.position("shoulder_joint"), before, delta=1e-3, msg="moved before its start")
+        self.ls.sleep(1.6)
+        self.assertAlmostEqual(self.position("shoulder_joint"), before - 0.5, delta=0.02)
+
     def test_6_the_velocity_and_effort_fingers_reach_their_goals(self):
         for client, name in ((self.left, "left_finger_joint"), (self.right, "right_finger_joint")):
             goal = FollowJointTrajectoryGoal(trajectory=trajectory([name], [(1.0, [0.03])]))

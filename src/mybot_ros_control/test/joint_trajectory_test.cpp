@@ -103,3 +103,24 @@ TEST(JointTrajectory, AStopComesToRestOverItsDurationOrAtOnce)
   for (double t = 11.0; t < 11.4; t += 0.01)
     EXPECT_GE(soft.sample(t).velocities[0], -1e-9) << "it never turns back, at " << t;
 }
+
+TEST(JointTrajectory, ATrajectoryStartingLaterLeavesTheCurrentOneUntilThen)
+{
+  // Moving 0 -> 2 over 10..12 s; a new trajectory takes over at 11.5 s.
+  const JointTrajectory first = from({{12.0, {2.0, 1.0}, {0.0, 0.0}, {}}});
+  JointTrajectory second = first.splice(11.5, {{13.0, {0.0, 1.0}, {}, {}}}, kNoWrap);
+  for (double t : {10.0, 10.7, 11.2, 11.499})
+  {
+    EXPECT_NEAR(second.sample(t).positions[0], first.sample(t).positions[0], 1e-12) << t;
+    EXPECT_NEAR(second.sample(t).velocities[0], first.sample(t).velocities[0], 1e-12) << t;
+  }
+  // At 11.5 s it takes over where the first one is (the new point gives no velocity: a straight
+  // line from there on, as upstream).
+  EXPECT_NEAR(second.sample(11.5).positions[0], first.sample(11.5).positions[0], 1e-12);
+  EXPECT_NEAR(second.sample(13.0).positions[0], 0.0, 1e-12);
+  // Forgetting what lies before 11 s changes nothing from 11 s on.
+  const JointTrajectory kept = second;
+  second.forgetBefore(11.0);
+  for (double t : {11.0, 11.3, 11.5, 12.2, 14.0})
+    EXPECT_DOUBLE_EQ(second.sample(t).positions[0], kept.sample(t).positions[0]) << t;
+}

@@ -44,6 +44,8 @@ public:
   double endTime() const { return knots_.empty() ? 0.0 : knots_.back().time; }
   size_t joints() const { return knots_.empty() ? 0 : knots_.front().positions.size(); }
 
+  // Drops what lies wholly before `t`: samples at `t` and later stay the same.
+  void forgetBefore(double t);
   // This trajectory until `t`, then from its state at `t` through the points after `t` (points
   // at or before `t` are dropped). For a joint with wrap[j] (continuous) every new position is
   // shifted by the whole turns that bring the first new point within half a turn of the state at

@@ -200,6 +200,7 @@ private:
   struct Checked
   {
     std::vector<TrajectoryPoint> points;
+    double start = 0.0;  // when the trajectory takes over (its header stamp; 0: on receipt)
     int code = Result::SUCCESSFUL;
     std::string error;
   };
@@ -229,6 +230,7 @@ private:
         return fail(Result::INVALID_JOINTS,
                     "the trajectory leaves out joint '" + names_[k] + "' (allow_partial_joints_goal is false)");
     const double start = msg.header.stamp.isZero() ? now_ : msg.header.stamp.toSec();
+    out.start = start;
     const size_t n = msg.joint_names.size();
     for (size_t p = 0; p < msg.points.size(); ++p)
     {
@@ -281,10 +283,13 @@ private:
     return s;
   }
 
-  // Follows `points` from now on; an empty trajectory stops where the setpoint is.
-  void follow(const std::vector<TrajectoryPoint>& points)
+  // Follows `points` from `start` on (the current trajectory until then, as upstream); an empty
+  // trajectory stops where the setpoint is.
+  void follow(const std::vector<TrajectoryPoint>& points, double start)
   {
-    trajectory_ = points.empty() ? trajectory_.stopAt(now_, stop_duration_) : trajectory_.splice(now_, points, wrap_);
+    trajectory_.forgetBefore(now_);
+    trajectory_ = points.empty() ? trajectory_.stopAt(now_, stop_duration_)
+                                 : trajectory_.splice(std::max(now_, start), points, wrap_);
   }
 
   void onCommand(const trajectory_msgs::JointTrajectory& msg)
@@ -301,7 +306,7 @@ private:
       return;
     }
     endGoal(Result::SUCCESSFUL, "replaced by a trajectory on the command topic", true);
-    follow(c.points);
+    follow(c.points, c.start);
   }
 
   void onGoal(GoalHandle gh)
@@ -331,7 +336,7 @@ private:
     }
     endGoal(Result::SUCCESSFUL, "replaced by a new goal", true);
     gh.setAccepted();
-    follow(c.points);
+    follow(c.points, c.start);
     if (c.points.empty())  // upstream: an empty trajectory stops the joints, and that is the goal
     {
       Result r;

@@ -95,8 +95,31 @@ JointTrajectory JointTrajectory::splice(double t, const std::vector<TrajectoryPo
                                         const std::vector<bool>& wrap) const
 {
   const TrajectorySample now = sample(t);
+  // Until t this trajectory, its own segments: the one t falls in is kept whole and ends at the
+  // knot at t (its polynomial is in the time since its start, so it stays the same curve), or,
+  // past the last knot, rest there.
   JointTrajectory tr;
-  tr.addKnot({t, now.positions, now.velocities, now.accelerations});
+  size_t kept = 0;
+  while (kept < knots_.size() && knots_[kept].time < t)
+    ++kept;
+  tr.knots_.assign(knots_.begin(), knots_.begin() + static_cast<std::ptrdiff_t>(kept));
+  if (kept > 0)
+  {
+    tr.segments_.assign(segments_.begin(), segments_.begin() + static_cast<std::ptrdiff_t>(kept - 1));
+    if (kept - 1 < segments_.size())
+      tr.segments_.push_back(segments_[kept - 1]);
+    else
+    {
+      std::vector<Poly> rest(now.positions.size());
+      for (size_t j = 0; j < rest.size(); ++j)
+      {
+        rest[j].fill(0.0);
+        rest[j][0] = now.positions[j];
+      }
+      tr.segments_.push_back(rest);
+    }
+  }
+  tr.knots_.push_back({t, now.positions, now.velocities, now.accelerations});
   std::vector<double> offset(now.positions.size(), 0.0);
   bool first = true;
   for (const TrajectoryPoint& p : points)
@@ -116,6 +139,16 @@ JointTrajectory JointTrajectory::splice(double t, const std::vector<TrajectoryPo
     tr.addKnot(k);
   }
   return tr;
+}
+
+void JointTrajectory::forgetBefore(double t)
+{
+  // The last knot at or before t starts the segment t is in: everything before it goes.
+  size_t first = 0;
+  while (first + 1 < knots_.size() && knots_[first + 1].time <= t)
+    ++first;
+  knots_.erase(knots_.begin(), knots_.begin() + static_cast<std::ptrdiff_t>(first));
+  segments_.erase(segments_.begin(), segments_.begin() + static_cast<std::ptrdiff_t>(first));
 }
 
 JointTrajectory JointTrajectory::stopAt(double t, double duration) const
