@@ -12,6 +12,7 @@ import unittest
 import rospy
 import rostest
 from sensor_msgs.msg import JointState
+from std_srvs.srv import Empty
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from mybot_gazebo_lite.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryActionGoal,
@@ -250,6 +251,41 @@ class ArmTrajectory(unittest.TestCase):
         with self.lock:
             passed = [h[1]["wrist_joint"] for h in self.history if h[0] > t0]
         self.assertGreater(min(math.remainder(w - 3.0, 2.0 * math.pi) for w in passed), -0.05, "it turned back")
+
+
+    def test_8_a_reset_aborts_the_goal_and_nothing_moves_after(self):
+        # reset_simulation mid-goal: the goal aborts saying why, the joint states flow again from
+        # the new time (until 2026-12-01 joint_state_controller stayed silent until sim time came
+        # back to the reset's), nothing moves, and a goal runs again, though stamped before a
+        # cancel stamped before the reset (actionlib's memory of it is dropped when time goes back).
+        self.arm.send_goal(FollowJointTrajectoryGoal(trajectory=trajectory(ARM, [(4.0, [-1.0, 1.0, 1.0])])))
+        self.ls.sleep(0.5)
+        self.arm.cancel_goals_at_and_before_time(rospy.Time.now())
+        self.assertTrue(self.arm.wait_for_result(rospy.Duration(5)))
+        self.assertEqual(self.arm.get_state(), GoalStatus.PREEMPTED)
+        self.arm.send_goal(FollowJointTrajectoryGoal(trajectory=trajectory(ARM, [(4.0, [1.5, 1.0, 1.0])])))
+        self.ls.sleep(1.0)
+        before = rospy.Time.now()
+        rospy.wait_for_service("/gazebo/reset_simulation", 30)
+        rospy.ServiceProxy("/gazebo/reset_simulation", Empty)()
+        self.assertTrue(self.ls.wait_for(lambda: self.arm.get_state() == GoalStatus.ABORTED, 5.0),
+                        "the goal was not aborted")
+        self.assertIn("restarted by a simulation reset", self.arm.get_goal_status_text())
+        self.assertLess(rospy.Time.now(), before, "time did not go back")
+        # The checks below read joint states from after the reset.
+        back_to = rospy.get_time()
+        self.assertTrue(self.ls.wait_for(lambda: self.history[-1][0] <= back_to + 1.0, 5.0),
+                        "no joint states after the reset")
+        self.ls.sleep(0.5)
+        rest = [self.position(n) for n in ARM]
+        self.ls.sleep(1.0)
+        for n, r in zip(ARM, rest):
+            self.assertAlmostEqual(self.position(n), r, delta=1e-3, msg="%s moved after the reset" % n)
+        state, result = self.run_goal(self.arm, FollowJointTrajectoryGoal(
+            trajectory=trajectory(ARM, [(1.5, [0.4, 0.3, 0.2])])))
+        self.assertEqual(state, GoalStatus.SUCCEEDED, result.error_string)
+        for name, want in zip(ARM, [0.4, 0.3, 0.2]):
+            self.assertAlmostEqual(self.position(name), want, delta=0.02, msg=name)
 
 
 if __name__ == "__main__":

@@ -347,8 +347,11 @@ private:
   }
   bool resetSimulation(std_srvs::Empty::Request& a, std_srvs::Empty::Response& b)
   {
-    resetWorld(a, b);
+    // Time first: the plugins' reset reads it (gazebo_ros_control restarts its controllers at
+    // the new time; restarted at the old one, joint_state_controller stayed silent until sim
+    // time came back to where the reset had been).
     world_->resetTime();
+    resetWorld(a, b);
     last_clock_ = -1;
     last_contacts_ = -1;
     // In lockstep the new time goes out with the next period's tick, as every clock does: a

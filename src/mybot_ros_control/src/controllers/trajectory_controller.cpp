@@ -112,6 +112,10 @@ public:
 
   void starting(double t) override
   {
+    // A simulation reset restarts the controllers at an earlier time: a cancel remembered from
+    // before would recall every new goal (their stamps are earlier).
+    if (t < now_)
+      server_->forget();
     // Holding where the joints are, as upstream's controller starts.
     now_ = t;
     running_ = true;
@@ -125,8 +129,9 @@ public:
 
   void update(double t, double dt) override
   {
-    if (t < now_)  // the simulation was reset: time went back, and nothing is to move
+    if (t < now_)  // time went back without a restart: nothing is to move, and the past is gone
     {
+      server_->forget();
       endGoal(Result::GOAL_TOLERANCE_VIOLATED, "the simulation was reset (time went back)", false);
       trajectory_ = JointTrajectory::hold(t, actual().positions);
       next_state_ = next_monitor_ = next_status_ = t;

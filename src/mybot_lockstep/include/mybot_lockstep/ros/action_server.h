@@ -59,6 +59,15 @@ public:
 
   ~ActionServer() override = default;
 
+  // Time went back (reset_simulation, a bag played again): the stamps remembered from before (the
+  // last cancel request's) belong to a past that did not happen; without this, every new goal
+  // stamped before it is cancelled as soon as it arrives.
+  void forget()
+  {
+    boost::recursive_mutex::scoped_lock lock(this->lock_);
+    this->last_cancel_ = ros::Time();
+  }
+
   // The status array, now: for a wiring whose timer() makes none (the simulator's controllers
   // publish it from their update, at whole multiples of the status period in sim time).
   void publishStatusNow() { publishStatus(); }

@@ -6,7 +6,7 @@
 // new goal is stamped before the aborted one, so it was recalled "because another goal was
 // received" until simulated time caught up with the past. ActionServer's cancel-by-stamp memory
 // (last_cancel_) has the same flaw. Arrival order is what a user at rviz means, and forget()
-// drops the remembered stamps when time goes back.
+// (mybot_lockstep's ActionServer) drops the remembered stamps when time goes back.
 //
 // Its goal and cancel topics and its status timer go through the lockstep participant
 // (mybot_lockstep's ActionServer): in the simulator a goal reaches move_base in the period after
@@ -66,14 +66,6 @@ public:
   {
     if (isActive())
       current_.publishFeedback(feedback);
-  }
-
-  // Time went back: the stamps remembered from before (the last cancel request's) belong to a
-  // past that did not happen; without this, every new goal stamped before it is cancelled.
-  void forget()
-  {
-    boost::recursive_mutex::scoped_lock lock(this->lock_);
-    this->last_cancel_ = ros::Time();
   }
 
 private:
