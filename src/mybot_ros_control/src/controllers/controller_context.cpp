@@ -85,6 +85,22 @@ double ControllerContext::number(const std::string& param, double def) const
   return readOrFail(*this, param, def);
 }
 
+double ControllerContext::positive(const std::string& param, double def) const
+{
+  const double v = number(param, def);
+  if (!(v > 0.0) || !std::isfinite(v))
+    fail(param, "must be a finite number > 0, got " + std::to_string(v));
+  return v;
+}
+
+double ControllerContext::nonNegative(const std::string& param, double def) const
+{
+  const double v = number(param, def);
+  if (!(v >= 0.0) || !std::isfinite(v))
+    fail(param, "must be a finite number >= 0, got " + std::to_string(v));
+  return v;
+}
+
 bool ControllerContext::boolean(const std::string& param, bool def) const
 {
   return readOrFail(*this, param, def);

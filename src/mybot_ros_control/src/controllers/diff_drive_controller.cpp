@@ -37,26 +37,16 @@ public:
     claim.insert(claim.end(), left.begin(), left.end());
     claim.insert(claim.end(), right.begin(), right.end());
 
-    const double rate = c.number("publish_rate", 50.0);
-    if (!(rate > 0))
-      c.fail("publish_rate", "must be positive");
-    publish_period_ = 1.0 / rate;
+    publish_period_ = 1.0 / c.positive("publish_rate", 50.0);
     open_loop_ = c.boolean("open_loop", false);
-    const double sep_mult = c.number("wheel_separation_multiplier", 1.0);
-    const double radius_mult = c.number("wheel_radius_multiplier", 1.0);
-    const double left_mult = c.number("left_wheel_radius_multiplier", radius_mult);
-    const double right_mult = c.number("right_wheel_radius_multiplier", radius_mult);
-    for (auto [name, v] : {std::pair<const char*, double>{"wheel_separation_multiplier", sep_mult},
-                           {"left_wheel_radius_multiplier", left_mult},
-                           {"right_wheel_radius_multiplier", right_mult}})
-      if (!(v > 0))
-        c.fail(name, "must be positive");
+    const double sep_mult = c.positive("wheel_separation_multiplier", 1.0);
+    const double radius_mult = c.positive("wheel_radius_multiplier", 1.0);
+    const double left_mult = c.positive("left_wheel_radius_multiplier", radius_mult);
+    const double right_mult = c.positive("right_wheel_radius_multiplier", radius_mult);
     const int window = static_cast<int>(c.number("velocity_rolling_window_size", 10));
     if (window < 1)
       c.fail("velocity_rolling_window_size", "must be >= 1");
-    timeout_ = c.number("cmd_vel_timeout", 0.5);
-    if (!(timeout_ > 0))
-      c.fail("cmd_vel_timeout", "must be positive");
+    timeout_ = c.positive("cmd_vel_timeout", 0.5);
     base_frame_ = c.string("base_frame_id", "base_link");
     odom_frame_ = c.string("odom_frame_id", "odom");
     enable_tf_ = c.boolean("enable_odom_tf", true);

@@ -16,10 +16,7 @@ public:
   {
     if (!c.nh.hasParam("publish_rate"))
       c.fail("publish_rate", "required parameter missing");
-    const double rate = c.number("publish_rate", 0.0);
-    if (!(rate > 0))
-      c.fail("publish_rate", "must be positive");
-    period_ = 1.0 / rate;
+    period_ = 1.0 / c.positive("publish_rate", 0.0);
     XmlRpc::XmlRpcValue extra;
     if (c.nh.getParam("extra_joints", extra))
     {

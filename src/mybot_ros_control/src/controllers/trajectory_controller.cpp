@@ -42,9 +42,7 @@ struct SimWiring
   template <class M, class F>
   ros::Subscriber subscribe(ros::NodeHandle& nh, const std::string& topic, uint32_t queue_size, F cb) const
   {
-    if (plugin->lockstep)
-      return plugin->lockstep->subscribe<M>(nh, topic, queue_size, cb);
-    return nh.subscribe<M>(topic, queue_size, boost::function<void(const typename M::ConstPtr&)>(cb));
+    return mybot_gazebo_lite::subscribeCommand<M>(*plugin, nh, topic, cb, queue_size);
   }
   template <class F>
   mybot_lockstep::Timer timer(ros::NodeHandle&, double, F) const
@@ -81,8 +79,8 @@ public:
       wrap_.push_back(j.continuous);
       claimed_[interfaceName(i)].push_back(n);
       const std::string tol = "constraints/" + n + "/";
-      path_tolerance_.push_back(nonNegative(c, tol + "trajectory", 0.0));
-      goal_tolerance_.push_back(nonNegative(c, tol + "goal", 0.0));
+      path_tolerance_.push_back(c.nonNegative(tol + "trajectory", 0.0));
+      goal_tolerance_.push_back(c.nonNegative(tol + "goal", 0.0));
       if (i != Interface::POSITION)
       {
         pids_.emplace_back();
@@ -90,11 +88,11 @@ public:
         velocity_ff_.push_back(c.number("velocity_ff/" + n, 0.0));
       }
     }
-    goal_time_ = nonNegative(c, "constraints/goal_time", 0.0);
-    stopped_velocity_tolerance_ = nonNegative(c, "constraints/stopped_velocity_tolerance", 0.01);
-    stop_duration_ = nonNegative(c, "stop_trajectory_duration", 0.0);
-    state_period_ = 1.0 / positive(c, "state_publish_rate", 50.0);
-    monitor_period_ = 1.0 / positive(c, "action_monitor_rate", 20.0);
+    goal_time_ = c.nonNegative("constraints/goal_time", 0.0);
+    stopped_velocity_tolerance_ = c.nonNegative("constraints/stopped_velocity_tolerance", 0.01);
+    stop_duration_ = c.nonNegative("stop_trajectory_duration", 0.0);
+    state_period_ = 1.0 / c.positive("state_publish_rate", 50.0);
+    monitor_period_ = 1.0 / c.positive("action_monitor_rate", 20.0);
     allow_partial_ = c.boolean("allow_partial_joints_goal", false);
 
     ros::NodeHandle nh = c.nh;
@@ -173,21 +171,6 @@ public:
   }
 
 private:
-  static double nonNegative(const ControllerContext& c, const std::string& param, double def)
-  {
-    const double v = c.number(param, def);
-    if (!(v >= 0.0) || !std::isfinite(v))
-      c.fail(param, "must be a finite number >= 0, got " + str(v));
-    return v;
-  }
-  static double positive(const ControllerContext& c, const std::string& param, double def)
-  {
-    const double v = c.number(param, def);
-    if (!(v > 0.0) || !std::isfinite(v))
-      c.fail(param, "must be a finite number > 0, got " + str(v));
-    return v;
-  }
-
   TrajectorySample actual() const
   {
     TrajectorySample s;
@@ -261,7 +244,7 @@ private:
       TrajectoryPoint tp;
       tp.time = start + q.time_from_start.toSec();
       // A joint the message leaves out follows the trajectory it had (allow_partial_joints_goal).
-      const TrajectorySample kept = trajectory_.sample(tp.time);
+      const TrajectorySample kept = n < names_.size() ? trajectory_.sample(tp.time) : TrajectorySample();
       const bool vel = !q.velocities.empty(), acc = vel && !q.accelerations.empty();
       for (size_t k = 0; k < names_.size(); ++k)
       {

@@ -16,6 +16,7 @@
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <random>
@@ -54,13 +55,14 @@ struct PluginContext
 
 // A command input. Under lockstep it is counted (the period waits until every command a
 // participant sent for it is handled) and queued deep enough that none is dropped; otherwise
-// only the latest matters (queue of 1).
+// only the latest matters (queue of 1), unless each message counts (an action's goals: its queue).
 template <class M, class F>
-ros::Subscriber subscribeCommand(const PluginContext& c, ros::NodeHandle& nh, const std::string& topic, F cb)
+ros::Subscriber subscribeCommand(const PluginContext& c, ros::NodeHandle& nh, const std::string& topic, F cb,
+                                 uint32_t queue_size = 1)
 {
   if (c.lockstep)
-    return c.lockstep->subscribe<M>(nh, topic, 100, cb);
-  return nh.subscribe<M>(topic, 1, boost::function<void(const typename M::ConstPtr&)>(cb));
+    return c.lockstep->subscribe<M>(nh, topic, std::max<uint32_t>(100, queue_size), cb);
+  return nh.subscribe<M>(topic, queue_size, boost::function<void(const typename M::ConstPtr&)>(cb));
 }
 
 class SimPlugin

@@ -39,6 +39,10 @@ struct ControllerContext
   // A list of joint names (a YAML list; a single string is a list of one).
   std::vector<std::string> stringList(const std::string& param, bool required) const;
   double number(const std::string& param, double def) const;
+  // A number that must be finite and > 0 (a rate, a period, a size), or >= 0 (a tolerance, a
+  // duration); fails naming the parameter and the value read.
+  double positive(const std::string& param, double def) const;
+  double nonNegative(const std::string& param, double def) const;
   bool boolean(const std::string& param, bool def) const;
   std::string string(const std::string& param, const std::string& def) const;
 };
