@@ -33,26 +33,31 @@ def subscribed(topics, master=None):
     return all(subscribers.get(t) for t in topics)
 
 
-def wait_until_advertising(proc, node, timeout=30.0):
+def wait_until_advertising(proc, node, timeout=30.0, topics=()):
     """Waits until the process `proc` (a subprocess.Popen with its output piped), started as the
-    node `node`, advertises a topic of its own: it is past its start-up and running. Returns those
-    topics. Raises AssertionError with the process's output if it exits first or if `timeout`
-    seconds of wall time pass (start-up is a wall-time matter: the node may not see sim time yet);
-    the process is then killed. A check that a node "keeps running" for a fixed time passes
-    without the node ever starting on a busy machine; this one does not."""
+    node `node`, advertises a topic of its own, or every topic of `topics` (full names) when given:
+    it is past its start-up and running. Returns the topics it advertises. A node registers its
+    publishers one call to the master at a time, so a check for one topic passes `topics`: the
+    first poll may see only another. Raises AssertionError with the process's output if it exits
+    first or if `timeout` seconds of wall time pass (start-up is a wall-time matter: the node may
+    not see sim time yet); the process is then killed. A check that a node "keeps running" for a
+    fixed time passes without the node ever starting on a busy machine; this one does not."""
     master = rosgraph.Master('/mybot_common_node_process')
     deadline = time.monotonic() + timeout
     while True:
-        topics = advertised(node, master)
-        if topics and proc.poll() is None:
-            return topics
+        advertising = advertised(node, master)
+        if advertising and all(t in advertising for t in topics) and proc.poll() is None:
+            return advertising
         if proc.poll() is not None:
             out = proc.communicate()[0]
-            raise AssertionError('%s exited (%s) before it advertised a topic:\n%s' % (node, proc.returncode, out))
+            raise AssertionError('%s exited (%s) before it advertised %s:\n%s'
+                                 % (node, proc.returncode, ', '.join(topics) or 'a topic', out))
         if time.monotonic() > deadline:
             proc.kill()
             out = proc.communicate()[0]
-            raise AssertionError('%s advertised no topic within %g s:\n%s' % (node, timeout, out))
+            raise AssertionError('%s advertised %s within %g s (it advertised %s):\n%s'
+                                 % (node, ', '.join(topics) or 'no topic', timeout,
+                                    ', '.join(advertising) or 'nothing', out))
         time.sleep(0.05)
 
 

@@ -20,6 +20,7 @@ class FakeMaster:
 
 
 STARTING = [[['/rosout', ['/odom_node', '/other']]], [], []]
+PARTLY_UP = [[['/rosout', ['/odom_node']], ['/tf', ['/odom_node']]], [], []]
 UP = [[['/rosout', ['/odom_node']], ['/odom', ['/odom_node']], ['/tf', ['/odom_node', '/other']]], [], []]
 
 
@@ -44,6 +45,24 @@ def test_waits_until_the_node_advertises(monkeypatch):
         assert 'up' in node_process.stop(proc)
 
 
+def test_waits_for_the_named_topics_not_the_first_one(monkeypatch):
+    # A node registers its publishers one by one: a poll between two registrations sees only /tf.
+    monkeypatch.setattr(node_process.rosgraph, 'Master', lambda name: FakeMaster(STARTING, PARTLY_UP, UP))
+    proc = sleeper()
+    try:
+        assert node_process.wait_until_advertising(proc, '/odom_node', timeout=10, topics=['/odom']) == ['/odom', '/tf']
+    finally:
+        node_process.stop(proc)
+
+
+def test_a_named_topic_never_advertised_is_named_at_the_timeout(monkeypatch):
+    monkeypatch.setattr(node_process.rosgraph, 'Master', lambda name: FakeMaster(PARTLY_UP))
+    proc = sleeper()
+    with pytest.raises(AssertionError, match=r'/odom_node advertised /odom within 0.3 s \(it advertised /tf\)'):
+        node_process.wait_until_advertising(proc, '/odom_node', timeout=0.3, topics=['/odom'])
+    assert proc.poll() is not None
+
+
 def test_a_node_that_exits_first_is_reported_with_its_output(monkeypatch):
     monkeypatch.setattr(node_process.rosgraph, 'Master', lambda name: FakeMaster(STARTING))
     proc = subprocess.Popen(['sh', '-c', 'echo "wheel_radius: must be > 0"; exit 1'],
@@ -55,7 +74,7 @@ def test_a_node_that_exits_first_is_reported_with_its_output(monkeypatch):
 def test_a_node_that_never_advertises_is_killed_at_the_timeout(monkeypatch):
     monkeypatch.setattr(node_process.rosgraph, 'Master', lambda name: FakeMaster(STARTING))
     proc = sleeper()
-    with pytest.raises(AssertionError, match='advertised no topic within 0.3 s'):
+    with pytest.raises(AssertionError, match=r'advertised no topic within 0.3 s \(it advertised nothing\)'):
         node_process.wait_until_advertising(proc, '/odom_node', timeout=0.3)
     assert proc.poll() is not None
 

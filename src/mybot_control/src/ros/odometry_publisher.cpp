@@ -36,6 +36,8 @@ OdometryPublisher::OdometryPublisher(const ParamReader& p, ros::NodeHandle& nh, 
   msg_.child_frame_id = base_frame_;
   odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 20);
   twist_pub_ = nh.advertise<geometry_msgs::Twist>("cmd_vel_enc", 20);
+  if (enable_tf_)
+    broadcaster_.emplace();
   // Through the participant: under lockstep the services run on the thread of the odometry
   // updates they change, also in a nodelet manager.
   auto& ls = mybot_lockstep::Participant::instance();
@@ -60,7 +62,7 @@ void OdometryPublisher::update(const ros::Time& stamp, const Pose2D& p, const Tw
   msg_.twist.twist.angular.z = t.wz;
   publishShared(odom_pub_, msg_);
   publishShared(twist_pub_, msg_.twist.twist);
-  if (!enable_tf_)
+  if (!broadcaster_)
     return;
   geometry_msgs::TransformStamped tf;
   tf.header.stamp = stamp;
@@ -70,7 +72,7 @@ void OdometryPublisher::update(const ros::Time& stamp, const Pose2D& p, const Tw
   tf.transform.translation.y = p.y;
   tf.transform.rotation.z = qz;
   tf.transform.rotation.w = qw;
-  broadcaster_.sendTransform(tf);
+  broadcaster_->sendTransform(tf);
 }
 
 bool OdometryPublisher::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)

@@ -7,7 +7,7 @@ import unittest
 import rospy
 import rostest
 
-from mybot_common.node_process import stop, wait_until_advertising
+from mybot_common.node_process import advertised, stop, wait_until_advertising
 
 COV = [0.001, 0.001, 1e6, 1e6, 1e6, 0.03]
 ODOM_OK = {'wheel_separation': 0.3, 'wheel_radius': 0.1,
@@ -105,7 +105,23 @@ class BadConfigTest(unittest.TestCase):
         proc = subprocess.Popen(['rosrun', 'mybot_control', 'diffdrive_odom', '__name:=' + name],
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         try:
-            self.assertIn('/odom', wait_until_advertising(proc, '/' + name))
+            wait_until_advertising(proc, '/' + name, topics=['/odom'])
+        finally:
+            stop(proc)
+
+    def test_odom_tf_disabled_advertises_no_tf(self):
+        # enable_odom_tf: false (another node, e.g. an EKF, owns odom -> base_footprint): the node
+        # does not even advertise /tf. Its services come last in its start-up, so once set_pose is
+        # up every publisher it makes is registered.
+        name = 'odom_without_tf'
+        for key, value in dict(ODOM_OK, enable_odom_tf=False).items():
+            rospy.set_param('/%s/%s' % (name, key), value)
+        proc = subprocess.Popen(['rosrun', 'mybot_control', 'diffdrive_odom', '__name:=' + name],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            wait_until_advertising(proc, '/' + name, topics=['/odom'])
+            rospy.wait_for_service('/%s/set_pose' % name, timeout=30.0)
+            self.assertEqual(advertised('/' + name), ['/cmd_vel_enc', '/odom'])
         finally:
             stop(proc)
 

@@ -74,7 +74,7 @@ class SwerveBadConfigTest(unittest.TestCase):
         proc = subprocess.Popen(['rosrun', 'mybot_control', 'swerve_controller', '__name:=good_controller'],
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         try:
-            self.assertIn('/swerve_a/rqst_pivot_angle', wait_until_advertising(proc, '/good_controller'))
+            wait_until_advertising(proc, '/good_controller', topics=['/swerve_a/rqst_pivot_angle'])
         finally:
             stop(proc)
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 
 #include <nav_msgs/Odometry.h>
@@ -46,7 +47,10 @@ private:
   nav_msgs::Odometry msg_;
   ros::Publisher odom_pub_, twist_pub_;
   ros::ServiceServer reset_srv_, set_srv_;
-  tf2_ros::TransformBroadcaster broadcaster_;
+  // Made once the parameters are valid, and only with enable_odom_tf: a member constructed
+  // before them advertised /tf from a node that was about to refuse its configuration, or that
+  // never sends a transform.
+  std::optional<tf2_ros::TransformBroadcaster> broadcaster_;
 };
 
 }  // namespace mybot_control
