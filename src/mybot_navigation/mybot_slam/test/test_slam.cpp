@@ -1,4 +1,3 @@
-#include <deque>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -1149,34 +1148,4 @@ TEST(Slam, LoopClosureEventsReportWhatOneScanDid)
   events = loopClosureEvents(before, after);
   ASSERT_EQ(events.size(), 1u);
   EXPECT_STREQ(events[0].reason, "rejected: the optimised graph disagrees with it");
-}
-
-TEST(Slam, ZZLateSlow)
-{
-  for (int yaml : {0, 1})
-    for (int lag : {0, 1, 2})
-    {
-      SlamParams p = testParams();
-      if (yaml)
-      {
-        p.match_unobserved_weight = 0.5;
-        p.loop_unique_ratio = 0.8;
-        p.search_window_motion_scale = 2.5;
-        p.loop_max_candidates = 2;
-      }
-      Slam slam(p);
-      std::deque<Pose2D> q;
-      const Score s = driveOfficeSlowly(slam,
-                                        [&](const DriveSample& d)
-                                        {
-                                          q.push_back(d.odom);
-                                          if (static_cast<int>(q.size()) > lag + 1)
-                                            q.pop_front();
-                                          return q.front();
-                                        });
-      std::printf("slow yaml %d lag %d: ATE %.3f precision %.3f turn %d motion %d weak %d closures %d stall %d/%d\n",
-                  yaml, lag, s.ate, s.map.precision, slam.stats().turn_fallbacks, slam.stats().motion_fallbacks,
-                  slam.stats().weak_matches, slam.stats().loop_closures, slam.stats().stall_matches,
-                  slam.stats().stall_searches);
-    }
 }
