@@ -19,6 +19,9 @@ std::unique_ptr<Controller> makePidGroupPositionController(const ControllerConte
 // position_controllers / velocity_controllers / effort_controllers JointTrajectoryController:
 // joint_trajectory_controller's splines, `command` topic, follow_joint_trajectory action, state.
 std::unique_ptr<Controller> makeTrajectoryController(const ControllerContext& c, Interface i);
+// position_controllers / effort_controllers GripperActionController: gripper_action_controller's
+// gripper_cmd action on one joint.
+std::unique_ptr<Controller> makeGripperActionController(const ControllerContext& c, Interface i);
 
 // control_toolbox::Pid's parameters under `ns` ("pid", "<joint>/pid", "gains/<joint>").
 mybot_control::PidConfig readPid(const ControllerContext& c, const std::string& ns, bool angle_wrap);

@@ -10,13 +10,13 @@
 // FollowJointTrajectory's error codes and a text naming the joint and the figure. `state`
 // (JointTrajectoryControllerState) and `query_state` as upstream.
 #include "controllers.h"
+#include "sim_action_wiring.h"
 
 #include "mybot_ros_control/joint_trajectory.h"
 
 #include <mybot_gazebo_lite/FollowJointTrajectoryAction.h>
 #include <mybot_gazebo_lite/JointTrajectoryControllerState.h>
 #include <mybot_gazebo_lite/QueryTrajectoryState.h>
-#include <mybot_lockstep/ros/action_server.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
 #include <algorithm>
@@ -32,28 +32,8 @@ namespace
 
 using Action = mybot_gazebo_lite::FollowJointTrajectoryAction;
 using Result = mybot_gazebo_lite::FollowJointTrajectoryResult;
-
-// The simulator runs its controllers, not a lockstep participant: goals and cancels are counted
-// inputs of the simulator (as every command topic), and the controller publishes the status array
-// from its update.
-struct SimWiring
-{
-  const mybot_gazebo_lite::PluginContext* plugin;
-  template <class M, class F>
-  ros::Subscriber subscribe(ros::NodeHandle& nh, const std::string& topic, uint32_t queue_size, F cb) const
-  {
-    return mybot_gazebo_lite::subscribeCommand<M>(*plugin, nh, topic, cb, queue_size);
-  }
-  template <class F>
-  mybot_lockstep::Timer timer(ros::NodeHandle&, double, F) const
-  {
-    return {};
-  }
-};
-using Server = mybot_lockstep::ActionServer<Action, SimWiring>;
+using Server = SimActionServer<Action>;
 using GoalHandle = Server::GoalHandle;
-
-constexpr double kStatusPeriod = 0.2;  // actionlib's status_frequency, 5 Hz
 
 std::string str(double v)
 {
@@ -102,7 +82,7 @@ public:
     query_srv_ = nh.advertiseService<mybot_gazebo_lite::QueryTrajectoryState::Request,
                                      mybot_gazebo_lite::QueryTrajectoryState::Response>(
         "query_state", [this](auto& req, auto& res) { return onQuery(req, res); });
-    server_ = std::make_unique<Server>(nh, "follow_joint_trajectory", false, SimWiring{c.plugin});
+    server_ = std::make_unique<Server>(nh, "follow_joint_trajectory", false, SimActionWiring{c.plugin});
     server_->registerGoalCallback([this](GoalHandle gh) { onGoal(gh); });
     server_->registerCancelCallback([this](GoalHandle gh) { onCancel(gh); });
     server_->start();
@@ -153,12 +133,12 @@ public:
     if (t >= next_state_)
     {
       publishState(t, desired, now);
-      next_state_ = std::floor(t / state_period_ + 1.0 + 1e-9) * state_period_;
+      next_state_ = nextTick(t, state_period_);
     }
     if (t >= next_status_)
     {
       server_->publishStatusNow();
-      next_status_ = std::floor(t / kStatusPeriod + 1.0 + 1e-9) * kStatusPeriod;
+      next_status_ = nextTick(t, kActionStatusPeriod);
     }
   }
 
@@ -383,7 +363,7 @@ private:
       mybot_gazebo_lite::FollowJointTrajectoryFeedback fb;
       fill(fb, t, desired, now);
       goal_->publishFeedback(fb);
-      next_monitor_ = std::floor(t / monitor_period_ + 1.0 + 1e-9) * monitor_period_;
+      next_monitor_ = nextTick(t, monitor_period_);
     }
     const double end = trajectory_.endTime();
     if (t < end)
