@@ -203,6 +203,31 @@ class ArmTrajectory(unittest.TestCase):
         self.assertGreater(rospy.get_time() - t0, 3.59)  # the end at 3 s, then goal_time
         self.assertAlmostEqual(self.position("shoulder_joint"), 3.0, delta=0.01)
 
+    def test_4c_a_goal_sets_velocity_tolerances(self):
+        # An acceleration tolerance is taken and never fails (the acceleration is not measured;
+        # upstream sets its error to 0).
+        start = self.position("shoulder_joint")
+        goal = FollowJointTrajectoryGoal(trajectory=trajectory(ARM, [(2.0, [start - 0.5, 0.0, 0.0])]))
+        goal.path_tolerance = [JointTolerance(name="shoulder_joint", acceleration=1e-6)]
+        state, result = self.run_goal(self.arm, goal)
+        self.assertEqual(state, GoalStatus.SUCCEEDED, result.error_string)
+        # 2.5 rad in 0.5 s asks 5 rad/s of a shoulder limited to 1.5: its path velocity tolerance
+        # (0.5 rad/s), its position one removed, aborts the goal.
+        goal = FollowJointTrajectoryGoal(trajectory=trajectory(ARM, [(0.5, [start - 3.0, 0.0, 0.0])]))
+        goal.path_tolerance = [JointTolerance(name="shoulder_joint", position=-1.0, velocity=0.5)]
+        state, result = self.run_goal(self.arm, goal)
+        self.assertEqual(state, GoalStatus.ABORTED)
+        self.assertEqual(result.error_code, R.PATH_TOLERANCE_VIOLATED, result.error_string)
+        self.assertIn("joint 'shoulder_joint' moves at", result.error_string)
+        self.assertIn("path velocity tolerance 0.5", result.error_string)
+        # A tolerance that is not finite is refused naming the joint.
+        goal.path_tolerance = [JointTolerance(name="elbow_joint", velocity=float("nan"))]
+        state, result = self.run_goal(self.arm, goal)
+        self.assertEqual(state, GoalStatus.REJECTED)
+        self.assertEqual(result.error_code, R.INVALID_GOAL)
+        self.assertIn("joint 'elbow_joint''s tolerance is not finite", result.error_string)
+        self.ls.sleep(1.5)
+
     def test_5_a_trajectory_on_command_is_followed(self):
         self.command.publish(trajectory(ARM, [(1.5, [0.3, 0.4, 0.5], [0.0, 0.0, 0.0])]))
         self.ls.sleep(2.5)

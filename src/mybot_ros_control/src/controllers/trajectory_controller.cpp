@@ -6,7 +6,8 @@
 // joints follow its samples: the position itself, or a PID from `gains/<joint>` on the position
 // error (with the desired velocity fed forward on a velocity joint by `velocity_ff/<joint>`). A
 // goal is checked against `constraints` (path tolerance while it runs, goal tolerance and
-// `stopped_velocity_tolerance` at its end, within `goal_time`) and ends with
+// `stopped_velocity_tolerance` at its end, within `goal_time`; a goal's own position and velocity
+// tolerances per joint over those) and ends with
 // FollowJointTrajectory's error codes and a text naming the joint and the figure. `state`
 // (JointTrajectoryControllerState) and `query_state` as upstream.
 #include "controllers.h"
@@ -50,6 +51,7 @@ public:
     names_ = c.stringList("joints", true);
     if (names_.empty())
       c.fail("joints", "no joints");
+    const double stopped_velocity_tolerance = c.nonNegative("constraints/stopped_velocity_tolerance", 0.01);
     for (const std::string& n : names_)
     {
       if (std::count(names_.begin(), names_.end(), n) > 1)
@@ -59,8 +61,10 @@ public:
       wrap_.push_back(j.continuous);
       claimed_[interfaceName(i)].push_back(n);
       const std::string tol = "constraints/" + n + "/";
-      path_tolerance_.push_back(c.nonNegative(tol + "trajectory", 0.0));
-      goal_tolerance_.push_back(c.nonNegative(tol + "goal", 0.0));
+      // Upstream's defaults: a position tolerance on the path, and at the goal a position one
+      // and stopped_velocity_tolerance on the velocity.
+      default_tolerances_.path.push_back({c.nonNegative(tol + "trajectory", 0.0), 0.0, 0.0});
+      default_tolerances_.goal.push_back({c.nonNegative(tol + "goal", 0.0), stopped_velocity_tolerance, 0.0});
       if (i != Interface::POSITION)
       {
         pids_.emplace_back();
@@ -68,8 +72,7 @@ public:
         velocity_ff_.push_back(c.number("velocity_ff/" + n, 0.0));
       }
     }
-    goal_time_ = c.nonNegative("constraints/goal_time", 0.0);
-    stopped_velocity_tolerance_ = c.nonNegative("constraints/stopped_velocity_tolerance", 0.01);
+    default_tolerances_.goal_time = c.nonNegative("constraints/goal_time", 0.0);
     stop_duration_ = c.nonNegative("stop_trajectory_duration", 0.0);
     state_period_ = 1.0 / c.positive("state_publish_rate", 50.0);
     monitor_period_ = 1.0 / c.positive("action_monitor_rate", 20.0);
@@ -281,7 +284,7 @@ private:
   {
     const auto& goal = *gh.getGoal();
     Checked c = check(goal.trajectory);
-    Tolerances tol{path_tolerance_, goal_tolerance_, goal_time_};
+    Tolerances tol = default_tolerances_;
     if (c.code == Result::SUCCESSFUL)
     {
       c.error = readTolerances(goal, tol);
@@ -328,12 +331,18 @@ private:
     goal_.reset();
   }
 
+  // control_msgs/JointTolerance's three figures; 0: not checked.
+  struct StateTolerance
+  {
+    double position = 0.0, velocity = 0.0, acceleration = 0.0;
+  };
   struct Tolerances
   {
-    std::vector<double> path, goal;  // per joint, position; 0: none
+    std::vector<StateTolerance> path, goal;  // per joint
     double goal_time = 0.0;
   };
-  // The goal's own tolerances over the defaults: > 0 replaces, -1 removes, 0 keeps the default.
+  // The goal's own tolerances over the defaults, figure by figure as upstream: > 0 replaces, < 0
+  // (-1 by convention) removes, 0 keeps the default.
   std::string readTolerances(const mybot_gazebo_lite::FollowJointTrajectoryGoal& goal, Tolerances& tol) const
   {
     for (const auto* list : {&goal.path_tolerance, &goal.goal_tolerance})
@@ -342,17 +351,40 @@ private:
         const auto it = std::find(names_.begin(), names_.end(), jt.name);
         if (it == names_.end())
           return "a tolerance for joint '" + jt.name + "', which is not one of this controller's (" + joinNames() + ")";
-        if (!std::isfinite(jt.position) || (jt.position < 0.0 && jt.position != -1.0))
-          return "joint '" + jt.name + "''s position tolerance " + str(jt.position) +
-                 " is neither > 0, 0 (the default) nor -1 (none)";
-        double& t = (list == &goal.path_tolerance ? tol.path : tol.goal)[static_cast<size_t>(it - names_.begin())];
-        if (jt.position > 0.0)
-          t = jt.position;
-        else if (jt.position == -1.0)
-          t = 0.0;
+        StateTolerance& t =
+            (list == &goal.path_tolerance ? tol.path : tol.goal)[static_cast<size_t>(it - names_.begin())];
+        const std::pair<double, double*> figures[] = {
+            {jt.position, &t.position}, {jt.velocity, &t.velocity}, {jt.acceleration, &t.acceleration}};
+        for (const auto& [value, into] : figures)
+        {
+          if (!std::isfinite(value))
+            return "joint '" + jt.name + "''s tolerance is not finite";
+          if (value > 0.0)
+            *into = value;
+          else if (value < 0.0)
+            *into = 0.0;
+        }
       }
     if (!goal.goal_time_tolerance.isZero())
       tol.goal_time = std::max(0.0, goal.goal_time_tolerance.toSec());
+    return "";
+  }
+
+  // Why joint k is outside `tol` (its path tolerance, or its goal tolerance at the end), or "". The
+  // acceleration is not measured: its error is 0, as upstream sets it, so an acceleration
+  // tolerance never fails.
+  std::string violation(size_t k, const StateTolerance& tol, bool path, const TrajectorySample& desired,
+                        const TrajectorySample& now) const
+  {
+    const std::string kind = path ? "path" : "goal";
+    const double position_error = std::abs(desired.positions[k] - now.positions[k]);
+    const double velocity_error = std::abs(desired.velocities[k] - now.velocities[k]);
+    if (tol.position > 0.0 && position_error > tol.position)
+      return "joint '" + names_[k] + "' is " + str(position_error) + " from its " + (path ? "setpoint" : "goal") +
+             ", over its " + kind + " tolerance " + str(tol.position);
+    if (tol.velocity > 0.0 && velocity_error > tol.velocity)
+      return "joint '" + names_[k] + "' moves at " + str(now.velocities[k]) + " where its setpoint moves at " +
+             str(desired.velocities[k]) + ", over its " + kind + " velocity tolerance " + str(tol.velocity);
     return "";
   }
 
@@ -370,14 +402,11 @@ private:
     {
       for (size_t k = 0; k < joints_.size(); ++k)
       {
-        const double error = std::abs(desired.positions[k] - now.positions[k]);
-        if (tolerances_.path[k] > 0.0 && error > tolerances_.path[k])
+        const std::string why = violation(k, tolerances_.path[k], true, desired, now);
+        if (!why.empty())
         {
           trajectory_ = JointTrajectory::stopFrom(t, now, stop_duration_);
-          endGoal(Result::PATH_TOLERANCE_VIOLATED,
-                  "joint '" + names_[k] + "' is " + str(error) + " from its setpoint at " + str(t) +
-                      " s, over its path tolerance " + str(tolerances_.path[k]),
-                  false);
+          endGoal(Result::PATH_TOLERANCE_VIOLATED, why + " at " + str(t) + " s", false);
           return;
         }
       }
@@ -385,15 +414,7 @@ private:
     }
     std::string outside;
     for (size_t k = 0; k < joints_.size() && outside.empty(); ++k)
-    {
-      const double error = std::abs(desired.positions[k] - now.positions[k]);
-      if (tolerances_.goal[k] > 0.0 && error > tolerances_.goal[k])
-        outside = "joint '" + names_[k] + "' is " + str(error) + " from its goal, over its goal tolerance " +
-                  str(tolerances_.goal[k]);
-      else if (stopped_velocity_tolerance_ > 0.0 && std::abs(now.velocities[k]) > stopped_velocity_tolerance_)
-        outside = "joint '" + names_[k] + "' still moves at " + str(now.velocities[k]) +
-                  ", over stopped_velocity_tolerance " + str(stopped_velocity_tolerance_);
-    }
+      outside = violation(k, tolerances_.goal[k], false, desired, now);
     if (outside.empty())
       endGoal(Result::SUCCESSFUL, "", true);
     else if (t >= end + tolerances_.goal_time)
@@ -470,8 +491,8 @@ private:
   std::vector<bool> wrap_;
   std::vector<mybot_control::Pid> pids_;
   std::vector<double> velocity_ff_;
-  std::vector<double> path_tolerance_, goal_tolerance_;
-  double goal_time_ = 0.0, stopped_velocity_tolerance_ = 0.01, stop_duration_ = 0.0;
+  Tolerances default_tolerances_;
+  double stop_duration_ = 0.0;
   double state_period_ = 0.02, monitor_period_ = 0.05;
   bool allow_partial_ = false;
   bool running_ = false;
