@@ -31,8 +31,11 @@ def test_advertised_leaves_out_rosout_and_other_nodes():
 
 
 def sleeper():
-    return subprocess.Popen([sys.executable, '-c', 'import time; print("up"); time.sleep(30)'],
+    """A process that is up once it has said so (unbuffered: its line is in the pipe before this returns)."""
+    proc = subprocess.Popen([sys.executable, '-u', '-c', 'import time; print("up"); time.sleep(30)'],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    assert proc.stdout.readline() == 'up\n'
+    return proc
 
 
 def test_waits_until_the_node_advertises(monkeypatch):
@@ -42,7 +45,7 @@ def test_waits_until_the_node_advertises(monkeypatch):
         assert node_process.wait_until_advertising(proc, '/odom_node', timeout=10) == ['/odom', '/tf']
         assert proc.poll() is None
     finally:
-        assert 'up' in node_process.stop(proc)
+        node_process.stop(proc)
 
 
 def test_waits_for_the_named_topics_not_the_first_one(monkeypatch):

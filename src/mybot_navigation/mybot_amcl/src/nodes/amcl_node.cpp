@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <geometry_msgs/PoseArray.h>
@@ -88,7 +89,7 @@ public:
     odom_frame_ = readParam<std::string>(kNode, pnh_, "odom_frame_id", "odom");
     base_frame_ = readParam<std::string>(kNode, pnh_, "base_frame_id", "base_link");
     global_frame_ = readParam<std::string>(kNode, pnh_, "global_frame_id", "map");
-    tf_broadcast_ = readParam<bool>(kNode, pnh_, "tf_broadcast", true);
+    const bool tf_broadcast = readParam<bool>(kNode, pnh_, "tf_broadcast", true);
     transform_tolerance_ = readParam<double>(kNode, pnh_, "transform_tolerance", 0.1);
     laser_min_range_ = readParam<double>(kNode, pnh_, "laser_min_range", -1.0);
     laser_max_range_ = readParam<double>(kNode, pnh_, "laser_max_range", -1.0);
@@ -106,6 +107,8 @@ public:
       fatalParam(kNode, pnh_, "transform_tolerance", "must be >= 0");
 
     pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("amcl_pose", 2, true);
+    if (tf_broadcast)
+      broadcaster_.emplace();
     cloud_pub_ = nh_.advertise<geometry_msgs::PoseArray>("particlecloud", 2, true);
     global_loc_srv_ = nh_.advertiseService("global_localization", &AmclNode::globalLocalization, this);
     nomotion_srv_ = nh_.advertiseService("request_nomotion_update", &AmclNode::nomotionUpdate, this);
@@ -372,7 +375,7 @@ private:
       if (gui_publish_rate_ <= 0.0 || (scan->header.stamp - last_cloud_).toSec() >= 1.0 / gui_publish_rate_)
         publishCloud(scan->header.stamp);
     }
-    if (tf_broadcast_ && amcl_.hasEstimate())
+    if (broadcaster_ && amcl_.hasEstimate())
     {
       // map -> odom, future-dated by transform_tolerance so consumers can use it until the next scan.
       geometry_msgs::TransformStamped t;
@@ -380,7 +383,7 @@ private:
       t.header.stamp = scan->header.stamp + ros::Duration(transform_tolerance_);
       t.child_frame_id = odom_frame_;
       t.transform = toTransform(amcl_.mapToOdom());
-      broadcaster_.sendTransform(t);
+      broadcaster_->sendTransform(t);
     }
   }
 
@@ -408,11 +411,13 @@ private:
   ros::NodeHandle nh_, pnh_;
   tf2_ros::Buffer tf_buffer_;
   mybot_lockstep::TransformListener listener_;
-  tf2_ros::TransformBroadcaster broadcaster_;
+  // Made once the parameters are valid, and only with tf_broadcast: a member advertised /tf from a
+  // node about to refuse its configuration, or told never to send map -> odom.
+  std::optional<tf2_ros::TransformBroadcaster> broadcaster_;
   AmclParams params_;
   Amcl amcl_;
   std::string odom_frame_, base_frame_, global_frame_;
-  bool tf_broadcast_ = true, use_map_topic_ = false, first_map_only_ = false;
+  bool use_map_topic_ = false, first_map_only_ = false;
   double transform_tolerance_ = 0.1, laser_min_range_ = -1, laser_max_range_ = -1;
   double gui_publish_rate_ = -1, save_pose_rate_ = 0.5;
   ros::Publisher pose_pub_, cloud_pub_;
