@@ -83,6 +83,12 @@ class ServerThread:
         self.ready.set()
         self.loop.start()
 
+    def sync(self):
+        """Returns once the server's loop has run what it had queued before this call."""
+        done = threading.Event()
+        self.loop.add_callback(done.set)
+        assert done.wait(10.0), "the server's loop did not run"
+
     def stop(self):
         self.loop.add_callback(self.web.stop)
         self.loop.add_callback(self.loop.stop)
@@ -170,6 +176,10 @@ def test_token_from_the_url_and_mode_buttons(env):
     backend, server, d = env
     d.get("http://127.0.0.1:%d/?token=%s" % (server.port, TOKEN))
     wait_for(lambda: status(d) == "connected", "the page to authenticate from its URL")
+    # The page before this one closes its socket as the browser leaves it, and the server records
+    # a release when it handles the close: drained only once that has happened (one client left).
+    wait_for(lambda: len(server.web.clients) == 1, "the previous page's socket to close")
+    server.sync()  # on_close has returned (it leaves the set before it records the release)
     backend.taken()
     d.find_element(By.ID, "mode-autonomous").click()
     d.find_element(By.ID, "cancel").click()
