@@ -5,6 +5,7 @@ cannot reach (past its limit, or a load heavier than max_effort) ended ABORTED w
 stall_timeout, the joint still held; a cancel holding the finger where it is; a new goal preempting
 the running one; goals with a value that is not finite rejected naming it; a controller without its
 joint refused naming the parameter."""
+import subprocess
 import threading
 import unittest
 
@@ -165,6 +166,18 @@ class GripperAction(unittest.TestCase):
         state, result = self.run_goal(self.lift, goal(0.05, 10.0))
         self.assertEqual(state, GoalStatus.SUCCEEDED, self.lift.get_goal_status_text())
         self.assertLessEqual(abs(result.effort), 10.0)
+
+    def test_6b_controller_managers_tool_lists_them(self):
+        # controller_manager's command-line tool, through the stand-in package, as a user types it.
+        p = subprocess.run(["rosrun", "controller_manager", "controller_manager", "list-types"], capture_output=True,
+                           text=True, timeout=60)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("position_controllers/GripperActionController", p.stdout)
+        self.assertIn("effort_controllers/GripperActionController", p.stdout)
+        p = subprocess.run(["rosrun", "controller_manager", "controller_manager", "list"], capture_output=True,
+                           text=True, timeout=60)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("gripper_controller - position_controllers/GripperActionController ( running )", p.stdout)
 
     def test_7_a_controller_without_its_joint_is_refused_naming_it(self):
         rospy.set_param("/no_joint_gripper", {"type": "position_controllers/GripperActionController"})

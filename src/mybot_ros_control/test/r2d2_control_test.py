@@ -185,9 +185,9 @@ class R2d2Control(unittest.TestCase):
         res = self.load(name="bad_pid_controller")
         self.assertFalse(res.ok)
         self.assertIn("/bad_pid_controller/pid/p", res.message)
-        # The spawner says it too, and fails.
+        # The spawner says it too, and fails (controller_manager's, as launch files run it).
         env = dict(os.environ)
-        p = subprocess.run(["rosrun", "mybot_gazebo_lite", "spawner", "bad_joint_controller"], capture_output=True,
+        p = subprocess.run(["rosrun", "controller_manager", "spawner", "bad_joint_controller"], capture_output=True,
                            text=True, timeout=60, env=env)
         self.assertNotEqual(p.returncode, 0)
         self.assertIn("/bad_joint_controller/joint", p.stdout + p.stderr)
