@@ -16,7 +16,7 @@ from sensor_msgs.msg import JointState
 
 from mybot_gazebo_lite.msg import (GripperCommand, GripperCommandAction, GripperCommandActionGoal,
                                    GripperCommandActionResult, GripperCommandGoal)
-from mybot_gazebo_lite.srv import ListControllers, LoadController
+from mybot_gazebo_lite.srv import ListControllers, LoadController, SwitchController
 from mybot_lockstep import participant
 from mybot_lockstep.start_paused import unpause_when
 from mybot_move_base.action_client import SimpleActionClient
@@ -42,6 +42,7 @@ class GripperAction(unittest.TestCase):
         rospy.wait_for_service(CM + "list_controllers", timeout=60)
         cls.list = rospy.ServiceProxy(CM + "list_controllers", ListControllers)
         cls.load = rospy.ServiceProxy(CM + "load_controller", LoadController)
+        cls.switch = rospy.ServiceProxy(CM + "switch_controller", SwitchController)
         unpause_when(cls.ls, lambda: sum(c.state == "running" for c in cls.list().controller) == 3,
                      "the spawner did not start the three controllers")
         for c in (cls.finger, cls.finger2, cls.lift):
@@ -194,6 +195,23 @@ class GripperAction(unittest.TestCase):
         res = self.load(name="bad_tolerance_gripper")
         self.assertFalse(res.ok)
         self.assertIn("/bad_tolerance_gripper/goal_tolerance", res.message)
+
+    def test_8_a_stopped_controller_ends_its_goal_and_takes_none(self):
+        self.finger.send_goal(goal(0.04))
+        self.assertTrue(self.ls.wait_for(lambda: self.finger.get_state() == GoalStatus.ACTIVE, 2.0), "goal not active")
+        res = self.switch(start_controllers=[], stop_controllers=["gripper_controller"], strictness=2)
+        self.assertTrue(res.ok, res.message)
+        self.assertTrue(self.finger.wait_for_result(rospy.Duration(5)))
+        self.assertEqual(self.finger.get_state(), GoalStatus.ABORTED)
+        self.assertIn("the controller was stopped", self.finger.get_goal_status_text())
+        state, _ = self.run_goal(self.finger, goal(0.02), timeout=5.0)
+        self.assertEqual(state, GoalStatus.REJECTED)
+        self.assertEqual(self.finger.get_goal_status_text(), "the controller is not running")
+        res = self.switch(start_controllers=["gripper_controller"], stop_controllers=[], strictness=2)
+        self.assertTrue(res.ok, res.message)
+        state, result = self.run_goal(self.finger, goal(0.02))
+        self.assertEqual(state, GoalStatus.SUCCEEDED, self.finger.get_goal_status_text())
+        self.assertTrue(self.comes_to_rest("finger_joint", 0.02, 0.0005), self.position("finger_joint"))
 
 
 if __name__ == "__main__":
