@@ -6,25 +6,21 @@ bad goals rejected with FollowJointTrajectory's error code and a text naming the
 a cancelled goal stopping the arm short of its target; a path that the joints cannot follow aborted
 with PATH_TOLERANCE_VIOLATED; a trajectory on `command`; `state` and `query_state`."""
 import math
-import threading
-import unittest
 
 import rospy
 import rostest
-from sensor_msgs.msg import JointState
 from std_srvs.srv import Empty
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from mybot_gazebo_lite.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryActionGoal,
                                    FollowJointTrajectoryActionResult, FollowJointTrajectoryGoal,
                                    FollowJointTrajectoryResult, JointTolerance, JointTrajectoryControllerState)
-from mybot_gazebo_lite.srv import ListControllers, QueryTrajectoryState
-from mybot_lockstep import participant
-from mybot_lockstep.start_paused import unpause_when
+from mybot_gazebo_lite.srv import QueryTrajectoryState
 from mybot_move_base.action_client import SimpleActionClient
+
+from controller_test import ControllerTest
 from actionlib_msgs.msg import GoalStatus
 
-CM = "/controller_manager/"
 ARM = ["shoulder_joint", "elbow_joint", "wrist_joint"]
 R = FollowJointTrajectoryResult
 
@@ -40,16 +36,11 @@ def trajectory(names, points):
     return t
 
 
-class ArmTrajectory(unittest.TestCase):
+class ArmTrajectory(ControllerTest):
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("arm_trajectory_test")
-        cls.ls = participant(defer_join=True)
-        cls.lock = threading.Lock()
-        cls.joints = None
+        cls.join("arm_trajectory_test")
         cls.state = None
-        cls.history = []  # (sim time, {joint: position})
-        cls.ls.Subscriber("/joint_states", JointState, cls._on_joints)
         cls.ls.Subscriber("/arm_controller/state", JointTrajectoryControllerState, cls._on_state)
         cls.command = cls.ls.Publisher("/arm_controller/command", JointTrajectory, queue_size=1)
         cls.arm = SimpleActionClient("/arm_controller/follow_joint_trajectory", FollowJointTrajectoryAction, ls=cls.ls)
@@ -57,35 +48,14 @@ class ArmTrajectory(unittest.TestCase):
                                       ls=cls.ls)
         cls.right = SimpleActionClient("/right_finger_controller/follow_joint_trajectory",
                                        FollowJointTrajectoryAction, ls=cls.ls)
-        rospy.wait_for_service(CM + "list_controllers", timeout=60)
         rospy.wait_for_service("/arm_controller/query_state", timeout=60)
-        cls.list = rospy.ServiceProxy(CM + "list_controllers", ListControllers)
         cls.query = rospy.ServiceProxy("/arm_controller/query_state", QueryTrajectoryState)
-        unpause_when(cls.ls, lambda: sum(c.state == "running" for c in cls.list().controller) == 4,
-                     "the spawner did not start the four controllers")
-        for c in (cls.arm, cls.left, cls.right):
-            assert c.wait_for_server(rospy.Duration(30)), "no follow_joint_trajectory server"
-
-    @classmethod
-    def _on_joints(cls, m):
-        with cls.lock:
-            cls.joints = m
-            cls.history.append((m.header.stamp.to_sec(), dict(zip(m.name, m.position))))
+        cls.unpause_when_running(4, (cls.arm, cls.left, cls.right))
 
     @classmethod
     def _on_state(cls, m):
         with cls.lock:
             cls.state = m
-
-    def position(self, name):
-        with self.lock:
-            js = self.joints
-        return None if js is None else js.position[js.name.index(name)]
-
-    def run_goal(self, client, goal, timeout=30.0):
-        client.send_goal(goal)
-        self.assertTrue(client.wait_for_result(rospy.Duration(timeout)), "no result")
-        return client.get_state(), client.get_result()
 
     def test_0_the_action_and_state_speak_control_msgs(self):
         # control_msgs' MD5 sums (Noetic): MoveIt's and rqt's clients connect to these topics.

@@ -6,72 +6,30 @@ stall_timeout, the joint still held; a cancel holding the finger where it is; a 
 the running one; goals with a value that is not finite rejected naming it; a controller without its
 joint refused naming the parameter."""
 import subprocess
-import threading
-import unittest
 
 import rospy
 import rostest
 from actionlib_msgs.msg import GoalStatus
-from sensor_msgs.msg import JointState
 
 from mybot_gazebo_lite.msg import (GripperCommand, GripperCommandAction, GripperCommandActionGoal,
                                    GripperCommandActionResult, GripperCommandGoal)
-from mybot_gazebo_lite.srv import ListControllers, LoadController, SwitchController
-from mybot_lockstep import participant
-from mybot_lockstep.start_paused import unpause_when
 from mybot_move_base.action_client import SimpleActionClient
 
-CM = "/controller_manager/"
+from controller_test import ControllerTest
 
 
 def goal(position, max_effort=0.0):
     return GripperCommandGoal(command=GripperCommand(position=position, max_effort=max_effort))
 
 
-class GripperAction(unittest.TestCase):
+class GripperAction(ControllerTest):
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("gripper_action_test")
-        cls.ls = participant(defer_join=True)
-        cls.lock = threading.Lock()
-        cls.joints = None
-        cls.ls.Subscriber("/joint_states", JointState, cls._on_joints)
+        cls.join("gripper_action_test")
         cls.finger = SimpleActionClient("/gripper_controller/gripper_cmd", GripperCommandAction, ls=cls.ls)
         cls.finger2 = SimpleActionClient("/gripper_controller/gripper_cmd", GripperCommandAction, ls=cls.ls)
         cls.lift = SimpleActionClient("/lift_controller/gripper_cmd", GripperCommandAction, ls=cls.ls)
-        rospy.wait_for_service(CM + "list_controllers", timeout=60)
-        cls.list = rospy.ServiceProxy(CM + "list_controllers", ListControllers)
-        cls.load = rospy.ServiceProxy(CM + "load_controller", LoadController)
-        cls.switch = rospy.ServiceProxy(CM + "switch_controller", SwitchController)
-        unpause_when(cls.ls, lambda: sum(c.state == "running" for c in cls.list().controller) == 3,
-                     "the spawner did not start the three controllers")
-        for c in (cls.finger, cls.finger2, cls.lift):
-            assert c.wait_for_server(rospy.Duration(30)), "no gripper_cmd server"
-
-    @classmethod
-    def _on_joints(cls, m):
-        with cls.lock:
-            cls.joints = m
-
-    def position(self, name):
-        with self.lock:
-            js = self.joints
-        return None if js is None else js.position[js.name.index(name)]
-
-    def velocity(self, name):
-        with self.lock:
-            js = self.joints
-        return js.velocity[js.name.index(name)]
-
-    def comes_to_rest(self, name, at, within, timeout=3.0):
-        """Whether the joint comes to rest (under 1 mm/s) within `within` of `at` in `timeout` s of sim time."""
-        return self.ls.wait_for(lambda: abs(self.position(name) - at) < within and abs(self.velocity(name)) < 1e-3,
-                                timeout)
-
-    def run_goal(self, client, g, timeout=30.0, feedback=None):
-        client.send_goal(g, feedback_cb=feedback)
-        self.assertTrue(client.wait_for_result(rospy.Duration(timeout)), "no result")
-        return client.get_state(), client.get_result()
+        cls.unpause_when_running(3, (cls.finger, cls.finger2, cls.lift))
 
     def test_0_the_action_speaks_control_msgs(self):
         # control_msgs' MD5 sums (Noetic): MoveIt's GripperCommand handle and other clients connect.
