@@ -14,7 +14,7 @@ import rostest
 from sensor_msgs.msg import CameraInfo, Image
 from std_srvs.srv import Empty
 
-from mybot_gazebo_lite.srv import GetModelState
+from gazebo_msgs.srv import GetModelState
 
 WALL_TIMEOUT = 60.0
 

@@ -22,8 +22,9 @@ from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
-from mybot_gazebo_lite.msg import ModelContacts, ModelState
-from mybot_gazebo_lite.srv import DeleteModel, GetModelState, SetModelState, SpawnModel
+from gazebo_msgs.msg import ModelState
+from mybot_gazebo_lite.msg import ModelContacts
+from gazebo_msgs.srv import DeleteModel, GetModelState, SetModelState, SpawnModel
 from mybot_common.geometry import wrap, yaw_of
 from mybot_lockstep import participant
 

@@ -12,8 +12,8 @@ from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState, PointCloud, Range
 
 from mybot_common.geometry import wrap, yaw_of
-from mybot_gazebo_lite.msg import ContactsState
-from mybot_gazebo_lite.srv import GetModelState
+from gazebo_msgs.msg import ContactsState
+from gazebo_msgs.srv import GetModelState
 from mybot_lockstep import participant
 from mybot_lockstep.start_paused import unpause_when
 

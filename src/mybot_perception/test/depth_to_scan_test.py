@@ -11,7 +11,7 @@ import rospy
 import rostest
 from sensor_msgs.msg import LaserScan
 
-from mybot_gazebo_lite.srv import GetModelState
+from gazebo_msgs.srv import GetModelState
 from mybot_lockstep import participant
 from mybot_lockstep.start_paused import unpause_when
 

@@ -7,11 +7,22 @@ import unittest
 import rospy
 from sensor_msgs.msg import JointState
 
-from mybot_gazebo_lite.srv import ListControllers, LoadController, SwitchController
+from controller_manager_msgs.srv import ListControllers, LoadController, SwitchController
+from mybot_gazebo_lite.controller_manager import ControllerManager, ControllerManagerError
 from mybot_lockstep import participant
 from mybot_lockstep.start_paused import unpause_when
 
 CM = "/controller_manager/"
+
+
+def refusal(call):
+    """Why the controller manager refused `call(client)`, made through gazebo_lite's client (the
+    spawner's): controller_manager_msgs' replies say only `ok`, the manager logs why."""
+    try:
+        call(ControllerManager("/"))
+    except ControllerManagerError as e:
+        return str(e)
+    raise AssertionError("the controller manager did not refuse the call")
 
 
 class ControllerTest(unittest.TestCase):
@@ -44,6 +55,12 @@ class ControllerTest(unittest.TestCase):
         with cls.lock:
             cls.joints = m
             cls.history.append((m.header.stamp.to_sec(), dict(zip(m.name, m.position))))
+
+    def assert_advertises(self, types):
+        """The master lists each topic of {topic: type} with that type, as `rostopic type` shows it."""
+        listed = dict(rospy.get_published_topics())
+        for topic, t in types.items():
+            self.assertEqual(listed.get(topic), t, topic)
 
     def position(self, name):
         with self.lock:

@@ -11,11 +11,10 @@ import rospy
 import rostest
 from actionlib_msgs.msg import GoalStatus
 
-from mybot_gazebo_lite.msg import (GripperCommand, GripperCommandAction, GripperCommandActionGoal,
-                                   GripperCommandActionResult, GripperCommandGoal)
+from control_msgs.msg import GripperCommand, GripperCommandAction, GripperCommandGoal
 from mybot_move_base.action_client import SimpleActionClient
 
-from controller_test import ControllerTest
+from controller_test import ControllerTest, refusal
 
 
 def goal(position, max_effort=0.0):
@@ -32,10 +31,12 @@ class GripperAction(ControllerTest):
         cls.unpause_when_running(3, (cls.finger, cls.finger2, cls.lift))
 
     def test_0_the_action_speaks_control_msgs(self):
-        # control_msgs' MD5 sums (Noetic): MoveIt's GripperCommand handle and other clients connect.
-        self.assertEqual(GripperCommandActionGoal._md5sum, "aa581f648a35ed681db2ec0bf7a82bea")
-        self.assertEqual(GripperCommandGoal._md5sum, "86fd82f4ddc48a4cb6856cfa69217e43")
-        self.assertEqual(GripperCommandActionResult._md5sum, "143702cb2df0f163c5283cedc5efc6b6")
+        # control_msgs' types, as `rostopic type` shows them (their MD5 sums are upstream's:
+        # test/python/test_upstream_messages.py): MoveIt's GripperCommand handle connects.
+        self.assert_advertises({
+            "/gripper_controller/gripper_cmd/goal": "control_msgs/GripperCommandActionGoal",
+            "/gripper_controller/gripper_cmd/result": "control_msgs/GripperCommandActionResult",
+            "/gripper_controller/gripper_cmd/feedback": "control_msgs/GripperCommandActionFeedback"})
         types = {c.name: c.type for c in self.list().controller}
         self.assertEqual(types["gripper_controller"], "position_controllers/GripperActionController")
         self.assertEqual(types["lift_controller"], "effort_controllers/GripperActionController")
@@ -140,25 +141,22 @@ class GripperAction(ControllerTest):
 
     def test_7_a_controller_without_its_joint_is_refused_naming_it(self):
         rospy.set_param("/no_joint_gripper", {"type": "position_controllers/GripperActionController"})
-        res = self.load(name="no_joint_gripper")
-        self.assertFalse(res.ok)
-        self.assertIn("/no_joint_gripper/joint", res.message)
+        self.assertFalse(self.load(name="no_joint_gripper").ok)
+        self.assertIn("/no_joint_gripper/joint", refusal(lambda cm: cm.load("no_joint_gripper")))
         # The lift has no position interface.
         rospy.set_param("/wrong_gripper", {"type": "position_controllers/GripperActionController", "joint": "lift_joint"})
-        res = self.load(name="wrong_gripper")
-        self.assertFalse(res.ok)
-        self.assertIn("lift_joint", res.message)
+        self.assertFalse(self.load(name="wrong_gripper").ok)
+        self.assertIn("lift_joint", refusal(lambda cm: cm.load("wrong_gripper")))
         rospy.set_param("/bad_tolerance_gripper", {"type": "position_controllers/GripperActionController",
                                                    "joint": "finger_joint", "goal_tolerance": -0.01})
-        res = self.load(name="bad_tolerance_gripper")
-        self.assertFalse(res.ok)
-        self.assertIn("/bad_tolerance_gripper/goal_tolerance", res.message)
+        self.assertFalse(self.load(name="bad_tolerance_gripper").ok)
+        self.assertIn("/bad_tolerance_gripper/goal_tolerance", refusal(lambda cm: cm.load("bad_tolerance_gripper")))
 
     def test_8_a_stopped_controller_ends_its_goal_and_takes_none(self):
         self.finger.send_goal(goal(0.04))
         self.assertTrue(self.ls.wait_for(lambda: self.finger.get_state() == GoalStatus.ACTIVE, 2.0), "goal not active")
         res = self.switch(start_controllers=[], stop_controllers=["gripper_controller"], strictness=2)
-        self.assertTrue(res.ok, res.message)
+        self.assertTrue(res.ok)
         self.assertTrue(self.finger.wait_for_result(rospy.Duration(5)))
         self.assertEqual(self.finger.get_state(), GoalStatus.ABORTED)
         self.assertIn("the controller was stopped", self.finger.get_goal_status_text())
@@ -166,7 +164,7 @@ class GripperAction(ControllerTest):
         self.assertEqual(state, GoalStatus.REJECTED)
         self.assertEqual(self.finger.get_goal_status_text(), "the controller is not running")
         res = self.switch(start_controllers=["gripper_controller"], stop_controllers=[], strictness=2)
-        self.assertTrue(res.ok, res.message)
+        self.assertTrue(res.ok)
         state, result = self.run_goal(self.finger, goal(0.02))
         self.assertEqual(state, GoalStatus.SUCCEEDED, self.finger.get_goal_status_text())
         self.assertTrue(self.comes_to_rest("finger_joint", 0.02, 0.0005), self.position("finger_joint"))

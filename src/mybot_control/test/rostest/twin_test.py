@@ -13,7 +13,7 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32
 
-from mybot_gazebo_lite.srv import GetModelState
+from gazebo_msgs.srv import GetModelState
 
 from mybot_lockstep import participant
 from mybot_lockstep.start_paused import unpause_when

@@ -1,13 +1,21 @@
 """Client side of gazebo_lite's controller_manager: what `spawner` and `controller_manager`
 (the scripts, with controller_manager's command lines) do with its services."""
 
-import rospy
+import threading
+import time
 
-from mybot_gazebo_lite.srv import (ListControllers, ListControllerTypes, LoadController, ReloadControllerLibraries,
-                                   SwitchController, UnloadController)
+import rosgraph
+import rospy
+from rosgraph_msgs.msg import Log
+
+from controller_manager_msgs.srv import (ListControllers, ListControllerTypes, LoadController,
+                                         ReloadControllerLibraries, SwitchController, UnloadController)
 
 STRICT = 2
 BEST_EFFORT = 1
+# How long a failed call waits for the manager's log line saying why (wall seconds): it comes
+# through rosout within milliseconds; past this the error says where to look instead.
+REASON_TIMEOUT = 5.0
 
 
 class ControllerManagerError(RuntimeError):
@@ -25,6 +33,13 @@ class ControllerManager:
             ns = rospy.get_namespace() + ns
         self.prefix = ns + "controller_manager/"
         self._proxies = {}
+        # controller_manager_msgs' replies say only ok or not; the manager logs why (as upstream's
+        # does, with ROS_ERROR), after the service's name. Read from the manager's own /rosout
+        # publication: rostest, unlike roslaunch, runs no rosout node to aggregate it.
+        self._reasons = []
+        self._reason_seen = threading.Condition()
+        self._log = None
+        self._manager = None
 
     def wait(self, timeout):
         """Waits for the manager (wall seconds; None = forever). False when it did not appear."""
@@ -42,10 +57,51 @@ class ControllerManager:
         except rospy.ServiceException as e:
             raise ControllerManagerError("%s%s: %s" % (self.prefix, service, e))
 
+    def _on_log(self, m):
+        if m.level >= Log.WARN and m.msg.startswith(self.prefix) and m.name == self._manager:
+            with self._reason_seen:
+                self._reasons.append(m.msg)
+                self._reason_seen.notify_all()
+
+    def _reason(self, service, first):
+        """The manager's log line for a failed call to `service`, or None. `first`: how many
+        lines were seen before the call."""
+        head = self.prefix + service + ": "
+        deadline = time.monotonic() + REASON_TIMEOUT
+        with self._reason_seen:
+            while True:
+                found = [r for r in self._reasons[first:] if r.startswith(head)]
+                left = deadline - time.monotonic()
+                if found or left <= 0 or rospy.is_shutdown():
+                    return found[-1] if found else None
+                self._reason_seen.wait(min(left, 0.1))
+
+    def _listen_to_manager(self, service):
+        """Subscribes to /rosout and waits until connected to the manager node's publication: a
+        line it logs before that is not seen."""
+        master = rosgraph.Master(rospy.get_name())
+        try:
+            _, _, services = master.getSystemState()
+            self._manager = next(nodes[0] for name, nodes in services if name == self.prefix + service)
+            uri = master.lookupNode(self._manager)
+        except (StopIteration, rosgraph.MasterException, OSError):
+            return
+        self._log = rospy.Subscriber("/rosout", Log, self._on_log, queue_size=100)
+        # Connected once rospy's transport to that publisher has exchanged headers (it then knows
+        # its local end): from then on the manager sends us every line it logs.
+        _wait_until(lambda: any(c.endpoint_id == uri and c.local_endpoint[0] is not None
+                                for c in self._log.impl.connections), REASON_TIMEOUT)
+
     def _checked(self, service, srv, **fields):
+        if self._log is None:
+            self._listen_to_manager(service)
+        with self._reason_seen:
+            first = len(self._reasons)
         res = self._call(service, srv, **fields)
         if not res.ok:
-            raise ControllerManagerError(res.message or "%s failed" % service)
+            why = self._reason(service, first)
+            raise ControllerManagerError(why or "%s%s failed (the controller manager's log says why)"
+                                         % (self.prefix, service))
         return res
 
     def load(self, controller):
@@ -67,3 +123,11 @@ class ControllerManager:
 
     def reload_libraries(self, force_kill=False):
         self._checked("reload_controller_libraries", ReloadControllerLibraries, force_kill=force_kill)
+
+
+def _wait_until(predicate, timeout):
+    """Polls `predicate` for up to `timeout` wall seconds (a connection being made, not time
+    passing in the simulation)."""
+    deadline = time.monotonic() + timeout
+    while not predicate() and time.monotonic() < deadline and not rospy.is_shutdown():
+        time.sleep(0.01)

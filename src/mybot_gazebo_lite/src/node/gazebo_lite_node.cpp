@@ -2,11 +2,11 @@
 // step, publishes /clock, runs the plugin emulations and the /gazebo services.
 #include "mybot_gazebo_lite/ros/sim_plugin.h"
 
-#include "mybot_gazebo_lite/DeleteModel.h"
-#include "mybot_gazebo_lite/GetModelState.h"
+#include "gazebo_msgs/DeleteModel.h"
+#include "gazebo_msgs/GetModelState.h"
 #include "mybot_gazebo_lite/ModelContacts.h"
-#include "mybot_gazebo_lite/SetModelState.h"
-#include "mybot_gazebo_lite/SpawnModel.h"
+#include "gazebo_msgs/SetModelState.h"
+#include "gazebo_msgs/SpawnModel.h"
 #include "mybot_gazebo_lite/parsing.h"
 #include "mybot_gazebo_lite/physics.h"
 #include "mybot_common/checks.h"
@@ -27,6 +27,10 @@
 
 namespace mybot_gazebo_lite
 {
+using gazebo_msgs::DeleteModel;
+using gazebo_msgs::GetModelState;
+using gazebo_msgs::SetModelState;
+using gazebo_msgs::SpawnModel;
 
 class SimNode
 {

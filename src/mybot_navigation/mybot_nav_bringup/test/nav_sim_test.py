@@ -32,10 +32,11 @@ from rosgraph_msgs.msg import Log
 from PIL import Image
 from std_srvs.srv import Empty
 
-from mybot_gazebo_lite.msg import ModelContacts, ModelState
+from gazebo_msgs.msg import ModelState
+from mybot_gazebo_lite.msg import ModelContacts
 from mybot_move_base.action_client import SimpleActionClient
 from mybot_move_base.trajectory import sideways_distance
-from mybot_gazebo_lite.srv import SetModelState
+from gazebo_msgs.srv import SetModelState
 from mybot_common.geometry import wrap as normalize, yaw_of
 from mybot_lockstep import TransformListener, participant
 

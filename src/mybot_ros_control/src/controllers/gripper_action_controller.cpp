@@ -12,7 +12,7 @@
 
 #include "mybot_ros_control/gripper_goal.h"
 
-#include <mybot_gazebo_lite/GripperCommandAction.h>
+#include <control_msgs/GripperCommandAction.h>
 
 #include <algorithm>
 #include <cmath>
@@ -25,8 +25,8 @@ namespace mybot_ros_control
 namespace
 {
 
-using Action = mybot_gazebo_lite::GripperCommandAction;
-using Result = mybot_gazebo_lite::GripperCommandResult;
+using Action = control_msgs::GripperCommandAction;
+using Result = control_msgs::GripperCommandResult;
 using Server = SimActionServer<Action>;
 using GoalHandle = Server::GoalHandle;
 
@@ -170,8 +170,8 @@ private:
     const GripperGoalState s = monitor_.update(t, target_, joint_->position, joint_->velocity);
     if (t >= next_monitor_)
     {
-      goal_->publishFeedback(result<mybot_gazebo_lite::GripperCommandFeedback>(s == GripperGoalState::REACHED,
-                                                                               s == GripperGoalState::STALLED));
+      goal_->publishFeedback(
+          result<control_msgs::GripperCommandFeedback>(s == GripperGoalState::REACHED, s == GripperGoalState::STALLED));
       next_monitor_ = nextTick(t, monitor_period_);
     }
     if (s == GripperGoalState::REACHED)

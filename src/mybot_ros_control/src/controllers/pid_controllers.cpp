@@ -4,7 +4,7 @@
 // i_clamp_min/i_clamp_max), the target on `command`, the loop on `state` every 10th update.
 #include "controllers.h"
 
-#include <mybot_gazebo_lite/JointControllerState.h>
+#include <control_msgs/JointControllerState.h>
 #include <std_msgs/Float64.h>
 #include <std_msgs/Float64MultiArray.h>
 
@@ -43,7 +43,7 @@ public:
     {
       sub_ = mybot_gazebo_lite::subscribeCommand<std_msgs::Float64>(
           *c.plugin, nh, "command", [this](const std_msgs::Float64::ConstPtr& m) { onCommand({m->data}); });
-      state_pub_ = nh.advertise<mybot_gazebo_lite::JointControllerState>("state", 1);
+      state_pub_ = nh.advertise<control_msgs::JointControllerState>("state", 1);
     }
   }
   void starting(double) override
@@ -102,7 +102,7 @@ private:
   {
     const Loop& l = loops_.front();
     const auto& cfg = l.pid.config();
-    mybot_gazebo_lite::JointControllerState s;
+    control_msgs::JointControllerState s;
     s.header.stamp = ros::Time(t);
     s.set_point = on_position_ ? clampPosition(*l.joint, l.target) : l.target;
     s.process_value = on_position_ ? l.joint->position : l.joint->velocity;

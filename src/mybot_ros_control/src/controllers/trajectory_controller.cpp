@@ -15,9 +15,9 @@
 
 #include "mybot_ros_control/joint_trajectory.h"
 
-#include <mybot_gazebo_lite/FollowJointTrajectoryAction.h>
-#include <mybot_gazebo_lite/JointTrajectoryControllerState.h>
-#include <mybot_gazebo_lite/QueryTrajectoryState.h>
+#include <control_msgs/FollowJointTrajectoryAction.h>
+#include <control_msgs/JointTrajectoryControllerState.h>
+#include <control_msgs/QueryTrajectoryState.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
 #include <algorithm>
@@ -31,8 +31,8 @@ namespace mybot_ros_control
 namespace
 {
 
-using Action = mybot_gazebo_lite::FollowJointTrajectoryAction;
-using Result = mybot_gazebo_lite::FollowJointTrajectoryResult;
+using Action = control_msgs::FollowJointTrajectoryAction;
+using Result = control_msgs::FollowJointTrajectoryResult;
 using Server = SimActionServer<Action>;
 using GoalHandle = Server::GoalHandle;
 
@@ -79,12 +79,12 @@ public:
     allow_partial_ = c.boolean("allow_partial_joints_goal", false);
 
     ros::NodeHandle nh = c.nh;
-    state_pub_ = nh.advertise<mybot_gazebo_lite::JointTrajectoryControllerState>("state", 1);
+    state_pub_ = nh.advertise<control_msgs::JointTrajectoryControllerState>("state", 1);
     command_sub_ = mybot_gazebo_lite::subscribeCommand<trajectory_msgs::JointTrajectory>(
         *c.plugin, nh, "command", [this](const trajectory_msgs::JointTrajectory::ConstPtr& m) { onCommand(*m); });
-    query_srv_ = nh.advertiseService<mybot_gazebo_lite::QueryTrajectoryState::Request,
-                                     mybot_gazebo_lite::QueryTrajectoryState::Response>(
-        "query_state", [this](auto& req, auto& res) { return onQuery(req, res); });
+    query_srv_ =
+        nh.advertiseService<control_msgs::QueryTrajectoryState::Request, control_msgs::QueryTrajectoryState::Response>(
+            "query_state", [this](auto& req, auto& res) { return onQuery(req, res); });
     server_ = std::make_unique<Server>(nh, "follow_joint_trajectory", false, SimActionWiring{c.plugin});
     server_->registerGoalCallback([this](GoalHandle gh) { onGoal(gh); });
     server_->registerCancelCallback([this](GoalHandle gh) { onCancel(gh); });
@@ -343,7 +343,7 @@ private:
   };
   // The goal's own tolerances over the defaults, figure by figure as upstream: > 0 replaces, < 0
   // (-1 by convention) removes, 0 keeps the default.
-  std::string readTolerances(const mybot_gazebo_lite::FollowJointTrajectoryGoal& goal, Tolerances& tol) const
+  std::string readTolerances(const control_msgs::FollowJointTrajectoryGoal& goal, Tolerances& tol) const
   {
     for (const auto* list : {&goal.path_tolerance, &goal.goal_tolerance})
       for (const auto& jt : *list)
@@ -392,7 +392,7 @@ private:
   {
     if (t >= next_monitor_)
     {
-      mybot_gazebo_lite::FollowJointTrajectoryFeedback fb;
+      control_msgs::FollowJointTrajectoryFeedback fb;
       fill(fb, t, desired, now);
       goal_->publishFeedback(fb);
       next_monitor_ = nextTick(t, monitor_period_);
@@ -467,13 +467,12 @@ private:
 
   void publishState(double t, const TrajectorySample& desired, const TrajectorySample& now)
   {
-    mybot_gazebo_lite::JointTrajectoryControllerState s;
+    control_msgs::JointTrajectoryControllerState s;
     fill(s, t, desired, now);
     state_pub_.publish(s);
   }
 
-  bool onQuery(mybot_gazebo_lite::QueryTrajectoryState::Request& req,
-               mybot_gazebo_lite::QueryTrajectoryState::Response& res)
+  bool onQuery(control_msgs::QueryTrajectoryState::Request& req, control_msgs::QueryTrajectoryState::Response& res)
   {
     const TrajectorySample s = trajectory_.sample(req.time.toSec());
     res.name = names_;

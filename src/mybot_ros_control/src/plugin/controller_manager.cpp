@@ -7,11 +7,12 @@ namespace mybot_ros_control
 {
 
 namespace mgl = mybot_gazebo_lite;
+namespace cmm = controller_manager_msgs;
 
 namespace
 {
-constexpr int kBestEffort = mgl::SwitchController::Request::BEST_EFFORT;
-constexpr int kStrict = mgl::SwitchController::Request::STRICT;
+constexpr int kBestEffort = cmm::SwitchController::Request::BEST_EFFORT;
+constexpr int kStrict = cmm::SwitchController::Request::STRICT;
 
 std::set<std::string> resources(const Controller& c)
 {
@@ -32,6 +33,11 @@ ControllerManager::ControllerManager(RobotHWSim& hw, const mgl::PluginContext& p
   services_.push_back(cm.advertiseService("list_controllers", &ControllerManager::onList, this));
   services_.push_back(cm.advertiseService("list_controller_types", &ControllerManager::onListTypes, this));
   services_.push_back(cm.advertiseService("reload_controller_libraries", &ControllerManager::onReload, this));
+}
+
+std::string ControllerManager::service(const std::string& name) const
+{
+  return root_.resolveName("controller_manager/" + name);
 }
 
 ControllerManager::Entry* ControllerManager::find(const std::string& name)
@@ -177,50 +183,54 @@ std::string ControllerManager::switchControllers(const std::vector<std::string>&
     e->state = State::RUNNING;
   }
   if (!problems.empty())
-    ROS_WARN("controller_manager: switch (BEST_EFFORT): %s", problems.c_str());
+    ROS_WARN("%s: %s (BEST_EFFORT)", service("switch_controller").c_str(), problems.c_str());
   return "";
 }
 
-bool ControllerManager::onLoad(mgl::LoadController::Request& req, mgl::LoadController::Response& res)
+bool ControllerManager::onLoad(cmm::LoadController::Request& req, cmm::LoadController::Response& res)
 {
-  res.message = load(req.name);
-  res.ok = res.message.empty();
+  // controller_manager_msgs' replies carry only `ok`; why a call failed goes to the log, as
+  // upstream's controller manager reports it, after the service's full name (the spawner reads it
+  // from /rosout_agg).
+  const std::string why = load(req.name);
+  res.ok = why.empty();
   if (res.ok)
-    ROS_INFO("controller_manager: loaded '%s' (%s)", req.name.c_str(), find(req.name)->type.c_str());
+    ROS_INFO("%s: loaded '%s' (%s)", service("load_controller").c_str(), req.name.c_str(),
+             find(req.name)->type.c_str());
   else
-    ROS_ERROR("controller_manager: load_controller: %s", res.message.c_str());
+    ROS_ERROR("%s: %s", service("load_controller").c_str(), why.c_str());
   return true;
 }
 
-bool ControllerManager::onUnload(mgl::UnloadController::Request& req, mgl::UnloadController::Response& res)
+bool ControllerManager::onUnload(cmm::UnloadController::Request& req, cmm::UnloadController::Response& res)
 {
-  res.message = unload(req.name);
-  res.ok = res.message.empty();
+  const std::string why = unload(req.name);
+  res.ok = why.empty();
   if (!res.ok)
-    ROS_ERROR("controller_manager: unload_controller: %s", res.message.c_str());
+    ROS_ERROR("%s: %s", service("unload_controller").c_str(), why.c_str());
   return true;
 }
 
-bool ControllerManager::onSwitch(mgl::SwitchController::Request& req, mgl::SwitchController::Response& res)
+bool ControllerManager::onSwitch(cmm::SwitchController::Request& req, cmm::SwitchController::Response& res)
 {
-  res.message = switchControllers(req.start_controllers, req.stop_controllers, req.strictness);
-  res.ok = res.message.empty();
+  const std::string why = switchControllers(req.start_controllers, req.stop_controllers, req.strictness);
+  res.ok = why.empty();
   if (!res.ok)
-    ROS_ERROR("controller_manager: switch_controller: %s", res.message.c_str());
+    ROS_ERROR("%s: %s", service("switch_controller").c_str(), why.c_str());
   return true;
 }
 
-bool ControllerManager::onList(mgl::ListControllers::Request&, mgl::ListControllers::Response& res)
+bool ControllerManager::onList(cmm::ListControllers::Request&, cmm::ListControllers::Response& res)
 {
   for (const auto& e : entries_)
   {
-    mgl::ControllerState s;
+    cmm::ControllerState s;
     s.name = e.name;
     s.type = e.type;
     s.state = e.state == State::RUNNING ? "running" : e.state == State::STOPPED ? "stopped" : "initialized";
     for (const auto& [iface, joints] : e.controller->claimed())
     {
-      mgl::HardwareInterfaceResources r;
+      cmm::HardwareInterfaceResources r;
       r.hardware_interface = iface;
       r.resources = joints;
       s.claimed_resources.push_back(r);
@@ -230,7 +240,7 @@ bool ControllerManager::onList(mgl::ListControllers::Request&, mgl::ListControll
   return true;
 }
 
-bool ControllerManager::onListTypes(mgl::ListControllerTypes::Request&, mgl::ListControllerTypes::Response& res)
+bool ControllerManager::onListTypes(cmm::ListControllerTypes::Request&, cmm::ListControllerTypes::Response& res)
 {
   for (const auto& [type, f] : controllerTypes())
   {
@@ -240,15 +250,16 @@ bool ControllerManager::onListTypes(mgl::ListControllerTypes::Request&, mgl::Lis
   return true;
 }
 
-bool ControllerManager::onReload(mgl::ReloadControllerLibraries::Request& req,
-                                 mgl::ReloadControllerLibraries::Response& res)
+bool ControllerManager::onReload(cmm::ReloadControllerLibraries::Request& req,
+                                 cmm::ReloadControllerLibraries::Response& res)
 {
   // The controllers are built in: nothing to reload. As upstream, loaded controllers block it
   // unless force_kill, which stops and unloads them.
   if (!entries_.empty() && !req.force_kill)
   {
     res.ok = false;
-    res.message = std::to_string(entries_.size()) + " controllers are loaded; unload them or call with force_kill";
+    ROS_ERROR("%s: %zu controllers are loaded; unload them or call with force_kill",
+              service("reload_controller_libraries").c_str(), entries_.size());
     return true;
   }
   const double t = plugin_.world->time();

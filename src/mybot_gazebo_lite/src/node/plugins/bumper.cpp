@@ -1,9 +1,9 @@
 // libgazebo_ros_bumper.so: the contacts of the link holding a <sensor type="contact">, as a
-// mybot_gazebo_lite/ContactsState (the fields of gazebo_msgs/ContactsState). Positions and
+// gazebo_msgs/ContactsState, as gazebo_ros_bumper publishes it. Positions and
 // normals are in the world frame, or in the link's frame when frameName names a link.
 #include "builtin.h"
 
-#include <mybot_gazebo_lite/ContactsState.h>
+#include <gazebo_msgs/ContactsState.h>
 
 #include <cmath>
 
@@ -12,6 +12,9 @@ namespace mybot_gazebo_lite
 
 namespace
 {
+using gazebo_msgs::ContactsState;
+using gazebo_msgs::ContactState;
+
 class Bumper : public SimPlugin
 {
 public:

@@ -1,17 +1,18 @@
 // controller_manager for gazebo_lite: loads controllers from the parameter server
 // (<namespace>/<controller>/type and its parameters), starts and stops them, and runs the
 // running ones at the control period, inside the simulator. Its services have the names and
-// fields of controller_manager's (types in mybot_gazebo_lite, which Debian's ROS lacks).
+// types of controller_manager's (controller_manager_msgs, from controller_manager_msgs_compat:
+// Debian's ROS lacks it).
 #pragma once
 
 #include "mybot_ros_control/ros/controller.h"
 
-#include <mybot_gazebo_lite/ListControllerTypes.h>
-#include <mybot_gazebo_lite/ListControllers.h>
-#include <mybot_gazebo_lite/LoadController.h>
-#include <mybot_gazebo_lite/ReloadControllerLibraries.h>
-#include <mybot_gazebo_lite/SwitchController.h>
-#include <mybot_gazebo_lite/UnloadController.h>
+#include <controller_manager_msgs/ListControllerTypes.h>
+#include <controller_manager_msgs/ListControllers.h>
+#include <controller_manager_msgs/LoadController.h>
+#include <controller_manager_msgs/ReloadControllerLibraries.h>
+#include <controller_manager_msgs/SwitchController.h>
+#include <controller_manager_msgs/UnloadController.h>
 
 namespace mybot_ros_control
 {
@@ -45,14 +46,20 @@ private:
     State state = State::INITIALIZED;
   };
   Entry* find(const std::string& name);
-  bool onLoad(mybot_gazebo_lite::LoadController::Request& req, mybot_gazebo_lite::LoadController::Response& res);
-  bool onUnload(mybot_gazebo_lite::UnloadController::Request& req, mybot_gazebo_lite::UnloadController::Response& res);
-  bool onSwitch(mybot_gazebo_lite::SwitchController::Request& req, mybot_gazebo_lite::SwitchController::Response& res);
-  bool onList(mybot_gazebo_lite::ListControllers::Request& req, mybot_gazebo_lite::ListControllers::Response& res);
-  bool onListTypes(mybot_gazebo_lite::ListControllerTypes::Request& req,
-                   mybot_gazebo_lite::ListControllerTypes::Response& res);
-  bool onReload(mybot_gazebo_lite::ReloadControllerLibraries::Request& req,
-                mybot_gazebo_lite::ReloadControllerLibraries::Response& res);
+  // A service's full name, which starts the log line saying why a call to it failed.
+  std::string service(const std::string& name) const;
+  bool onLoad(controller_manager_msgs::LoadController::Request& req,
+              controller_manager_msgs::LoadController::Response& res);
+  bool onUnload(controller_manager_msgs::UnloadController::Request& req,
+                controller_manager_msgs::UnloadController::Response& res);
+  bool onSwitch(controller_manager_msgs::SwitchController::Request& req,
+                controller_manager_msgs::SwitchController::Response& res);
+  bool onList(controller_manager_msgs::ListControllers::Request& req,
+              controller_manager_msgs::ListControllers::Response& res);
+  bool onListTypes(controller_manager_msgs::ListControllerTypes::Request& req,
+                   controller_manager_msgs::ListControllerTypes::Response& res);
+  bool onReload(controller_manager_msgs::ReloadControllerLibraries::Request& req,
+                controller_manager_msgs::ReloadControllerLibraries::Response& res);
 
   RobotHWSim& hw_;
   const mybot_gazebo_lite::PluginContext& plugin_;

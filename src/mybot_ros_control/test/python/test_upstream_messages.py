@@ -1,0 +1,85 @@
+"""The message packages that stand in for upstream's (control_msgs, controller_manager_msgs,
+gazebo_msgs: Debian 12 packages none of them) define every type with upstream's name and MD5 sum,
+so MoveIt's trajectory and gripper clients, ros_control tools and scripts written for Gazebo
+connect to gazebo_lite as to Gazebo. The sums are the published ones of the Noetic packages, as
+their generated code in other languages records them (checked one by one), not computed here."""
+import importlib
+
+import pytest
+
+PUBLISHED = {
+    "control_msgs": {
+        "FollowJointTrajectoryAction": "bc4f9b743838566551c0390c65f1a248",
+        "FollowJointTrajectoryActionFeedback": "d8920dc4eae9fc107e00999cce4be641",
+        "FollowJointTrajectoryActionGoal": "cff5c1d533bf2f82dd0138d57f4304bb",
+        "FollowJointTrajectoryActionResult": "c4fb3b000dc9da4fd99699380efcc5d9",
+        "FollowJointTrajectoryFeedback": "10817c60c2486ef6b33e97dcd87f4474",
+        "FollowJointTrajectoryGoal": "69636787b6ecbde4d61d711979bc7ecb",
+        "FollowJointTrajectoryResult": "493383b18409bfb604b4e26c676401d2",
+        "GripperCommand": "680acaff79486f017132a7f198d40f08",
+        "GripperCommandAction": "950b2a6ebe831f5d4f4ceaba3d8be01e",
+        "GripperCommandActionFeedback": "653dff30c045f5e6ff3feb3409f4558d",
+        "GripperCommandActionGoal": "aa581f648a35ed681db2ec0bf7a82bea",
+        "GripperCommandActionResult": "143702cb2df0f163c5283cedc5efc6b6",
+        "GripperCommandFeedback": "e4cbff56d3562bcf113da5a5adeef91f",
+        "GripperCommandGoal": "86fd82f4ddc48a4cb6856cfa69217e43",
+        "GripperCommandResult": "e4cbff56d3562bcf113da5a5adeef91f",
+        "JointControllerState": "987ad85e4756f3aef7f1e5e7fe0595d1",
+        "JointTolerance": "f544fe9c16cf04547e135dd6063ff5be",
+        "JointTrajectoryControllerState": "10817c60c2486ef6b33e97dcd87f4474",
+        "QueryTrajectoryState": "ec93cdecbd8062d761aa52b7c90cd44b",
+    },
+    "controller_manager_msgs": {
+        "ControllerState": "aeb6b261d97793ab74099a3740245272",
+        "HardwareInterfaceResources": "f25b55cbf1d1f76e82e5ec9e83f76258",
+        "ListControllerTypes": "c1d4cd11aefa9f97ba4aeb5b33987f4e",
+        "ListControllers": "1341feb2e63fa791f855565d0da950d8",
+        "LoadController": "647e5c54b8d6468952d8d31f1efe96c0",
+        "ReloadControllerLibraries": "40e8c411fd1797d2e2c486018f846040",
+        "SwitchController": "b29a7abc673b2c54c14b54e50f8d06a5",
+        "UnloadController": "647e5c54b8d6468952d8d31f1efe96c0",
+    },
+    "gazebo_msgs": {
+        "ContactState": "48c0ffb054b8c444f870cecea1ee50d9",
+        "ContactsState": "acbcb1601a8e525bf72509f18e6f668d",
+        "DeleteModel": "9ce56b4e9e54616de25d796dc972a262",
+        "GetModelState": "4c515e936d3319c9610c559c60bfc3d4",
+        "ModelState": "9330fd35f2fcd82d457e54bd54e10593",
+        "SetModelState": "5b3ab0281d4f5445def017e3a2e4a07b",
+        "SpawnModel": "9ed9c82c96abe1a00c3e8cdaeee24413",
+    },
+}
+
+
+def defined_types(package):
+    """{name: class} of every message and service the package's Python module defines (the
+    services' Request/Response halves are part of their service)."""
+    out = {}
+    for kind in ("msg", "srv"):
+        try:
+            module = importlib.import_module(package + "." + kind)
+        except ModuleNotFoundError:
+            continue
+        for name in dir(module):
+            cls = getattr(module, name)
+            if hasattr(cls, "_md5sum") and not name.endswith(("Request", "Response")):
+                out[name] = cls
+    return out
+
+
+@pytest.mark.parametrize("package", sorted(PUBLISHED))
+def test_every_type_has_upstreams_name_and_md5(package):
+    types = defined_types(package)
+    # Every type defined is one whose published sum is known here: none of ours slipped in.
+    assert sorted(types) == sorted(PUBLISHED[package])
+    for name, cls in types.items():
+        assert cls._type == package + "/" + name
+        assert cls._md5sum == PUBLISHED[package][name], name
+
+
+def test_controller_manager_replies_are_upstreams():
+    # Upstream's replies carry `ok` alone; why a call failed is in the manager's log.
+    from controller_manager_msgs.srv import LoadControllerResponse, SwitchControllerResponse
+
+    assert LoadControllerResponse.__slots__ == ["ok"]
+    assert SwitchControllerResponse.__slots__ == ["ok"]
