@@ -12,6 +12,7 @@ import tempfile
 import threading
 import time
 import unittest
+import xml.etree.ElementTree as ET
 
 import rospy
 import rostest
@@ -22,13 +23,20 @@ from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
-from gazebo_msgs.msg import ModelState
-from mybot_gazebo_lite.msg import ModelContacts
+from gazebo_msgs.msg import LinkStates, ModelState, ModelStates
 from gazebo_msgs.srv import DeleteModel, GetModelState, SetModelState, SpawnModel
+from mybot_gazebo_lite.msg import ModelContacts
 from mybot_common.geometry import wrap, yaw_of
 from mybot_lockstep import participant
 
 WALL_TIMEOUT = 60.0
+
+
+def root_link(urdf):
+    """The URDF's root link: the one no joint has as its child."""
+    robot = ET.fromstring(urdf)
+    children = {j.find('child').get('link') for j in robot.iter('joint')}
+    return next(l.get('name') for l in robot.iter('link') if l.get('name') not in children)
 
 
 class Robot:
@@ -222,6 +230,79 @@ class DriveTests(unittest.TestCase):
         st = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)(model_name='mybot')
         self.assertTrue(st.success)
         self.assertAlmostEqual(st.pose.position.x, x, delta=0.01)
+
+
+class StatesTests(unittest.TestCase):
+    """gazebo_ros's /gazebo/model_states, /gazebo/link_states and the /gazebo/set_model_state
+    topic. A suite of its own: a lockstep participant subscribed to the states handles two
+    messages a physics step, which slowed the drive suite from 25 s to over 200 s."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.r = Robot()
+        # How many states messages arrived, and the last one.
+        cls.states = {'model': [0, None], 'link': [0, None]}
+        cls.r.ls.Subscriber('/gazebo/model_states', ModelStates, cls._on_states, callback_args='model')
+        cls.r.ls.Subscriber('/gazebo/link_states', LinkStates, cls._on_states, callback_args='link')
+        cls.set_state_topic = cls.r.ls.Publisher('/gazebo/set_model_state', ModelState)
+        cls.r.ready()
+        cls.r.wait(lambda: cls.set_state_topic.get_num_connections() > 0, 'the simulator on set_model_state')
+
+    @classmethod
+    def _on_states(cls, m, kind):
+        with cls.r.lock:
+            cls.states[kind][0] += 1
+            cls.states[kind][1] = m
+
+    def setUp(self):
+        rospy.ServiceProxy('/gazebo/reset_world', Empty)()
+        self.r.settle(0.2)
+
+    def test_model_and_link_states_after_every_step_as_gazebo(self):
+        get_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
+        with self.r.lock:
+            t0, models0, links0 = rospy.get_time(), self.states['model'][0], self.states['link'][0]
+        self.r.drive(0.3, 0.2, 0.5)
+        with self.r.lock:  # held: the period's messages are all in
+            t1, models, links = rospy.get_time(), self.states['model'][0] - models0, self.states['link'][0] - links0
+            last_models, last_links = self.states['model'][1], self.states['link'][1]
+        # One message after every physics step (the empty world's 1 ms), none lost under lockstep.
+        steps = round((t1 - t0) / 0.001)
+        self.assertGreater(steps, 400)
+        self.assertEqual((models, links), (steps, steps))
+        # World models first, then the robots; the pose is where get_model_state puts it, now.
+        self.assertEqual(last_models.name, ['ground_plane', 'mybot'])
+        st = get_state(model_name='mybot')
+        p = last_models.pose[1].position
+        self.assertEqual((p.x, p.y, p.z), (st.pose.position.x, st.pose.position.y, st.pose.position.z))
+        self.assertGreater(math.hypot(p.x, p.y), 0.1)  # it moved: not the spawn pose
+        self.assertAlmostEqual(last_models.twist[1].linear.x, st.twist.linear.x, delta=1e-12)
+        # Every URDF link, "model::link"; the root link's pose is the model's.
+        root = root_link(rospy.get_param('/robot_description'))
+        self.assertEqual(last_links.name[0], 'ground_plane::link')
+        self.assertTrue(all(n.startswith('mybot::') for n in last_links.name[1:]), last_links.name)
+        self.assertEqual(last_links.pose[last_links.name.index('mybot::' + root)], last_models.pose[1])
+
+    def test_set_model_state_topic_teleports_and_refuses_bad_states(self):
+        get_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
+        z = get_state(model_name='mybot').pose.position.z
+
+        def send(x, y, frame='', yaw=0.5):
+            m = ModelState(model_name='mybot', reference_frame=frame)
+            m.pose.position.x, m.pose.position.y, m.pose.position.z = x, y, z
+            m.pose.orientation.z, m.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+            self.set_state_topic.publish(m)
+            self.r.settle(0.1)
+            return get_state(model_name='mybot').pose.position
+
+        p = send(1.0, -0.5)
+        self.assertAlmostEqual(p.x, 1.0, delta=0.005)
+        self.assertAlmostEqual(p.y, -0.5, delta=0.005)
+        self.assertAlmostEqual(yaw_of(get_state(model_name='mybot').pose.orientation), 0.5, delta=0.01)
+        # A NaN, or a frame gazebo_lite does not place relative to, moves nothing.
+        for x, y, frame in ((float('nan'), 0.0, ''), (3.0, 3.0, 'mybot::chassis')):
+            q = send(x, y, frame)
+            self.assertLess(math.hypot(q.x - p.x, q.y - p.y), 0.001, (x, y, frame))
 
 
 class RestTests(unittest.TestCase):
@@ -527,7 +608,7 @@ class BadPoseTests(unittest.TestCase):
         self.check_set_refused('twist.angular.z', float('nan'), 'model_state.twist.angular.z is nan')
 
 
-SUITES = {'bad_pose': BadPoseTests, 'drive': DriveTests, 'rest': RestTests, 'wall': WallTests, 'multi': MultiRobotTests, 'malformed': MalformedInputTests}
+SUITES = {'bad_pose': BadPoseTests, 'drive': DriveTests, 'states': StatesTests, 'rest': RestTests, 'wall': WallTests, 'multi': MultiRobotTests, 'malformed': MalformedInputTests}
 
 if __name__ == '__main__':
     rospy.init_node('sim_test', anonymous=True)

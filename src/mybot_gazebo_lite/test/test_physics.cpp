@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 using namespace mybot_gazebo_lite;
@@ -189,6 +190,55 @@ TEST(Physics, CamerasSeeOtherRobotsAndDynamicBodiesWhereTheyStand)
   // Without the moving scene, as before, the cameras see only the static world: the floor.
   renderCamera(empty_world, k, CameraPose{0.2, 0, z, 0}, settings, nullptr, depth.data());
   EXPECT_GT(depth[30 * 81 + 40], 1e6);
+}
+
+// /gazebo/model_states and /gazebo/link_states: every model, the world's first, then the robots in
+// spawn order; a model's pose is its own frame, not its link's; links are named "model::link".
+TEST(Physics, ListsEveryModelAndLinkInGazebosOrder)
+{
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
+  WorldSpec world = flatWorld();
+  world.models.push_back(boxModel("wall", btVector3(3, 0, 0.5), btVector3(0.1, 2, 1), true));
+  // A dynamic crate whose link sits 0.5 m along the model's x, the model turned 90 degrees.
+  WorldModel crate = boxModel("crate", btVector3(0, 2, 0.15), btVector3(0.3, 0.3, 0.3), false);
+  crate.pose.setRotation(btQuaternion(btVector3(0, 0, 1), M_PI / 2));
+  crate.links[0].pose.setOrigin(btVector3(0.5, 0, 0));
+  world.models.push_back(crate);
+  PhysicsWorld w(world, {});
+  w.addRobot(spec, "second", "", makeTransform(btVector3(-2, 0, 0), btVector3(0, 0, 0)));
+  w.addRobot(spec, "first", "", btTransform::getIdentity());
+  run(w, 0.2);
+
+  const auto models = w.modelStates();
+  std::vector<std::string> names;
+  for (const auto& [name, state] : models)
+    names.push_back(name);
+  EXPECT_EQ(names, (std::vector<std::string>{"ground_plane", "wall", "crate", "second", "first"}));
+  for (const auto& [name, state] : models)
+  {
+    Pose one;
+    ASSERT_TRUE(w.getModelState(name, one)) << name;
+    EXPECT_EQ(one.tf.getOrigin(), state.tf.getOrigin()) << name;
+  }
+  // The crate's model frame stays where the world put it; its link is 0.5 m along the turned x.
+  EXPECT_NEAR(models[2].second.tf.getOrigin().x(), 0.0, 1e-3);
+  EXPECT_NEAR(models[2].second.tf.getOrigin().y(), 2.0, 1e-3);
+  EXPECT_NEAR(models[3].second.tf.getOrigin().x(), -2.0, 0.01);
+
+  const auto links = w.linkStates();
+  std::map<std::string, btVector3> at;
+  for (const auto& [name, state] : links)
+    at[name] = state.tf.getOrigin();
+  EXPECT_EQ(links.front().first, "ground_plane::link");
+  ASSERT_TRUE(at.count("crate::link"));
+  EXPECT_NEAR(at["crate::link"].x(), 0.0, 1e-3);
+  EXPECT_NEAR(at["crate::link"].y(), 2.5, 1e-3);
+  // Every URDF link of each robot, lumped ones included, where the robot's own query puts it.
+  for (const auto& l : spec->links)
+  {
+    ASSERT_TRUE(at.count("first::" + l.name)) << l.name;
+    EXPECT_EQ(at["first::" + l.name], w.robots().back()->linkState(l.name).tf.getOrigin()) << l.name;
+  }
 }
 
 int main(int argc, char** argv)

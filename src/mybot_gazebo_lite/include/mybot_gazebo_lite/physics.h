@@ -190,6 +190,11 @@ public:
   // Teleport a robot (base frame = URDF root link) or a world model; velocities in world frame.
   bool setModelState(const std::string& name, const btTransform& pose, const btVector3& lin, const btVector3& ang);
   bool getModelState(const std::string& name, Pose& out) const;
+  // Every model's name and state, as Gazebo's /gazebo/model_states lists them: the world's
+  // models in the world file's order, then the robots in the order they were spawned.
+  std::vector<std::pair<std::string, Pose>> modelStates() const;
+  // Every link's state, named "model::link" as in Gazebo's /gazebo/link_states, in the same order.
+  std::vector<std::pair<std::string, Pose>> linkStates() const;
 
   const WorldSpec& worldSpec() const { return spec_; }
   std::vector<DynamicObstacle> dynamicObstacles(const Robot* exclude) const;
@@ -237,7 +242,13 @@ private:
     const WorldLink* link;  // its spec, for dynamic bodies (null for static)
     btTransform initial;
     bool ground;  // a plane: wheels touch it all the time
+    std::string link_name;
+    btTransform link_in_model;  // the SDF link's pose in its model
+    btTransform link_in_body;   // the link frame in the collision object's (a plane's shape pose is folded in)
   };
+  // The state of a world body's link frame, or of its model's frame.
+  static Pose linkFrameState(const WorldBody& wb);
+  static Pose modelFrameState(const WorldBody& wb);
   std::vector<WorldBody> world_bodies_;
   std::vector<btCollisionShape*> world_shapes_;
   std::vector<std::unique_ptr<std::vector<Surface>>> world_mu_;

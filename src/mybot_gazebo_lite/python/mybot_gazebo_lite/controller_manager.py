@@ -10,6 +10,7 @@ from rosgraph_msgs.msg import Log
 
 from controller_manager_msgs.srv import (ListControllers, ListControllerTypes, LoadController,
                                          ReloadControllerLibraries, SwitchController, UnloadController)
+from mybot_lockstep import publisher_has_link
 
 STRICT = 2
 BEST_EFFORT = 1
@@ -87,10 +88,8 @@ class ControllerManager:
         except (StopIteration, rosgraph.MasterException, OSError):
             return
         self._log = rospy.Subscriber("/rosout", Log, self._on_log, queue_size=100)
-        # Connected once rospy's transport to that publisher has exchanged headers (it then knows
-        # its local end): from then on the manager sends us every line it logs.
-        _wait_until(lambda: any(c.endpoint_id == uri and c.local_endpoint[0] is not None
-                                for c in self._log.impl.connections), REASON_TIMEOUT)
+        # Once the manager counts the link (its getBusInfo), every line it logs reaches us.
+        _wait_until(lambda: publisher_has_link(uri, "/rosout", rospy.get_name()), REASON_TIMEOUT)
 
     def _checked(self, service, srv, **fields):
         if self._log is None:

@@ -338,11 +338,13 @@ void PhysicsWorld::addWorldModel(const WorldModel& m)
     btCollisionObject* obj = nullptr;
     btRigidBody* body = nullptr;
     btCollisionShape* shape = compound;
+    btTransform link_in_body = btTransform::getIdentity();
     if (has_plane && l.shapes.size() == 1)
     {
       // Planes cannot live in compounds sensibly; use the plane directly.
       shape = compound->getChildShape(0);
       tf = tf * l.shapes[0].pose;
+      link_in_body = l.shapes[0].pose.inverse();
     }
     if (m.is_static)
     {
@@ -366,7 +368,7 @@ void PhysicsWorld::addWorldModel(const WorldModel& m)
     if (shape == compound)
       obj->setUserPointer(mus.get());
     world_mu_.push_back(std::move(mus));
-    world_bodies_.push_back({m.name, obj, body, body ? &l : nullptr, tf, has_plane});
+    world_bodies_.push_back({m.name, obj, body, body ? &l : nullptr, tf, has_plane, l.name, l.pose, link_in_body});
   }
 }
 
@@ -850,15 +852,56 @@ bool PhysicsWorld::getModelState(const std::string& name, Pose& out) const
   for (const auto& wb : world_bodies_)
     if (wb.model == name)
     {
-      out.tf = wb.obj->getWorldTransform();
-      if (wb.body)
-      {
-        out.linear = wb.body->getLinearVelocity();
-        out.angular = wb.body->getAngularVelocity();
-      }
+      out = modelFrameState(wb);
       return true;
     }
   return false;
+}
+
+Pose PhysicsWorld::linkFrameState(const WorldBody& wb)
+{
+  Pose p;
+  p.tf = wb.obj->getWorldTransform() * wb.link_in_body;
+  if (wb.body)
+  {
+    // A rigid body turns about its origin: the link frame's velocity adds w x r.
+    p.angular = wb.body->getAngularVelocity();
+    p.linear =
+        wb.body->getLinearVelocity() + p.angular.cross(p.tf.getOrigin() - wb.obj->getWorldTransform().getOrigin());
+  }
+  return p;
+}
+
+Pose PhysicsWorld::modelFrameState(const WorldBody& wb)
+{
+  Pose p = linkFrameState(wb);
+  const btVector3 link_origin = p.tf.getOrigin();
+  p.tf = p.tf * wb.link_in_model.inverse();
+  p.linear += p.angular.cross(p.tf.getOrigin() - link_origin);
+  return p;
+}
+
+std::vector<std::pair<std::string, Pose>> PhysicsWorld::modelStates() const
+{
+  std::vector<std::pair<std::string, Pose>> out;
+  for (const auto& wb : world_bodies_)  // a model's first link stands for it
+    if (std::none_of(out.begin(), out.end(), [&](const auto& m) { return m.first == wb.model; }))
+      out.emplace_back(wb.model, modelFrameState(wb));
+  for (const auto& r : robots_)
+    out.emplace_back(r->name_, r->linkState(r->spec_->root));
+  return out;
+}
+
+std::vector<std::pair<std::string, Pose>> PhysicsWorld::linkStates() const
+{
+  std::vector<std::pair<std::string, Pose>> out;
+  for (const auto& wb : world_bodies_)
+    out.emplace_back(wb.model + "::" + wb.link_name, linkFrameState(wb));
+  for (const auto& r : robots_)
+    for (const auto& l : r->spec_->links)
+      if (r->hasLink(l.name))
+        out.emplace_back(r->name_ + "::" + l.name, r->linkState(l.name));
+  return out;
 }
 
 std::vector<DynamicObstacle> PhysicsWorld::dynamicObstacles(const Robot* exclude) const

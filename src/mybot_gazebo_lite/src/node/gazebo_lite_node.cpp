@@ -4,6 +4,8 @@
 
 #include "gazebo_msgs/DeleteModel.h"
 #include "gazebo_msgs/GetModelState.h"
+#include "gazebo_msgs/LinkStates.h"
+#include "gazebo_msgs/ModelStates.h"
 #include "mybot_gazebo_lite/ModelContacts.h"
 #include "gazebo_msgs/SetModelState.h"
 #include "gazebo_msgs/SpawnModel.h"
@@ -117,6 +119,8 @@ public:
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
     ros::NodeHandle g("/gazebo");
     contacts_pub_ = g.advertise<ModelContacts>("model_contacts", 10);
+    model_states_pub_ = g.advertise<gazebo_msgs::ModelStates>("model_states", 10);
+    link_states_pub_ = g.advertise<gazebo_msgs::LinkStates>("link_states", 10);
     srvs_.push_back(g.advertiseService("reset_world", &SimNode::resetWorld, this));
     srvs_.push_back(g.advertiseService("reset_simulation", &SimNode::resetSimulation, this));
     srvs_.push_back(g.advertiseService("pause_physics", &SimNode::pause, this));
@@ -127,6 +131,15 @@ public:
     srvs_.push_back(g.advertiseService("set_model_state", &SimNode::setState, this));
     if (lockstep)
       lockstep_ = std::make_unique<mybot_lockstep::Coordinator>(timeout, ros::getGlobalCallbackQueue());
+    // Under lockstep, counted as the simulator's other inputs: a state sent for period k is set in it.
+    auto on_state = [this](const gazebo_msgs::ModelState& m) { applyModelState(m); };
+    if (lockstep_)
+      set_model_state_sub_ = lockstep_->subscribe<gazebo_msgs::ModelState>(g, "set_model_state", 100, on_state);
+    else
+      set_model_state_sub_ = g.subscribe<gazebo_msgs::ModelState>(
+          "set_model_state", 10,
+          boost::function<void(const gazebo_msgs::ModelState::ConstPtr&)>(
+              [on_state](const gazebo_msgs::ModelState::ConstPtr& m) { on_state(*m); }));
     publishClock(true);
     ROS_INFO("gazebo_lite: world '%s' (%zu models), step %.4f s, real_time_factor %g%s%s", spec.name.c_str(),
              spec.models.size(), step, rtf_, paused_ ? ", paused" : "",
@@ -250,6 +263,7 @@ private:
         p->update(t);
     if (t + 1e-9 >= last_contacts_ + kContactsPeriod)
       publishContacts();
+    publishStates();
     return t;
   }
   // real_time_factor is an upper bound: never run ahead of the wall clock times it.
@@ -526,7 +540,15 @@ private:
 
   bool setState(SetModelState::Request& req, SetModelState::Response& res)
   {
-    const auto& m = req.model_state;
+    const std::string why = applyModelState(req.model_state);
+    res.success = why.empty();
+    res.status_message = res.success ? "SetModelState: set model state" : why;
+    return true;
+  }
+  // Teleports a model (the service, and the topic /gazebo/set_model_state); "" or why it
+  // refused, which is logged too (a topic has no reply).
+  std::string applyModelState(const gazebo_msgs::ModelState& m)
+  {
     const auto& mp = m.pose;
     const auto& mt = m.twist;
     const std::string bad = mybot_common::firstInvalid({{"model_state.pose.position.x", mp.position.x},
@@ -543,27 +565,70 @@ private:
                                                         {"model_state.twist.angular.y", mt.angular.y},
                                                         {"model_state.twist.angular.z", mt.angular.z}},
                                                        kMaxCoordinate);
+    std::string why;
+    btQuaternion q(mp.orientation.x, mp.orientation.y, mp.orientation.z, mp.orientation.w);
     if (!bad.empty())
+      why = "refused: " + bad;
+    else if (q.length2() < 1e-12)
+      why = "refused: model_state.pose.orientation is a zero quaternion";
+    else if (!m.reference_frame.empty() && m.reference_frame != "world" && m.reference_frame != "map")
+      // Gazebo would place it relative to that entity; a pose taken as the world's instead
+      // would teleport the model somewhere else.
+      why = "refused: model_state.reference_frame '" + m.reference_frame + "' not supported (use world)";
+    if (!why.empty())
     {
-      res.success = false;
-      res.status_message = "refused: " + bad;
-      ROS_ERROR("gazebo_lite: set_model_state '%s' refused: %s", m.model_name.c_str(), bad.c_str());
-      return true;
-    }
-    btQuaternion q(m.pose.orientation.x, m.pose.orientation.y, m.pose.orientation.z, m.pose.orientation.w);
-    if (q.length2() < 1e-12 || !std::isfinite(q.length2()))
-    {
-      res.success = false;
-      res.status_message = "invalid orientation quaternion";
-      return true;
+      ROS_ERROR("gazebo_lite: set_model_state '%s' %s", m.model_name.c_str(), why.c_str());
+      return why;
     }
     q.normalize();
-    btTransform pose(q, btVector3(m.pose.position.x, m.pose.position.y, m.pose.position.z));
-    btVector3 lin(m.twist.linear.x, m.twist.linear.y, m.twist.linear.z);
-    btVector3 ang(m.twist.angular.x, m.twist.angular.y, m.twist.angular.z);
-    res.success = world_->setModelState(m.model_name, pose, lin, ang);
-    res.status_message = res.success ? "SetModelState: set model state" : "no model named '" + m.model_name + "'";
-    return true;
+    btTransform pose(q, btVector3(mp.position.x, mp.position.y, mp.position.z));
+    btVector3 lin(mt.linear.x, mt.linear.y, mt.linear.z);
+    btVector3 ang(mt.angular.x, mt.angular.y, mt.angular.z);
+    if (!world_->setModelState(m.model_name, pose, lin, ang))
+    {
+      ROS_ERROR("gazebo_lite: set_model_state: no model named '%s'", m.model_name.c_str());
+      return "no model named '" + m.model_name + "'";
+    }
+    return "";
+  }
+
+  // /gazebo/model_states and /gazebo/link_states, as gazebo_ros publishes them: after every
+  // physics step, while anyone listens (in the world frame; names as Gazebo's).
+  void publishStates()
+  {
+    if (model_states_pub_.getNumSubscribers() > 0)
+      model_states_pub_.publish(statesMessage<gazebo_msgs::ModelStates>(world_->modelStates()));
+    if (link_states_pub_.getNumSubscribers() > 0)
+      link_states_pub_.publish(statesMessage<gazebo_msgs::LinkStates>(world_->linkStates()));
+  }
+  template <class Msg>
+  static Msg statesMessage(const std::vector<std::pair<std::string, Pose>>& states)
+  {
+    Msg m;
+    for (const auto& [name, s] : states)
+    {
+      m.name.push_back(name);
+      geometry_msgs::Pose p;
+      const btVector3& o = s.tf.getOrigin();
+      const btQuaternion q = s.tf.getRotation();
+      p.position.x = o.x();
+      p.position.y = o.y();
+      p.position.z = o.z();
+      p.orientation.x = q.x();
+      p.orientation.y = q.y();
+      p.orientation.z = q.z();
+      p.orientation.w = q.w();
+      m.pose.push_back(p);
+      geometry_msgs::Twist t;
+      t.linear.x = s.linear.x();
+      t.linear.y = s.linear.y();
+      t.linear.z = s.linear.z();
+      t.angular.x = s.angular.x();
+      t.angular.y = s.angular.y();
+      t.angular.z = s.angular.z();
+      m.twist.push_back(t);
+    }
+    return m;
   }
 
   ros::NodeHandle nh_, pnh_;
@@ -571,7 +636,8 @@ private:
   std::unique_ptr<StaticSliceCache> slices_;
   std::vector<ModelEntry> models_;
   std::vector<ros::ServiceServer> srvs_;
-  ros::Publisher clock_pub_, contacts_pub_;
+  ros::Publisher clock_pub_, contacts_pub_, model_states_pub_, link_states_pub_;
+  ros::Subscriber set_model_state_sub_;
   tf2_ros::TransformBroadcaster tfb_;
   int seed_ = 0;
   double rtf_ = 1, clock_hz_ = 100, last_clock_ = -1, last_contacts_ = -1, sim0_ = 0;
