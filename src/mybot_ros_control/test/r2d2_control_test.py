@@ -4,9 +4,11 @@ controllers listed running, wheels driven by diff_drive_controller, head and gri
 commanded positions, a bad controller refused with a message naming it and the field."""
 import math
 import os
+import signal
 import subprocess
 import sys
 import threading
+import time
 import unittest
 
 import rospy
@@ -26,6 +28,17 @@ from mybot_lockstep.start_paused import unpause_when
 from controller_test import refusal
 
 CM = "/controller_manager/"
+
+
+def wall_wait(predicate, timeout):
+    """Polls `predicate` for up to `timeout` s of wall time (if this test holds its period, sim time
+    stands meanwhile): for a process that is no lockstep participant. True once it holds."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if predicate():
+            return True
+        time.sleep(0.02)
+    return predicate()
 
 
 class R2d2Control(unittest.TestCase):
@@ -188,9 +201,7 @@ class R2d2Control(unittest.TestCase):
         self.assertFalse(self.load(name="bad_pid_controller").ok)
         self.assertIn("/bad_pid_controller/pid/p", refusal(lambda cm: cm.load("bad_pid_controller")))
         # The spawner says it too, and fails (controller_manager's, as launch files run it).
-        env = dict(os.environ)
-        p = subprocess.run(["rosrun", "controller_manager", "spawner", "bad_joint_controller"], capture_output=True,
-                           text=True, timeout=60, env=env)
+        p = self.run_tool("spawner", "bad_joint_controller")
         self.assertNotEqual(p.returncode, 0)
         self.assertIn("/bad_joint_controller/joint", p.stdout + p.stderr)
 
@@ -206,6 +217,64 @@ class R2d2Control(unittest.TestCase):
         self.assertTrue(res.ok)
         states = {c.name: c.state for c in self.list().controller}
         self.assertEqual((states["head_too"], states["head_controller"]), ("running", "stopped"))
+
+    def states(self):
+        return {c.name: c.state for c in self.list().controller}
+
+    def run_tool(self, *argv):
+        """`rosrun controller_manager ARGV...` as a launch file runs it; its exit code and output.
+        Released first: a tool takes seconds to start, and a period held that long drops this
+        test from lockstep (10 s)."""
+        self.ls.release()
+        return subprocess.run(["rosrun", "controller_manager"] + list(argv), capture_output=True, text=True,
+                              timeout=60, env=dict(os.environ))
+
+    def test_7_controller_groups_switch_as_one(self):
+        # After test 6: head_too runs, head_controller is stopped.
+        rospy.set_param("/controller_groups", {"head_a": ["head_controller"], "head_b": ["head_too"],
+                                               "drive": ["diff_drive_controller"]})
+        p = self.run_tool("controller_group", "list")
+        self.assertIn("Number of groups: 3", p.stdout)
+        p = self.run_tool("controller_group", "switch", "head_a")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        s = self.states()
+        # The other groups' running controllers stop: head_too, and the drive too.
+        self.assertEqual((s["head_controller"], s["head_too"], s["diff_drive_controller"]),
+                         ("running", "stopped", "stopped"))
+        p = self.run_tool("controller_group", "spawn", "drive")  # spawn leaves the other groups be
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertEqual((self.states()["diff_drive_controller"], self.states()["head_controller"]),
+                         ("running", "running"))
+        p = self.run_tool("controller_group", "switch", "head_c")
+        self.assertEqual(p.returncode, 1)
+        self.assertIn("/controller_groups/head_c", p.stderr)
+        self.assertEqual(self.states()["head_controller"], "running")  # nothing switched
+
+    def test_8_the_unspawner_keeps_controllers_stopped_until_killed(self):
+        self.assertEqual(self.states()["head_controller"], "running")
+        stopped = lambda: self.states()["head_controller"] == "stopped"  # noqa: E731
+        self.ls.release()  # the tool takes seconds to start (see run_tool)
+        tool = subprocess.Popen(["rosrun", "controller_manager", "unspawner", "head_controller"], env=dict(os.environ),
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            self.assertTrue(wall_wait(stopped, 60.0), "the unspawner did not stop head_controller")
+            # Started behind its back, it is stopped again at a next look, a second of sim time on.
+            # The unspawner is no lockstep participant and looks on its own clock: time runs a
+            # second at a time, and the test holds each second until it has looked.
+            self.assertTrue(self.switch(start_controllers=["head_controller"], stop_controllers=[], strictness=2).ok)
+            self.assertEqual(self.states()["head_controller"], "running")
+            again = False
+            for _ in range(30):
+                self.ls.sleep(1.0)
+                again = wall_wait(stopped, 5.0)
+                if again:
+                    break
+            self.assertTrue(again, "the unspawner let head_controller run")
+        finally:
+            tool.send_signal(signal.SIGINT)  # as roslaunch stops it
+            out, _ = tool.communicate(timeout=60)
+        self.assertEqual(tool.returncode, 0, out)
+        self.assertEqual(self.states()["head_controller"], "running", out)
 
     @staticmethod
     def _twist(v, w):
