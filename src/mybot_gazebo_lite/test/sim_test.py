@@ -305,6 +305,47 @@ class StatesTests(unittest.TestCase):
             self.assertLess(math.hypot(q.x - p.x, q.y - p.y), 0.001, (x, y, frame))
 
 
+    def test_sdf_models_spawned_and_deleted_while_running(self):
+        """spawn_model -sdf (a static block ahead of the robot: the laser's static world is rebuilt),
+        spawn_sdf_model (a dynamic crate that falls), delete_model; as gazebo_ros."""
+        def centre_range():
+            self.r.settle(0.1)
+            with self.r.lock:
+                ranges = self.r.scan.ranges
+            return ranges[len(ranges) // 2]
+
+        self.assertGreater(centre_range(), 5.0)  # nothing ahead in the empty world
+        block = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'fixtures', 'wall_block.sdf')
+        self.r.release()  # the tool takes seconds to start
+        p = subprocess.run(['rosrun', 'gazebo_ros', 'spawn_model', '-sdf', '-file', block, '-model', 'block',
+                            '-x', '2'], capture_output=True, text=True, timeout=60)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        ahead = centre_range()
+        self.assertLess(ahead, 1.9)  # the block's face is 1.9 m from the robot's origin
+        self.assertGreater(ahead, 1.5)
+        crate = ('<sdf version="1.6"><model name="crate"><link name="l"><inertial><mass>1</mass></inertial>'
+                 '<collision name="c"><geometry><box><size>0.2 0.2 0.2</size></box></geometry></collision>'
+                 '</link></model></sdf>')
+        pose = Pose()
+        pose.position.x, pose.position.y, pose.position.z = 0.0, 2.0, 1.0
+        pose.orientation.w = 1.0
+        spawn = rospy.ServiceProxy('/gazebo/spawn_sdf_model', SpawnModel)
+        res = spawn(model_name='crate', model_xml=crate, initial_pose=pose)
+        self.assertTrue(res.success, res.status_message)
+        self.assertFalse(spawn(model_name='crate', model_xml=crate, initial_pose=pose).success)  # the name is taken
+        self.r.settle(1.5)
+        with self.r.lock:
+            names = self.states['model'][1].name
+            z = self.states['model'][1].pose[names.index('crate')].position.z
+        self.assertEqual(names, ['ground_plane', 'mybot', 'block', 'crate'])  # Gazebo's: the order they came in
+        self.assertAlmostEqual(z, 0.1, delta=0.01)  # fell onto the ground
+        delete = rospy.ServiceProxy('/gazebo/delete_model', DeleteModel)
+        for name in ('block', 'crate'):
+            self.assertTrue(delete(model_name=name).success, name)
+        self.assertGreater(centre_range(), 5.0)  # the block is gone from the laser's world too
+        with self.r.lock:
+            self.assertEqual(self.states['model'][1].name, ['ground_plane', 'mybot'])
+
 class RestTests(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

@@ -192,8 +192,8 @@ TEST(Physics, CamerasSeeOtherRobotsAndDynamicBodiesWhereTheyStand)
   EXPECT_GT(depth[30 * 81 + 40], 1e6);
 }
 
-// /gazebo/model_states and /gazebo/link_states: every model, the world's first, then the robots in
-// spawn order; a model's pose is its own frame, not its link's; links are named "model::link".
+// /gazebo/model_states and /gazebo/link_states: every model in the order it came into the world; a
+// model's pose is its own frame, not its link's; links are named "model::link".
 TEST(Physics, ListsEveryModelAndLinkInGazebosOrder)
 {
   auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
@@ -207,13 +207,14 @@ TEST(Physics, ListsEveryModelAndLinkInGazebosOrder)
   PhysicsWorld w(world, {});
   w.addRobot(spec, "second", "", makeTransform(btVector3(-2, 0, 0), btVector3(0, 0, 0)));
   w.addRobot(spec, "first", "", btTransform::getIdentity());
+  w.addModel(boxModel("late", btVector3(0, -3, 0.5), btVector3(0.2, 0.2, 1), true));  // spawned after them
   run(w, 0.2);
 
   const auto models = w.modelStates();
   std::vector<std::string> names;
   for (const auto& [name, state] : models)
     names.push_back(name);
-  EXPECT_EQ(names, (std::vector<std::string>{"ground_plane", "wall", "crate", "second", "first"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"ground_plane", "wall", "crate", "second", "first", "late"}));
   for (const auto& [name, state] : models)
   {
     Pose one;
@@ -239,6 +240,54 @@ TEST(Physics, ListsEveryModelAndLinkInGazebosOrder)
     ASSERT_TRUE(at.count("first::" + l.name)) << l.name;
     EXPECT_EQ(at["first::" + l.name], w.robots().back()->linkState(l.name).tf.getOrigin()) << l.name;
   }
+}
+
+// gazebo_ros's spawn_sdf_model and delete_model on world models, while the world runs.
+TEST(Physics, SpawnsAndDeletesSdfModelsWhileRunning)
+{
+  PhysicsWorld w(flatWorld(), {});
+  const std::string crate = R"(<sdf version="1.6"><model name="from_file">
+      <pose>0 0 1 0 0 0</pose>
+      <link name="body"><inertial><mass>2</mass></inertial>
+        <collision name="c"><geometry><box><size>0.2 0.2 0.2</size></box></geometry></collision></link>
+    </model></sdf>)";
+  WorldModel m = parseSdfModel(crate, "crate.sdf", ".");
+  m.name = "crate";  // the service's model_name wins over the file's
+  m.pose = makeTransform(btVector3(2, 0, 0), btVector3(0, 0, 0)) * m.pose;
+  w.addModel(m);
+  run(w, 1.0);
+  Pose p;
+  ASSERT_TRUE(w.getModelState("crate", p));
+  EXPECT_NEAR(p.tf.getOrigin().x(), 2.0, 1e-3);
+  EXPECT_NEAR(p.tf.getOrigin().z(), 0.1, 0.01);  // fell from 1 m onto the ground
+  // The ray from the origin along x meets its near face at 1.9 m.
+  EXPECT_NEAR(w.rayTest(btVector3(0, 0, 0.1), btVector3(5, 0, 0.1), nullptr), 1.9, 0.01);
+
+  EXPECT_THROW(w.addModel(m), LoadError);  // its name is taken
+  WorldModel wall = boxModel("wall", btVector3(-2, 0, 0.5), btVector3(0.1, 2, 1), true);
+  w.addModel(wall);
+  EXPECT_EQ(w.worldSpec().models.size(), 2u);  // the static world's caches are built from it
+  WorldModel empty;
+  empty.name = "marker";
+  empty.links.emplace_back();
+  EXPECT_THROW(w.addModel(empty), LoadError);  // nothing to collide with
+
+  bool was_static = true;
+  EXPECT_TRUE(w.removeModel("crate", &was_static));
+  EXPECT_FALSE(was_static);
+  EXPECT_FALSE(w.getModelState("crate", p));
+  EXPECT_LT(w.rayTest(btVector3(0, 0, 0.1), btVector3(5, 0, 0.1), nullptr), 0);  // nothing there now
+  EXPECT_TRUE(w.removeModel("wall", &was_static));
+  EXPECT_TRUE(was_static);
+  EXPECT_TRUE(w.worldSpec().models.empty());
+  EXPECT_FALSE(w.removeModel("wall"));
+  run(w, 0.1);  // the world steps on without them
+
+  EXPECT_THROW(parseSdfModel("<sdf><world name='w'/></sdf>", "w.sdf", "."), LoadError);  // no model in it
+  EXPECT_EQ(
+      parseSdfModel("<sdf><world name='w'><model name='one'><link name='l'/></model></world></sdf>", "w.sdf", ".").name,
+      "one");
+  EXPECT_THROW(parseSdfModel("<robot name='r'/>", "r.urdf", "."), LoadError);
 }
 
 int main(int argc, char** argv)

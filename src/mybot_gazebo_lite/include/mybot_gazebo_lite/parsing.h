@@ -33,6 +33,10 @@ WorldSpec loadWorldFile(const std::string& path, const UriResolver& resolver = d
                         long max_image_side = mybot_common::kDefaultMaxImageSide);
 WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const std::string& base_dir,
                         const UriResolver& resolver = defaultResolveUri);
+// One SDF model, as gazebo_ros's spawn_sdf_model takes it: <sdf><model> (or a bare <model>);
+// nested models are flattened into it, as in a world.
+WorldModel parseSdfModel(const std::string& xml, const std::string& source, const std::string& base_dir,
+                         const UriResolver& resolver = defaultResolveUri);
 WorldSpec loadImageWorld(const std::string& yaml_path, long max_image_side = mybot_common::kDefaultMaxImageSide);
 
 // Helpers shared by the loaders.

@@ -190,8 +190,14 @@ public:
   // Teleport a robot (base frame = URDF root link) or a world model; velocities in world frame.
   bool setModelState(const std::string& name, const btTransform& pose, const btVector3& lin, const btVector3& ang);
   bool getModelState(const std::string& name, Pose& out) const;
-  // Every model's name and state, as Gazebo's /gazebo/model_states lists them: the world's
-  // models in the world file's order, then the robots in the order they were spawned.
+  // A world model added while the world runs (gazebo_ros's spawn_sdf_model), at m.pose; throws
+  // LoadError naming it when its name is taken or it has nothing to collide with.
+  void addModel(const WorldModel& m);
+  // Removes a world model added at load or since (delete_model); false when there is none of
+  // that name. `was_static`: whether it was static (the static world's caches must be rebuilt).
+  bool removeModel(const std::string& name, bool* was_static = nullptr);
+  // Every model's name and state, as Gazebo's /gazebo/model_states lists them: in the order they
+  // came into the world (the world file's, then spawned robots and models).
   std::vector<std::pair<std::string, Pose>> modelStates() const;
   // Every link's state, named "model::link" as in Gazebo's /gazebo/link_states, in the same order.
   std::vector<std::pair<std::string, Pose>> linkStates() const;
@@ -238,20 +244,23 @@ private:
   {
     std::string model;
     btCollisionObject* obj;
-    btRigidBody* body;      // null for static
-    const WorldLink* link;  // its spec, for dynamic bodies (null for static)
+    btRigidBody* body;                      // null for static
+    std::shared_ptr<const WorldLink> link;  // its spec (a copy), for dynamic bodies (null for static)
     btTransform initial;
     bool ground;  // a plane: wheels touch it all the time
     std::string link_name;
     btTransform link_in_model;  // the SDF link's pose in its model
     btTransform link_in_body;   // the link frame in the collision object's (a plane's shape pose is folded in)
+    std::vector<btCollisionShape*> shapes;     // owned: deleted with the body
+    std::shared_ptr<std::vector<Surface>> mu;  // the shapes' friction, by child index (the user pointer)
   };
+  void removeWorldBody(WorldBody& wb);
+  const Robot* robotNamed(const std::string& name) const;
   // The state of a world body's link frame, or of its model's frame.
   static Pose linkFrameState(const WorldBody& wb);
   static Pose modelFrameState(const WorldBody& wb);
   std::vector<WorldBody> world_bodies_;
-  std::vector<btCollisionShape*> world_shapes_;
-  std::vector<std::unique_ptr<std::vector<Surface>>> world_mu_;
+  std::vector<std::string> model_order_;  // every model's name, in the order it came in
   btAlignedObjectArray<btQuaternion> scratch_q_;
   btAlignedObjectArray<btVector3> scratch_m_;
 };

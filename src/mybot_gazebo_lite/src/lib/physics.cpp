@@ -243,20 +243,72 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const Options& opt) : opt_(op
     addWorldModel(m);
 }
 
+namespace
+{
+void deleteShape(btCollisionShape* shape)
+{
+  // A triangle mesh shape does not own its mesh (built by buildShape).
+  if (auto* mesh = dynamic_cast<btBvhTriangleMeshShape*>(shape))
+    delete mesh->getMeshInterface();
+  delete shape;
+}
+}  // namespace
+
 PhysicsWorld::~PhysicsWorld()
 {
   while (!robots_.empty())
     removeRobot(robots_.back()->name());
   for (auto& wb : world_bodies_)
+    removeWorldBody(wb);
+}
+
+void PhysicsWorld::removeWorldBody(WorldBody& wb)
+{
+  if (wb.body)
+    world_->removeRigidBody(wb.body);
+  else
+    world_->removeCollisionObject(wb.obj);
+  delete wb.obj;
+  for (auto* shape : wb.shapes)
+    deleteShape(shape);
+  wb.obj = nullptr;
+  wb.body = nullptr;
+  wb.shapes.clear();
+}
+
+void PhysicsWorld::addModel(const WorldModel& m)
+{
+  if (robot(m.name) ||
+      std::any_of(world_bodies_.begin(), world_bodies_.end(), [&](const WorldBody& wb) { return wb.model == m.name; }))
+    throw LoadError("model name '" + m.name + "' already exists");
+  if (std::none_of(m.links.begin(), m.links.end(), [](const WorldLink& l) { return !l.shapes.empty(); }))
+    throw LoadError("model '" + m.name + "' has no link with a <collision>: there is nothing to simulate");
+  spec_.models.push_back(m);
+  addWorldModel(spec_.models.back());
+}
+
+bool PhysicsWorld::removeModel(const std::string& name, bool* was_static)
+{
+  bool found = false;
+  for (auto it = world_bodies_.begin(); it != world_bodies_.end();)
   {
-    if (wb.body)
-      world_->removeRigidBody(wb.body);
-    else
-      world_->removeCollisionObject(wb.obj);
-    delete wb.obj;
+    if (it->model != name)
+    {
+      ++it;
+      continue;
+    }
+    if (was_static)
+      *was_static = it->body == nullptr;
+    removeWorldBody(*it);
+    it = world_bodies_.erase(it);
+    found = true;
   }
-  for (auto* s : world_shapes_)
-    delete s;
+  model_order_.erase(std::remove(model_order_.begin(), model_order_.end(), name), model_order_.end());
+  // Its spec too: the static world's slices and the cameras' scene are built from it.
+  spec_.models.erase(
+      std::remove_if(spec_.models.begin(), spec_.models.end(), [&](const WorldModel& m) { return m.name == name; }),
+      spec_.models.end());
+  return found;
 }
 
 btCollisionShape* PhysicsWorld::buildShape(const Shape& s, bool dynamic_body, std::vector<btCollisionShape*>& owned,
@@ -318,18 +370,19 @@ btCollisionShape* PhysicsWorld::buildShape(const Shape& s, bool dynamic_body, st
 
 void PhysicsWorld::addWorldModel(const WorldModel& m)
 {
+  model_order_.push_back(m.name);
   for (const auto& l : m.links)
   {
     if (l.shapes.empty())
       continue;
     std::string where = spec_.source + ": model '" + m.name + "' link '" + l.name + "'";
     auto* compound = new btCompoundShape(true, static_cast<int>(l.shapes.size()));
-    world_shapes_.push_back(compound);
-    auto mus = std::make_unique<std::vector<Surface>>();
+    std::vector<btCollisionShape*> owned{compound};
+    auto mus = std::make_shared<std::vector<Surface>>();
     bool has_plane = false;
     for (const auto& s : l.shapes)
     {
-      btCollisionShape* cs = buildShape(s, !m.is_static, world_shapes_, where);
+      btCollisionShape* cs = buildShape(s, !m.is_static, owned, where);
       has_plane |= s.type == Shape::PLANE;
       compound->addChildShape(s.pose, cs);
       mus->push_back(Surface{std::min(s.mu1, s.mu2)});
@@ -367,8 +420,8 @@ void PhysicsWorld::addWorldModel(const WorldModel& m)
     }
     if (shape == compound)
       obj->setUserPointer(mus.get());
-    world_mu_.push_back(std::move(mus));
-    world_bodies_.push_back({m.name, obj, body, body ? &l : nullptr, tf, has_plane, l.name, l.pose, link_in_body});
+    world_bodies_.push_back({m.name, obj, body, body ? std::make_shared<const WorldLink>(l) : nullptr, tf, has_plane,
+                             l.name, l.pose, link_in_body, owned, mus});
   }
 }
 
@@ -405,6 +458,7 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   addColliders(bodies, *r);
   addJointConstraints(bodies, *r);
   setRobotPose(*r, pose, btVector3(0, 0, 0), btVector3(0, 0, 0));
+  model_order_.push_back(r->name_);
   robots_.push_back(std::move(r));
   return *robots_.back();
 }
@@ -611,8 +665,9 @@ bool PhysicsWorld::removeRobot(const std::string& name)
     world_->removeMultiBody(r.mb_);
     delete r.mb_;
     for (auto* s : r.shapes_)
-      delete s;
+      deleteShape(s);
     robots_.erase(it);
+    model_order_.erase(std::remove(model_order_.begin(), model_order_.end(), name), model_order_.end());
     return true;
   }
   return false;
@@ -832,8 +887,10 @@ bool PhysicsWorld::setModelState(const std::string& name, const btTransform& pos
   {
     if (wb.model != name || !wb.body)
       continue;
-    wb.body->setWorldTransform(pose);
-    wb.body->setLinearVelocity(lin);
+    // `pose` is the model's frame: each link body where the model puts it.
+    const btTransform body_tf = pose * wb.link_in_model * wb.link_in_body.inverse();
+    wb.body->setWorldTransform(body_tf);
+    wb.body->setLinearVelocity(lin + ang.cross(body_tf.getOrigin() - pose.getOrigin()));
     wb.body->setAngularVelocity(ang);
     wb.body->activate(true);
     found = true;
@@ -884,24 +941,46 @@ Pose PhysicsWorld::modelFrameState(const WorldBody& wb)
 std::vector<std::pair<std::string, Pose>> PhysicsWorld::modelStates() const
 {
   std::vector<std::pair<std::string, Pose>> out;
-  for (const auto& wb : world_bodies_)  // a model's first link stands for it
-    if (std::none_of(out.begin(), out.end(), [&](const auto& m) { return m.first == wb.model; }))
-      out.emplace_back(wb.model, modelFrameState(wb));
-  for (const auto& r : robots_)
-    out.emplace_back(r->name_, r->linkState(r->spec_->root));
+  for (const std::string& name : model_order_)
+  {
+    if (const Robot* r = robotNamed(name))
+      out.emplace_back(name, r->linkState(r->spec_->root));
+    else
+      for (const auto& wb : world_bodies_)
+        if (wb.model == name)
+        {
+          out.emplace_back(name, modelFrameState(wb));  // its first link stands for it
+          break;
+        }
+  }
   return out;
 }
 
 std::vector<std::pair<std::string, Pose>> PhysicsWorld::linkStates() const
 {
   std::vector<std::pair<std::string, Pose>> out;
-  for (const auto& wb : world_bodies_)
-    out.emplace_back(wb.model + "::" + wb.link_name, linkFrameState(wb));
-  for (const auto& r : robots_)
-    for (const auto& l : r->spec_->links)
-      if (r->hasLink(l.name))
-        out.emplace_back(r->name_ + "::" + l.name, r->linkState(l.name));
+  for (const std::string& name : model_order_)
+  {
+    if (const Robot* r = robotNamed(name))
+    {
+      for (const auto& l : r->spec_->links)
+        if (r->hasLink(l.name))
+          out.emplace_back(name + "::" + l.name, r->linkState(l.name));
+      continue;
+    }
+    for (const auto& wb : world_bodies_)
+      if (wb.model == name)
+        out.emplace_back(name + "::" + wb.link_name, linkFrameState(wb));
+  }
   return out;
+}
+
+const Robot* PhysicsWorld::robotNamed(const std::string& name) const
+{
+  for (const auto& r : robots_)
+    if (r->name_ == name)
+      return r.get();
+  return nullptr;
 }
 
 std::vector<DynamicObstacle> PhysicsWorld::dynamicObstacles(const Robot* exclude) const

@@ -43,6 +43,11 @@ struct SdfCtx
   {
     throw LoadError(source + ": " + where + ": " + msg);
   }
+  void parse(tinyxml2::XMLDocument& doc, const std::string& xml) const
+  {
+    if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
+      fail("XML", doc.ErrorStr() ? doc.ErrorStr() : "parse error");
+  }
   std::string text(const XMLElement* e, const char* child, const std::string& where, bool required,
                    const std::string& def = "") const
   {
@@ -361,8 +366,7 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
 {
   SdfCtx c{source, base_dir, &resolver};
   tinyxml2::XMLDocument doc;
-  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
-    c.fail("XML", doc.ErrorStr() ? doc.ErrorStr() : "parse error");
+  c.parse(doc, xml);
   const XMLElement* sdf = doc.FirstChildElement("sdf");
   if (!sdf)
     c.fail("document", "no <sdf> element");
@@ -426,6 +430,45 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
     }
   }
   return world;
+}
+
+WorldModel parseSdfModel(const std::string& xml, const std::string& source, const std::string& base_dir,
+                         const UriResolver& resolver)
+{
+  SdfCtx c{source, base_dir, &resolver};
+  tinyxml2::XMLDocument doc;
+  c.parse(doc, xml);
+  const XMLElement* root = doc.RootElement();
+  const XMLElement* m = nullptr;
+  if (root && std::string(root->Name()) == "sdf")
+  {
+    if (const XMLElement* w = root->FirstChildElement("world"))
+    {
+      // gazebo_ros's spawn_model -database NAME sends <world><include><uri>model://NAME: a world
+      // of one model or include is taken as that model.
+      std::vector<const XMLElement*> items;
+      for (const XMLElement* e = w->FirstChildElement(); e; e = e->NextSiblingElement())
+        if (std::string(e->Name()) == "model" || std::string(e->Name()) == "include")
+          items.push_back(e);
+      if (items.size() != 1)
+        c.fail("<sdf><world>", "holds " + std::to_string(items.size()) + " models; one model was expected");
+      if (std::string(items[0]->Name()) == "model")
+        return parseSdfModel(c, items[0], "<world>");
+      WorldSpec ignored;
+      WorldModel out;
+      if (!parseInclude(c, items[0], ignored, out))
+        c.fail("<sdf><world><include>", "the sun and the ground plane are not models to spawn");
+      return out;
+    }
+    m = root->FirstChildElement("model");
+    if (!m)
+      c.fail("<sdf>", "no <model> element");
+  }
+  else if (root && std::string(root->Name()) == "model")
+    m = root;
+  else
+    c.fail("document", std::string("<") + (root ? root->Name() : "") + ">, where <sdf><model> was expected");
+  return parseSdfModel(c, m, "");
 }
 
 namespace

@@ -126,6 +126,7 @@ public:
     srvs_.push_back(g.advertiseService("pause_physics", &SimNode::pause, this));
     srvs_.push_back(g.advertiseService("unpause_physics", &SimNode::unpause, this));
     srvs_.push_back(g.advertiseService("spawn_urdf_model", &SimNode::spawn, this));
+    srvs_.push_back(g.advertiseService("spawn_sdf_model", &SimNode::spawn, this));
     srvs_.push_back(g.advertiseService("delete_model", &SimNode::remove, this));
     srvs_.push_back(g.advertiseService("get_model_state", &SimNode::getState, this));
     srvs_.push_back(g.advertiseService("set_model_state", &SimNode::setState, this));
@@ -422,6 +423,11 @@ private:
       ROS_ERROR("gazebo_lite: spawn '%s' refused: %s", req.model_name.c_str(), bad.c_str());
       return true;
     }
+    // As gazebo_ros, either service takes either format: a URDF <robot> is simulated as a robot
+    // (its joints and plugins), an SDF <model> as a world model.
+    if (req.model_xml.find("<robot") == std::string::npos &&
+        (req.model_xml.find("<sdf") != std::string::npos || req.model_xml.find("<model") != std::string::npos))
+      return spawnSdf(req, res);
     try
     {
       auto spec = std::make_shared<RobotSpec>(parseUrdf(req.model_xml, "URDF of model '" + req.model_name + "'"));
@@ -485,8 +491,50 @@ private:
     return true;
   }
 
+  // An SDF model (spawn_sdf_model): a world model, static or dynamic, at initial_pose times its
+  // own <pose>. Its <plugin>s are not run (said once).
+  bool spawnSdf(SpawnModel::Request& req, SpawnModel::Response& res)
+  {
+    const auto& p = req.initial_pose;
+    btQuaternion q(p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w);
+    if (q.length2() < 1e-12)
+      q = btQuaternion::getIdentity();
+    q.normalize();
+    try
+    {
+      WorldModel m = parseSdfModel(req.model_xml, "SDF of model '" + req.model_name + "'", ".");
+      if (req.model_xml.find("<plugin") != std::string::npos)
+        ROS_WARN("gazebo_lite: spawn '%s': the SDF model's <plugin>s are not run", req.model_name.c_str());
+      m.name = req.model_name;
+      m.pose = btTransform(q, btVector3(p.position.x, p.position.y, p.position.z)) * m.pose;
+      world_->addModel(m);
+      if (m.is_static)
+        slices_->invalidate();  // the lasers' slices and the cameras' scene of the static world
+      res.success = true;
+      res.status_message = "spawned '" + req.model_name + "'";
+      ROS_INFO("gazebo_lite: spawned SDF model '%s' (%s, %zu links)", req.model_name.c_str(),
+               m.is_static ? "static" : "dynamic", m.links.size());
+    }
+    catch (const std::exception& e)
+    {
+      res.success = false;
+      res.status_message = e.what();
+      ROS_ERROR("gazebo_lite: spawn '%s' failed: %s", req.model_name.c_str(), e.what());
+    }
+    return true;
+  }
+
   bool remove(DeleteModel::Request& req, DeleteModel::Response& res)
   {
+    bool was_static = false;
+    if (world_->removeModel(req.model_name, &was_static))
+    {
+      if (was_static)
+        slices_->invalidate();
+      res.success = true;
+      res.status_message = "deleted '" + req.model_name + "'";
+      return true;
+    }
     for (auto it = models_.begin(); it != models_.end(); ++it)
       if (it->name == req.model_name)
       {

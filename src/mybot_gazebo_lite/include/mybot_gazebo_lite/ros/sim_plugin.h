@@ -33,6 +33,12 @@ public:
   explicit StaticSliceCache(const WorldSpec& w) : world_(w) {}
   const RayCaster2D& at(double z);
   const PrismScene& prisms();  // the cameras' 2.5D view, built on first use
+  // The static world changed (a static model spawned or deleted): rebuilt on next use.
+  void invalidate()
+  {
+    cache_.clear();
+    prisms_.reset();
+  }
 
 private:
   const WorldSpec& world_;
