@@ -24,7 +24,8 @@ from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
 from gazebo_msgs.msg import LinkStates, ModelState, ModelStates
-from gazebo_msgs.srv import DeleteModel, GetModelState, SetModelState, SpawnModel
+from gazebo_msgs.srv import (DeleteModel, GetLinkState, GetModelState, GetWorldProperties, SetModelState,
+                              SpawnModel)
 from mybot_gazebo_lite.msg import ModelContacts
 from mybot_common.geometry import wrap, yaw_of
 from mybot_lockstep import participant
@@ -304,6 +305,34 @@ class StatesTests(unittest.TestCase):
             q = send(x, y, frame)
             self.assertLess(math.hypot(q.x - p.x, q.y - p.y), 0.001, (x, y, frame))
 
+
+    def test_world_properties_and_link_states_relative_to_entities(self):
+        get_model = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
+        get_link = rospy.ServiceProxy('/gazebo/get_link_state', GetLinkState)
+        world = rospy.ServiceProxy('/gazebo/get_world_properties', GetWorldProperties)()
+        self.assertTrue(world.success)
+        self.assertEqual(world.model_names, ['ground_plane', 'mybot'])
+        self.assertAlmostEqual(world.sim_time, rospy.get_time(), delta=0.011)
+        self.r.drive(0.3, 0.5, 0.5)  # somewhere turned, and moving
+        root = 'mybot::' + root_link(rospy.get_param('/robot_description'))
+        model = get_model(model_name='mybot')
+        link = get_link(link_name=root)
+        self.assertTrue(link.success, link.status_message)
+        self.assertEqual(link.link_state.pose, model.pose)  # the root link is the model's frame
+        # Relative to itself, to its root link, or to the ground plane (the world's origin).
+        for frame in ('mybot', root):
+            rel = get_model(model_name='mybot', relative_entity_name=frame)
+            self.assertTrue(rel.success, rel.status_message)
+            self.assertLess(math.hypot(rel.pose.position.x, rel.pose.position.y), 1e-9, frame)
+            self.assertAlmostEqual(rel.pose.orientation.w, 1.0, delta=1e-9)
+        rel = get_link(link_name=root, reference_frame='ground_plane::link')
+        self.assertAlmostEqual(rel.link_state.pose.position.x, model.pose.position.x, delta=1e-9)
+        # Names that are not there: said, not answered with a pose.
+        for res, text in ((get_link(link_name='mybot::no_link'), "no link named 'mybot::no_link'"),
+                          (get_link(link_name='mybot'), 'model::link'),
+                          (get_model(model_name='mybot', relative_entity_name='nobody'), "'nobody'")):
+            self.assertFalse(res.success)
+            self.assertIn(text, res.status_message)
 
     def test_sdf_models_spawned_and_deleted_while_running(self):
         """spawn_model -sdf (a static block ahead of the robot: the laser's static world is rebuilt),

@@ -290,6 +290,37 @@ TEST(Physics, SpawnsAndDeletesSdfModelsWhileRunning)
   EXPECT_THROW(parseSdfModel("<robot name='r'/>", "r.urdf", "."), LoadError);
 }
 
+// get_model_state / get_link_state relative to another entity, as gazebo_ros computes it.
+TEST(Physics, StatesRelativeToAnotherEntity)
+{
+  Pose frame;  // at (1, 0, 0), turned 90 degrees left, moving along +x at 1 m/s
+  frame.tf = makeTransform(btVector3(1, 0, 0), btVector3(0, 0, M_PI / 2));
+  frame.linear = btVector3(1, 0, 0);
+  Pose s;  // at (1, 2, 0), moving along +y at 1 m/s
+  s.tf = makeTransform(btVector3(1, 2, 0), btVector3(0, 0, 0));
+  s.linear = btVector3(0, 1, 0);
+  const Pose r = relativeTo(s, frame);
+  // 2 m ahead along the frame's x (world +y); turned -90 degrees in it.
+  EXPECT_NEAR(r.tf.getOrigin().x(), 2.0, 1e-12);
+  EXPECT_NEAR(r.tf.getOrigin().y(), 0.0, 1e-12);
+  EXPECT_NEAR(r.tf.getRotation().getAngle() * r.tf.getRotation().getAxis().z(), -M_PI / 2, 1e-12);
+  // The velocity difference (-1, 1, 0) in the frame's axes: (1, 1, 0).
+  EXPECT_NEAR(r.linear.x(), 1.0, 1e-12);
+  EXPECT_NEAR(r.linear.y(), 1.0, 1e-12);
+
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
+  PhysicsWorld w(flatWorld(), {});
+  w.addRobot(spec, "bot", "", makeTransform(btVector3(1, 2, 0), btVector3(0, 0, 1)));
+  Pose model, root, ground;
+  ASSERT_TRUE(w.entityState("bot", model));
+  ASSERT_TRUE(w.entityState("bot::" + spec->root, root));
+  ASSERT_TRUE(w.entityState("ground_plane::link", ground));
+  EXPECT_EQ(model.tf.getOrigin(), root.tf.getOrigin());
+  EXPECT_NEAR(relativeTo(model, root).tf.getOrigin().length(), 0.0, 1e-12);
+  EXPECT_FALSE(w.entityState("bot::no_such_link", model));
+  EXPECT_FALSE(w.entityState("nobody", model));
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);

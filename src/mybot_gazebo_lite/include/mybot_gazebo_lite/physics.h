@@ -41,6 +41,11 @@ struct Pose
   btVector3 angular{0, 0, 0};  // world-frame angular velocity
 };
 
+// `s` seen from `frame` (both world-frame states), as gazebo_ros's get_model_state and
+// get_link_state give it: the pose relative to the frame, and the velocity differences turned
+// into the frame's axes (Gazebo ignores the frame's rotation sweeping the point, and so does this).
+Pose relativeTo(const Pose& s, const Pose& frame);
+
 class Robot
 {
 public:
@@ -201,6 +206,8 @@ public:
   std::vector<std::pair<std::string, Pose>> modelStates() const;
   // Every link's state, named "model::link" as in Gazebo's /gazebo/link_states, in the same order.
   std::vector<std::pair<std::string, Pose>> linkStates() const;
+  // A model's state, or a link's ("model::link"); false when there is no such entity.
+  bool entityState(const std::string& name, Pose& out) const;
 
   const WorldSpec& worldSpec() const { return spec_; }
   std::vector<DynamicObstacle> dynamicObstacles(const Robot* exclude) const;

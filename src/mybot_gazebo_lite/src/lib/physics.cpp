@@ -975,6 +975,38 @@ std::vector<std::pair<std::string, Pose>> PhysicsWorld::linkStates() const
   return out;
 }
 
+bool PhysicsWorld::entityState(const std::string& name, Pose& out) const
+{
+  const size_t sep = name.find("::");
+  if (sep == std::string::npos)
+    return getModelState(name, out);
+  const std::string model = name.substr(0, sep), link = name.substr(sep + 2);
+  if (const Robot* r = robotNamed(model))
+  {
+    if (!r->hasLink(link))
+      return false;
+    out = r->linkState(link);
+    return true;
+  }
+  for (const auto& wb : world_bodies_)
+    if (wb.model == model && wb.link_name == link)
+    {
+      out = linkFrameState(wb);
+      return true;
+    }
+  return false;
+}
+
+Pose relativeTo(const Pose& s, const Pose& frame)
+{
+  Pose out;
+  out.tf = frame.tf.inverse() * s.tf;
+  const btMatrix3x3 to_frame = frame.tf.getBasis().transpose();
+  out.linear = to_frame * (s.linear - frame.linear);
+  out.angular = to_frame * (s.angular - frame.angular);
+  return out;
+}
+
 const Robot* PhysicsWorld::robotNamed(const std::string& name) const
 {
   for (const auto& r : robots_)

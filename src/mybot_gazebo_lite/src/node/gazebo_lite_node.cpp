@@ -3,7 +3,9 @@
 #include "mybot_gazebo_lite/ros/sim_plugin.h"
 
 #include "gazebo_msgs/DeleteModel.h"
+#include "gazebo_msgs/GetLinkState.h"
 #include "gazebo_msgs/GetModelState.h"
+#include "gazebo_msgs/GetWorldProperties.h"
 #include "gazebo_msgs/LinkStates.h"
 #include "gazebo_msgs/ModelStates.h"
 #include "mybot_gazebo_lite/ModelContacts.h"
@@ -30,7 +32,9 @@
 namespace mybot_gazebo_lite
 {
 using gazebo_msgs::DeleteModel;
+using gazebo_msgs::GetLinkState;
 using gazebo_msgs::GetModelState;
+using gazebo_msgs::GetWorldProperties;
 using gazebo_msgs::SetModelState;
 using gazebo_msgs::SpawnModel;
 
@@ -129,6 +133,8 @@ public:
     srvs_.push_back(g.advertiseService("spawn_sdf_model", &SimNode::spawn, this));
     srvs_.push_back(g.advertiseService("delete_model", &SimNode::remove, this));
     srvs_.push_back(g.advertiseService("get_model_state", &SimNode::getState, this));
+    srvs_.push_back(g.advertiseService("get_link_state", &SimNode::getLinkState, this));
+    srvs_.push_back(g.advertiseService("get_world_properties", &SimNode::getWorldProperties, this));
     srvs_.push_back(g.advertiseService("set_model_state", &SimNode::setState, this));
     if (lockstep)
       lockstep_ = std::make_unique<mybot_lockstep::Coordinator>(timeout, ros::getGlobalCallbackQueue());
@@ -549,41 +555,102 @@ private:
     return true;
   }
 
+  // `relative_to` "", "world" or "map": the world; else a model or a "model::link", as gazebo_ros.
+  // False, saying why, when either entity is missing.
+  bool stateOf(const std::string& name, const std::string& relative_to, const char* what, Pose& out,
+               std::string& why) const
+  {
+    if (!world_->entityState(name, out))
+    {
+      why = std::string("no ") + what + " named '" + name + "'";
+      return false;
+    }
+    if (relative_to.empty() || relative_to == "world" || relative_to == "map")
+      return true;
+    Pose frame;
+    if (!world_->entityState(relative_to, frame))
+    {
+      why = "no model or link named '" + relative_to + "' to give the state relative to";
+      return false;
+    }
+    out = relativeTo(out, frame);
+    return true;
+  }
+
   bool getState(GetModelState::Request& req, GetModelState::Response& res)
   {
-    Pose s;
     res.header.stamp = ros::Time(world_->time());
-    res.header.frame_id = "world";
-    if (!world_->getModelState(req.model_name, s))
+    res.header.frame_id = req.relative_entity_name.empty() ? "world" : req.relative_entity_name;
+    Pose s;
+    if (req.model_name.find("::") != std::string::npos ||
+        !stateOf(req.model_name, req.relative_entity_name, "model", s, res.status_message))
     {
       res.success = false;
-      res.status_message = "no model named '" + req.model_name + "'";
+      if (res.status_message.empty())
+        res.status_message = "no model named '" + req.model_name + "' (a link: get_link_state)";
       return true;
     }
-    if (!req.relative_entity_name.empty() && req.relative_entity_name != "world" && req.relative_entity_name != "map")
-    {
-      res.success = false;
-      res.status_message = "relative_entity_name '" + req.relative_entity_name + "' not supported (use world)";
-      return true;
-    }
-    const btVector3& o = s.tf.getOrigin();
-    btQuaternion q = s.tf.getRotation();
-    res.pose.position.x = o.x();
-    res.pose.position.y = o.y();
-    res.pose.position.z = o.z();
-    res.pose.orientation.x = q.x();
-    res.pose.orientation.y = q.y();
-    res.pose.orientation.z = q.z();
-    res.pose.orientation.w = q.w();
-    res.twist.linear.x = s.linear.x();
-    res.twist.linear.y = s.linear.y();
-    res.twist.linear.z = s.linear.z();
-    res.twist.angular.x = s.angular.x();
-    res.twist.angular.y = s.angular.y();
-    res.twist.angular.z = s.angular.z();
+    res.pose = poseMsg(s);
+    res.twist = twistMsg(s);
     res.success = true;
     res.status_message = "GetModelState: got properties";
     return true;
+  }
+
+  bool getLinkState(GetLinkState::Request& req, GetLinkState::Response& res)
+  {
+    Pose s;
+    res.link_state.link_name = req.link_name;
+    res.link_state.reference_frame = req.reference_frame;
+    res.success = req.link_name.find("::") != std::string::npos &&
+                  stateOf(req.link_name, req.reference_frame, "link", s, res.status_message);
+    if (!res.success)
+    {
+      if (res.status_message.empty())
+        res.status_message = "no link named '" + req.link_name + "' (links are named model::link)";
+      return true;
+    }
+    res.link_state.pose = poseMsg(s);
+    res.link_state.twist = twistMsg(s);
+    res.status_message = "GetLinkState: got state";
+    return true;
+  }
+
+  bool getWorldProperties(GetWorldProperties::Request&, GetWorldProperties::Response& res)
+  {
+    res.sim_time = world_->time();
+    for (const auto& [name, state] : world_->modelStates())
+      res.model_names.push_back(name);
+    res.rendering_enabled = false;  // headless
+    res.success = true;
+    res.status_message = "GetWorldProperties: got properties";
+    return true;
+  }
+
+  static geometry_msgs::Pose poseMsg(const Pose& s)
+  {
+    geometry_msgs::Pose p;
+    const btVector3& o = s.tf.getOrigin();
+    const btQuaternion q = s.tf.getRotation();
+    p.position.x = o.x();
+    p.position.y = o.y();
+    p.position.z = o.z();
+    p.orientation.x = q.x();
+    p.orientation.y = q.y();
+    p.orientation.z = q.z();
+    p.orientation.w = q.w();
+    return p;
+  }
+  static geometry_msgs::Twist twistMsg(const Pose& s)
+  {
+    geometry_msgs::Twist t;
+    t.linear.x = s.linear.x();
+    t.linear.y = s.linear.y();
+    t.linear.z = s.linear.z();
+    t.angular.x = s.angular.x();
+    t.angular.y = s.angular.y();
+    t.angular.z = s.angular.z();
+    return t;
   }
 
   bool setState(SetModelState::Request& req, SetModelState::Response& res)
@@ -656,25 +723,8 @@ private:
     for (const auto& [name, s] : states)
     {
       m.name.push_back(name);
-      geometry_msgs::Pose p;
-      const btVector3& o = s.tf.getOrigin();
-      const btQuaternion q = s.tf.getRotation();
-      p.position.x = o.x();
-      p.position.y = o.y();
-      p.position.z = o.z();
-      p.orientation.x = q.x();
-      p.orientation.y = q.y();
-      p.orientation.z = q.z();
-      p.orientation.w = q.w();
-      m.pose.push_back(p);
-      geometry_msgs::Twist t;
-      t.linear.x = s.linear.x();
-      t.linear.y = s.linear.y();
-      t.linear.z = s.linear.z();
-      t.angular.x = s.angular.x();
-      t.angular.y = s.angular.y();
-      t.angular.z = s.angular.z();
-      m.twist.push_back(t);
+      m.pose.push_back(poseMsg(s));
+      m.twist.push_back(twistMsg(s));
     }
     return m;
   }
