@@ -352,6 +352,12 @@ class StatesTests(unittest.TestCase):
         ahead = centre_range()
         self.assertLess(ahead, 1.9)  # the block's face is 1.9 m from the robot's origin
         self.assertGreater(ahead, 1.5)
+        # Moved, static as it is (set_model_state), the laser sees it 1 m farther.
+        m = ModelState(model_name='block')
+        m.pose.position.x, m.pose.position.z, m.pose.orientation.w = 3.0, 0.5, 1.0
+        res = rospy.ServiceProxy('/gazebo/set_model_state', SetModelState)(model_state=m)
+        self.assertTrue(res.success, res.status_message)
+        self.assertAlmostEqual(centre_range() - ahead, 1.0, delta=0.05)
         crate = ('<sdf version="1.6"><model name="crate"><link name="l"><inertial><mass>1</mass></inertial>'
                  '<collision name="c"><geometry><box><size>0.2 0.2 0.2</size></box></geometry></collision>'
                  '</link></model></sdf>')

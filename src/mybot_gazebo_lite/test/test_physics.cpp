@@ -272,6 +272,19 @@ TEST(Physics, SpawnsAndDeletesSdfModelsWhileRunning)
   empty.links.emplace_back();
   EXPECT_THROW(w.addModel(empty), LoadError);  // nothing to collide with
 
+  // A static model moves too (set_model_state), the spec the static caches read with it, and
+  // reset_world puts it back.
+  bool moved_static = false;
+  EXPECT_TRUE(w.setModelState("wall", makeTransform(btVector3(-3, 0, 0.5), btVector3(0, 0, 0)), btVector3(),
+                              btVector3(), &moved_static));
+  EXPECT_TRUE(moved_static);
+  EXPECT_NEAR(w.worldSpec().models[1].pose.getOrigin().x(), -3.0, 1e-12);
+  EXPECT_NEAR(w.rayTest(btVector3(0, 0, 0.5), btVector3(-5, 0, 0.5), nullptr), 2.95, 1e-3);
+  EXPECT_TRUE(w.resetWorld());
+  EXPECT_NEAR(w.worldSpec().models[1].pose.getOrigin().x(), -2.0, 1e-12);
+  EXPECT_NEAR(w.rayTest(btVector3(0, 0, 0.5), btVector3(-5, 0, 0.5), nullptr), 1.95, 1e-3);
+  EXPECT_FALSE(w.resetWorld());  // nothing static moved since
+
   bool was_static = true;
   EXPECT_TRUE(w.removeModel("crate", &was_static));
   EXPECT_FALSE(was_static);

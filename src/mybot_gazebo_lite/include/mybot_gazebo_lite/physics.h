@@ -183,7 +183,8 @@ public:
   uint64_t steps() const { return steps_; }
 
   // Robots back to their spawn poses at rest, dynamic world models to their initial poses.
-  void resetWorld();
+  // Returns whether the static world changed (a static model moved by setModelState went back).
+  bool resetWorld();
   void resetTime()
   {
     time_ = 0;
@@ -193,7 +194,10 @@ public:
   // Sets the velocity of a robot's root link frame (world frame), for the next step.
   void setRobotVelocity(Robot& r, const btVector3& lin, const btVector3& ang);
   // Teleport a robot (base frame = URDF root link) or a world model; velocities in world frame.
-  bool setModelState(const std::string& name, const btTransform& pose, const btVector3& lin, const btVector3& ang);
+  // A static model is moved too (its velocities ignored): then *moved_static is set, and the
+  // static world's caches must be rebuilt.
+  bool setModelState(const std::string& name, const btTransform& pose, const btVector3& lin, const btVector3& ang,
+                     bool* moved_static = nullptr);
   bool getModelState(const std::string& name, Pose& out) const;
   // A world model added while the world runs (gazebo_ros's spawn_sdf_model), at m.pose; throws
   // LoadError naming it when its name is taken or it has nothing to collide with.
@@ -262,6 +266,8 @@ private:
     std::shared_ptr<std::vector<Surface>> mu;  // the shapes' friction, by child index (the user pointer)
   };
   void removeWorldBody(WorldBody& wb);
+  // A static body placed anew: the broadphase and the spec the static world's caches read follow.
+  void placeStatic(WorldBody& wb, const btTransform& body_tf);
   const Robot* robotNamed(const std::string& name) const;
   // The state of a world body's link frame, or of its model's frame.
   static Pose linkFrameState(const WorldBody& wb);

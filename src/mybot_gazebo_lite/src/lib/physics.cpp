@@ -834,8 +834,15 @@ void PhysicsWorld::updateContacts()
       ++r->contacts_.steps;
 }
 
-void PhysicsWorld::resetWorld()
+bool PhysicsWorld::resetWorld()
 {
+  bool static_changed = false;
+  for (auto& wb : world_bodies_)
+    if (!wb.body && !(wb.obj->getWorldTransform() == wb.initial))
+    {
+      placeStatic(wb, wb.initial);
+      static_changed = true;
+    }
   for (auto& rp : robots_)
   {
     Robot& r = *rp;
@@ -863,6 +870,18 @@ void PhysicsWorld::resetWorld()
   }
   world_->getBroadphase()->resetPool(dispatcher_.get());
   world_->getConstraintSolver()->reset();
+  return static_changed;
+}
+
+void PhysicsWorld::placeStatic(WorldBody& wb, const btTransform& body_tf)
+{
+  wb.obj->setWorldTransform(body_tf);
+  world_->updateSingleAabb(wb.obj);  // Bullet does not refresh a static object's bounds itself
+  for (auto& m : spec_.models)
+    if (m.name == wb.model)
+      for (const auto& l : m.links)
+        if (l.name == wb.link_name)
+          m.pose = body_tf * wb.link_in_body * wb.link_in_model.inverse();
 }
 
 void PhysicsWorld::setRobotVelocity(Robot& r, const btVector3& lin, const btVector3& ang)
@@ -875,7 +894,7 @@ void PhysicsWorld::setRobotVelocity(Robot& r, const btVector3& lin, const btVect
 }
 
 bool PhysicsWorld::setModelState(const std::string& name, const btTransform& pose, const btVector3& lin,
-                                 const btVector3& ang)
+                                 const btVector3& ang, bool* moved_static)
 {
   if (Robot* r = robot(name))
   {
@@ -885,15 +904,22 @@ bool PhysicsWorld::setModelState(const std::string& name, const btTransform& pos
   bool found = false;
   for (auto& wb : world_bodies_)
   {
-    if (wb.model != name || !wb.body)
+    if (wb.model != name)
       continue;
     // `pose` is the model's frame: each link body where the model puts it.
     const btTransform body_tf = pose * wb.link_in_model * wb.link_in_body.inverse();
+    found = true;
+    if (!wb.body)
+    {
+      placeStatic(wb, body_tf);
+      if (moved_static)
+        *moved_static = true;
+      continue;
+    }
     wb.body->setWorldTransform(body_tf);
     wb.body->setLinearVelocity(lin + ang.cross(body_tf.getOrigin() - pose.getOrigin()));
     wb.body->setAngularVelocity(ang);
     wb.body->activate(true);
-    found = true;
   }
   return found;
 }

@@ -364,7 +364,8 @@ private:
 
   bool resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
   {
-    world_->resetWorld();
+    if (world_->resetWorld())
+      slices_->invalidate();
     for (auto& m : models_)
       for (auto& p : m.plugins)
         p->reset();
@@ -699,7 +700,11 @@ private:
     btTransform pose(q, btVector3(mp.position.x, mp.position.y, mp.position.z));
     btVector3 lin(mt.linear.x, mt.linear.y, mt.linear.z);
     btVector3 ang(mt.angular.x, mt.angular.y, mt.angular.z);
-    if (!world_->setModelState(m.model_name, pose, lin, ang))
+    bool moved_static = false;
+    const bool found = world_->setModelState(m.model_name, pose, lin, ang, &moved_static);
+    if (moved_static)
+      slices_->invalidate();  // the lasers' and cameras' static world
+    if (!found)
     {
       ROS_ERROR("gazebo_lite: set_model_state: no model named '%s'", m.model_name.c_str());
       return "no model named '" + m.model_name + "'";
