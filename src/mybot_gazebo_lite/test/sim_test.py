@@ -17,15 +17,15 @@ import xml.etree.ElementTree as ET
 import rospy
 import rostest
 import tf2_ros
-from geometry_msgs.msg import Pose, Twist
+from geometry_msgs.msg import Pose, Twist, Wrench
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
 from gazebo_msgs.msg import LinkStates, ModelState, ModelStates
-from gazebo_msgs.srv import (DeleteModel, GetLinkState, GetModelState, GetWorldProperties, SetModelState,
-                              SpawnModel)
+from gazebo_msgs.srv import (ApplyBodyWrench, BodyRequest, DeleteModel, GetLinkState, GetModelState,
+                              GetWorldProperties, SetModelState, SpawnModel)
 from mybot_gazebo_lite.msg import ModelContacts
 from mybot_common.geometry import wrap, yaw_of
 from mybot_lockstep import participant
@@ -218,6 +218,47 @@ class DriveTests(unittest.TestCase):
         with self.r.lock:
             v = self.r.gt.twist.twist.linear
         self.assertLess(math.hypot(v.x, v.y), 0.01)
+
+    def test_body_wrenches_lift_the_robot_while_they_last(self):
+        apply = rospy.ServiceProxy('/gazebo/apply_body_wrench', ApplyBodyWrench)
+        clear = rospy.ServiceProxy('/gazebo/clear_body_wrenches', BodyRequest)
+        urdf = rospy.get_param('/robot_description')
+        root = 'mybot::' + root_link(urdf)
+        weight = 9.8 * sum(float(m.get('value')) for m in ET.fromstring(urdf).iter('mass'))
+
+        def z():
+            with self.r.lock:
+                return self.r.gt.pose.pose.position.z
+
+        z0 = z()
+        # Three times its weight upwards for 0.2 s: up with 2 g, then it falls back and rests.
+        up = Wrench()
+        up.force.z = 3 * weight
+        res = apply(body_name=root, wrench=up, duration=rospy.Duration(0.2))
+        self.assertTrue(res.success, res.status_message)
+        self.r.settle(0.2)
+        self.assertGreater(z() - z0, 0.5 * 2 * 9.8 * 0.2 ** 2 * 0.8)
+        self.r.settle(1.0)
+        self.assertLess(abs(z() - z0), 0.01)
+        # Until cleared: it rises while the wrench lasts, and comes back down once it is cleared.
+        self.assertTrue(apply(body_name=root, wrench=up, duration=rospy.Duration(-1)).success)
+        self.r.settle(0.2)
+        self.assertGreater(z() - z0, 0.1)
+        clear(body_name=root)
+        self.r.settle(1.0)
+        self.assertLess(abs(z() - z0), 0.01)
+        # Refused, saying why, and nothing pushes.
+        nan = Wrench()
+        nan.force.x = float('nan')
+        for res, text in ((apply(body_name=root, wrench=nan, duration=rospy.Duration(1)), 'wrench.force.x is nan'),
+                          (apply(body_name='mybot::no_link', wrench=up, duration=rospy.Duration(1)), "'mybot::no_link'"),
+                          (apply(body_name='ground_plane::link', wrench=up, duration=rospy.Duration(1)), 'dynamic'),
+                          (apply(body_name=root, reference_frame='nowhere', wrench=up, duration=rospy.Duration(1)),
+                           "'nowhere'")):
+            self.assertFalse(res.success)
+            self.assertIn(text, res.status_message)
+        self.r.settle(0.2)
+        self.assertLess(abs(z() - z0), 0.01)
 
     def test_reset_world_restores_spawn_pose(self):
         self.r.drive(0.5, 0.3, 2.0)

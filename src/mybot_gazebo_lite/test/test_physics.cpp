@@ -334,6 +334,59 @@ TEST(Physics, StatesRelativeToAnotherEntity)
   EXPECT_FALSE(w.entityState("nobody", model));
 }
 
+// gazebo_ros's apply_body_wrench / clear_body_wrenches.
+TEST(Physics, BodyWrenchesPushForTheirDurationThenStop)
+{
+  // A wrench given in a frame turned 90 degrees left at (1, 0, 0), acting at that frame's origin,
+  // on a body whose centre of mass is at the world's origin.
+  const btTransform frame = makeTransform(btVector3(1, 0, 0), btVector3(0, 0, M_PI / 2));
+  btVector3 f, t;
+  worldWrench(btVector3(1, 0, 0), btVector3(0, 0, 0), btVector3(0, 0, 0), &frame, btVector3(0, 0, 0), f, t);
+  EXPECT_NEAR((f - btVector3(0, 1, 0)).length(), 0.0, 1e-12);
+  EXPECT_NEAR((t - btVector3(0, 0, 1)).length(), 0.0, 1e-12);  // (1, 0, 0) x (0, 1, 0)
+  // Without a frame, world axes and a lever arm from the centre of mass (as upstream).
+  worldWrench(btVector3(0, 2, 0), btVector3(0, 0, 0.5), btVector3(1, 0, 0), nullptr, btVector3(5, 5, 5), f, t);
+  EXPECT_EQ(f, btVector3(0, 2, 0));
+  EXPECT_NEAR((t - btVector3(0, 0, 2.5)).length(), 0.0, 1e-12);
+
+  WorldSpec world = flatWorld();
+  world.models.push_back(boxModel("crate", btVector3(0, 0, 0.1), btVector3(0.2, 0.2, 0.2), false));  // 1 kg
+  PhysicsWorld w(world, {});
+  run(w, 0.2);  // at rest on the ground
+  const double g = 9.8;
+  // Twice its weight upwards for 0.5 s: it rises with g, then flies on with what it gained.
+  ASSERT_TRUE(w.applyBodyWrench("crate::link", btVector3(0, 0, 2 * g), btVector3(0, 0, 0), w.time(), 0.5));
+  run(w, 0.5);
+  Pose p;
+  ASSERT_TRUE(w.getModelState("crate", p));
+  EXPECT_NEAR(p.linear.z(), g * 0.5, 0.05);
+  run(w, 0.2);
+  ASSERT_TRUE(w.getModelState("crate", p));
+  EXPECT_NEAR(p.linear.z(), g * 0.5 - g * 0.2, 0.05);  // the push is over: gravity alone
+
+  // Until cleared: a steady sideways push in the air; once cleared, the velocity it gave stays.
+  ASSERT_TRUE(w.applyBodyWrench("crate::link", btVector3(1, 0, 0), btVector3(0, 0, 0), w.time(), -1));
+  run(w, 0.1);
+  w.clearBodyWrenches("crate::link");
+  run(w, 0.1);
+  ASSERT_TRUE(w.getModelState("crate", p));
+  EXPECT_NEAR(p.linear.x(), 0.1, 0.005);
+  EXPECT_FALSE(w.applyBodyWrench("crate::nolink", btVector3(), btVector3(), 0, 1));
+  EXPECT_FALSE(w.applyBodyWrench("ground_plane::link", btVector3(), btVector3(), 0, 1));  // static: nothing to push
+
+  // A robot's link: lifted off the ground by three times its weight on its root link.
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
+  double mass = 0;
+  for (const auto& l : spec->links)
+    mass += l.has_inertial ? l.inertial.mass : 0.0;
+  Robot& bot = w.addRobot(spec, "bot", "", makeTransform(btVector3(3, 0, 0), btVector3(0, 0, 0)));
+  run(w, 0.5);
+  const double z0 = bot.linkState(spec->root).tf.getOrigin().z();
+  ASSERT_TRUE(w.applyBodyWrench("bot::" + spec->root, btVector3(0, 0, 3 * mass * g), btVector3(), w.time(), 0.3));
+  run(w, 0.3);
+  EXPECT_GT(bot.linkState(spec->root).tf.getOrigin().z() - z0, 0.5 * 2 * g * 0.3 * 0.3 * 0.8);
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);

@@ -41,6 +41,13 @@ struct Pose
   btVector3 angular{0, 0, 0};  // world-frame angular velocity
 };
 
+// The wrench of gazebo_ros's apply_body_wrench in the world frame, about the centre of mass `com`
+// of the body it acts on. Without a reference frame (`frame` null), force and torque are in the
+// world's axes and `point` is a lever arm from the centre of mass (upstream's reading). With one,
+// force, torque and point are in that frame, and the force acts at the point.
+void worldWrench(const btVector3& force, const btVector3& torque, const btVector3& point, const btTransform* frame,
+                 const btVector3& com, btVector3& force_out, btVector3& torque_out);
+
 // `s` seen from `frame` (both world-frame states), as gazebo_ros's get_model_state and
 // get_link_state give it: the pose relative to the frame, and the velocity differences turned
 // into the frame's axes (Gazebo ignores the frame's rotation sweeping the point, and so does this).
@@ -213,6 +220,17 @@ public:
   // A model's state, or a link's ("model::link"); false when there is no such entity.
   bool entityState(const std::string& name, Pose& out) const;
 
+  // gazebo_ros's apply_body_wrench: a world-frame force at the centre of mass of `link`'s body and
+  // a world-frame torque, applied at every step from sim time `start` for `duration` s (< 0:
+  // until cleared; shorter than a step: one step). `link` is "model::link" of a robot or of a
+  // dynamic world model; false when there is none.
+  bool applyBodyWrench(const std::string& link, const btVector3& force, const btVector3& torque, double start,
+                       double duration);
+  // clear_body_wrenches: that link's wrenches ("": all of them, as reset_simulation does).
+  void clearBodyWrenches(const std::string& link = "");
+  // The world-frame centre of mass of the body `link` belongs to; false when there is none.
+  bool centreOfMass(const std::string& link, btVector3& out) const;
+
   const WorldSpec& worldSpec() const { return spec_; }
   std::vector<DynamicObstacle> dynamicObstacles(const Robot* exclude) const;
   // Every collision shape of the robots (but `exclude`) and of the dynamic world bodies, where it
@@ -274,6 +292,14 @@ private:
   static Pose modelFrameState(const WorldBody& wb);
   std::vector<WorldBody> world_bodies_;
   std::vector<std::string> model_order_;  // every model's name, in the order it came in
+  struct WrenchJob
+  {
+    std::string link;
+    btVector3 force, torque;
+    double start, end;  // sim time; end infinite: until cleared
+  };
+  std::vector<WrenchJob> wrenches_;
+  void applyWrenches();
   btAlignedObjectArray<btQuaternion> scratch_q_;
   btAlignedObjectArray<btVector3> scratch_m_;
 };

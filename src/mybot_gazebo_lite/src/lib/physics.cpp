@@ -12,6 +12,7 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <functional>
 
@@ -728,6 +729,7 @@ void PhysicsWorld::step()
       }
     }
   }
+  applyWrenches();
   world_->stepSimulation(dt, 0, dt);
   ++steps_;
   time_ = steps_ * dt + 0.0;
@@ -1021,6 +1023,107 @@ bool PhysicsWorld::entityState(const std::string& name, Pose& out) const
       return true;
     }
   return false;
+}
+
+void worldWrench(const btVector3& force, const btVector3& torque, const btVector3& point, const btTransform* frame,
+                 const btVector3& com, btVector3& force_out, btVector3& torque_out)
+{
+  if (!frame)
+  {
+    force_out = force;
+    torque_out = torque + point.cross(force);
+    return;
+  }
+  force_out = frame->getBasis() * force;
+  torque_out = frame->getBasis() * torque + ((*frame) * point - com).cross(force_out);
+}
+
+bool PhysicsWorld::applyBodyWrench(const std::string& link, const btVector3& force, const btVector3& torque,
+                                   double start, double duration)
+{
+  btVector3 com;
+  if (!centreOfMass(link, com))
+    return false;
+  const double end = duration < 0 ? std::numeric_limits<double>::infinity() : start + std::max(duration, opt_.step);
+  wrenches_.push_back({link, force, torque, start, end});
+  return true;
+}
+
+void PhysicsWorld::clearBodyWrenches(const std::string& link)
+{
+  wrenches_.erase(std::remove_if(wrenches_.begin(), wrenches_.end(),
+                                 [&](const WrenchJob& j) { return link.empty() || j.link == link; }),
+                  wrenches_.end());
+}
+
+bool PhysicsWorld::centreOfMass(const std::string& link, btVector3& out) const
+{
+  const size_t sep = link.find("::");
+  if (sep == std::string::npos)
+    return false;
+  const std::string model = link.substr(0, sep), name = link.substr(sep + 2);
+  if (const Robot* r = robotNamed(model))
+  {
+    if (!r->hasLink(name))
+      return false;
+    out = r->bodyWorld(r->links_.at(name)).getOrigin();  // a Featherstone body's frame is its centre of mass
+    return true;
+  }
+  for (const auto& wb : world_bodies_)
+    if (wb.model == model && wb.link_name == name && wb.body)
+    {
+      out = wb.body->getCenterOfMassPosition();
+      return true;
+    }
+  return false;
+}
+
+// The wrenches due at this step, on the bodies they act on (Bullet clears them after each step).
+// A job whose link has gone (its model deleted) is dropped.
+void PhysicsWorld::applyWrenches()
+{
+  for (auto it = wrenches_.begin(); it != wrenches_.end();)
+  {
+    const WrenchJob& j = *it;
+    const size_t sep = j.link.find("::");
+    const std::string model = j.link.substr(0, sep), name = j.link.substr(sep + 2);
+    bool exists = false;
+    if (Robot* r = robot(model); r && r->hasLink(name))
+    {
+      exists = true;
+      if (j.start <= time_ + 1e-12)
+      {
+        const int body = r->links_.at(name).body;
+        if (body < 0)
+        {
+          r->mb_->addBaseForce(j.force);
+          r->mb_->addBaseTorque(j.torque);
+        }
+        else
+        {
+          r->mb_->addLinkForce(body, j.force);
+          r->mb_->addLinkTorque(body, j.torque);
+        }
+        r->mb_->wakeUp();
+      }
+    }
+    for (auto& wb : world_bodies_)
+      if (wb.model == model && wb.link_name == name && wb.body)
+      {
+        exists = true;
+        if (j.start <= time_ + 1e-12)
+        {
+          wb.body->applyCentralForce(j.force);
+          wb.body->applyTorque(j.torque);
+          wb.body->activate(true);
+        }
+      }
+    // Over once this step ends at or past its end.
+    if (!exists || time_ + opt_.step > j.end - 1e-12)
+      it = wrenches_.erase(it);
+    else
+      ++it;
+  }
 }
 
 Pose relativeTo(const Pose& s, const Pose& frame)

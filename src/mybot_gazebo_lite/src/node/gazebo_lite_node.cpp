@@ -2,6 +2,8 @@
 // step, publishes /clock, runs the plugin emulations and the /gazebo services.
 #include "mybot_gazebo_lite/ros/sim_plugin.h"
 
+#include "gazebo_msgs/ApplyBodyWrench.h"
+#include "gazebo_msgs/BodyRequest.h"
 #include "gazebo_msgs/DeleteModel.h"
 #include "gazebo_msgs/GetLinkState.h"
 #include "gazebo_msgs/GetModelState.h"
@@ -31,6 +33,8 @@
 
 namespace mybot_gazebo_lite
 {
+using gazebo_msgs::ApplyBodyWrench;
+using gazebo_msgs::BodyRequest;
 using gazebo_msgs::DeleteModel;
 using gazebo_msgs::GetLinkState;
 using gazebo_msgs::GetModelState;
@@ -135,6 +139,8 @@ public:
     srvs_.push_back(g.advertiseService("get_model_state", &SimNode::getState, this));
     srvs_.push_back(g.advertiseService("get_link_state", &SimNode::getLinkState, this));
     srvs_.push_back(g.advertiseService("get_world_properties", &SimNode::getWorldProperties, this));
+    srvs_.push_back(g.advertiseService("apply_body_wrench", &SimNode::applyBodyWrench, this));
+    srvs_.push_back(g.advertiseService("clear_body_wrenches", &SimNode::clearBodyWrenches, this));
     srvs_.push_back(g.advertiseService("set_model_state", &SimNode::setState, this));
     if (lockstep)
       lockstep_ = std::make_unique<mybot_lockstep::Coordinator>(timeout, ros::getGlobalCallbackQueue());
@@ -377,6 +383,7 @@ private:
     // the new time; restarted at the old one, joint_state_controller stayed silent until sim
     // time came back to where the reset had been).
     world_->resetTime();
+    world_->clearBodyWrenches();  // their times were of the old clock
     resetWorld(a, b);
     last_clock_ = -1;
     last_contacts_ = -1;
@@ -625,6 +632,65 @@ private:
     res.rendering_enabled = false;  // headless
     res.success = true;
     res.status_message = "GetWorldProperties: got properties";
+    return true;
+  }
+
+  // From start_time (or now, if that is past) for duration (< 0: until cleared; 0: nothing), as
+  // gazebo_ros. A body that is not there, a bad number or an unknown reference frame is refused,
+  // saying which.
+  bool applyBodyWrench(ApplyBodyWrench::Request& req, ApplyBodyWrench::Response& res)
+  {
+    const auto& f = req.wrench.force;
+    const auto& t = req.wrench.torque;
+    const auto& p = req.reference_point;
+    const std::string bad = mybot_common::firstInvalid({{"wrench.force.x", f.x},
+                                                        {"wrench.force.y", f.y},
+                                                        {"wrench.force.z", f.z},
+                                                        {"wrench.torque.x", t.x},
+                                                        {"wrench.torque.y", t.y},
+                                                        {"wrench.torque.z", t.z},
+                                                        {"reference_point.x", p.x},
+                                                        {"reference_point.y", p.y},
+                                                        {"reference_point.z", p.z}},
+                                                       kMaxCoordinate);
+    res.success = false;
+    btVector3 com;
+    if (!bad.empty())
+      res.status_message = "refused: " + bad;
+    else if (!world_->centreOfMass(req.body_name, com))
+      res.status_message =
+          "no body named '" + req.body_name + "' to push (a robot's or a dynamic model's link, named model::link)";
+    if (!res.status_message.empty())
+    {
+      ROS_ERROR("gazebo_lite: apply_body_wrench: %s", res.status_message.c_str());
+      return true;
+    }
+    Pose frame;
+    const bool in_world = req.reference_frame.empty() || req.reference_frame == "world" || req.reference_frame == "map";
+    if (!in_world && !world_->entityState(req.reference_frame, frame))
+    {
+      res.status_message = "no model or link named '" + req.reference_frame + "' for reference_frame";
+      ROS_ERROR("gazebo_lite: apply_body_wrench: %s", res.status_message.c_str());
+      return true;
+    }
+    btVector3 force, torque;
+    worldWrench(btVector3(f.x, f.y, f.z), btVector3(t.x, t.y, t.z), btVector3(p.x, p.y, p.z),
+                in_world ? nullptr : &frame.tf, com, force, torque);
+    res.success = true;
+    if (req.duration.isZero())
+    {
+      res.status_message = "duration 0: nothing applied";
+      return true;
+    }
+    const double start = std::max(req.start_time.toSec(), world_->time());
+    world_->applyBodyWrench(req.body_name, force, torque, start, req.duration.toSec());
+    return true;
+  }
+
+  bool clearBodyWrenches(BodyRequest::Request& req, BodyRequest::Response&)
+  {
+    if (!req.body_name.empty())  // an empty name would clear every body's, which upstream does not
+      world_->clearBodyWrenches(req.body_name);
     return true;
   }
 

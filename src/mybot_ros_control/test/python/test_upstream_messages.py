@@ -40,6 +40,8 @@ PUBLISHED = {
         "UnloadController": "647e5c54b8d6468952d8d31f1efe96c0",
     },
     "gazebo_msgs": {
+        "ApplyBodyWrench": "585b9f9618aa0581b207e2f2d90866bc",
+        "BodyRequest": "5eade9afe7f232d78005bd0cafeab755",
         "ContactState": "48c0ffb054b8c444f870cecea1ee50d9",
         "ContactsState": "acbcb1601a8e525bf72509f18e6f668d",
         "DeleteModel": "9ce56b4e9e54616de25d796dc972a262",
