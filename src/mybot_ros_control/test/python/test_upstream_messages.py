@@ -69,7 +69,8 @@ def defined_types(package):
             continue
         for name in dir(module):
             cls = getattr(module, name)
-            if hasattr(cls, "_md5sum") and not name.endswith(("Request", "Response")):
+            halves = [name[: -len(half)] for half in ("Request", "Response") if name.endswith(half)]
+            if hasattr(cls, "_md5sum") and not any(hasattr(module, service) for service in halves):
                 out[name] = cls
     return out
 
