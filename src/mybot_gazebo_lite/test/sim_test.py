@@ -24,7 +24,7 @@ from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
 from gazebo_msgs.msg import LinkStates, ModelState, ModelStates
-from gazebo_msgs.srv import (ApplyBodyWrench, BodyRequest, DeleteModel, GetLinkState, GetModelState,
+from gazebo_msgs.srv import (ApplyBodyWrench, ApplyJointEffort, BodyRequest, DeleteModel, GetLinkState, GetModelState,
                               GetWorldProperties, SetModelState, SpawnModel)
 from mybot_gazebo_lite.msg import ModelContacts
 from mybot_common.geometry import wrap, yaw_of
@@ -259,6 +259,32 @@ class DriveTests(unittest.TestCase):
             self.assertIn(text, res.status_message)
         self.r.settle(0.2)
         self.assertLess(abs(z() - z0), 0.01)
+
+    def test_joint_efforts_turn_a_wheel_while_they_last(self):
+        apply = rospy.ServiceProxy('/gazebo/apply_joint_effort', ApplyJointEffort)
+        urdf = rospy.get_param('/robot_description')
+        left = next(e.text.strip() for e in ET.fromstring(urdf).iter('leftJoint'))
+        x0, y0, th0 = self.r.pose()
+        # 20 N m on the left wheel, four times what its drive motor holds it with: the robot turns.
+        res = apply(joint_name=left, effort=20.0, duration=rospy.Duration(0.5))
+        self.assertTrue(res.success, res.status_message)
+        self.r.settle(0.6)  # past its end
+        _, _, th1 = self.r.pose()
+        self.assertGreater(abs(wrap(th1 - th0)), 0.05)
+        # Over: the wheel is no longer driven faster (it rolls on, slowing).
+        speed = lambda: abs(self.r.joints.velocity[self.r.joints.name.index(left)])  # noqa: E731
+        with self.r.lock:
+            v_end = speed()
+        self.r.settle(0.5)
+        with self.r.lock:
+            self.assertLessEqual(speed(), v_end + 1e-6)
+        self.assertGreater(v_end, 1.0)
+        # The model's name prefix works too; an unknown joint or a NaN is refused, naming it.
+        self.assertTrue(apply(joint_name='mybot::' + left, effort=1.0, duration=rospy.Duration(0)).success)
+        for res, text in ((apply(joint_name='no_joint', effort=1.0, duration=rospy.Duration(1)), "'no_joint'"),
+                          (apply(joint_name=left, effort=float('nan'), duration=rospy.Duration(1)), 'effort is nan')):
+            self.assertFalse(res.success)
+            self.assertIn(text, res.status_message)
 
     def test_reset_world_restores_spawn_pose(self):
         self.r.drive(0.5, 0.3, 2.0)

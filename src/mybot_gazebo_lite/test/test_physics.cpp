@@ -387,6 +387,37 @@ TEST(Physics, BodyWrenchesPushForTheirDurationThenStop)
   EXPECT_GT(bot.linkState(spec->root).tf.getOrigin().z() - z0, 0.5 * 2 * g * 0.3 * 0.3 * 0.8);
 }
 
+// gazebo_ros's apply_joint_effort / clear_joint_forces.
+TEST(Physics, JointEffortsTurnAJointForTheirDuration)
+{
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
+  PhysicsWorld w(flatWorld(), {});
+  // High in the air: the wheels turn freely while it falls.
+  Robot& r = w.addRobot(spec, "bot", "", makeTransform(btVector3(0, 0, 20), btVector3(0, 0, 0)));
+  EXPECT_EQ(w.applyJointEffort("left_wheel_hinge", 0.05, w.time(), 0.2), "");  // one robot has it
+  run(w, 0.2);
+  const double spun = r.jointVelocity("left_wheel_hinge");
+  EXPECT_GT(spun, 0.5);
+  run(w, 0.1);  // over: it turns on at what it gained
+  EXPECT_NEAR(r.jointVelocity("left_wheel_hinge"), spun, 0.1 * spun);
+  // The other wheel was not pushed: it turns only relative to the chassis, which the reaction
+  // torque turned the other way.
+  EXPECT_LT(std::fabs(r.jointVelocity("right_wheel_hinge")), 0.3 * spun);
+
+  EXPECT_EQ(w.applyJointEffort("bot::right_wheel_hinge", -0.05, w.time(), -1), "");  // until cleared
+  run(w, 0.1);
+  w.clearJointForces("bot::right_wheel_hinge");
+  const double held = r.jointVelocity("right_wheel_hinge");
+  EXPECT_LT(held, -0.2);
+  run(w, 0.1);
+  EXPECT_NEAR(r.jointVelocity("right_wheel_hinge"), held, 0.1 * std::fabs(held));
+
+  w.addRobot(spec, "twin", "", makeTransform(btVector3(5, 0, 20), btVector3(0, 0, 0)));
+  EXPECT_NE(w.applyJointEffort("left_wheel_hinge", 1, w.time(), 1).find("name it model::joint"), std::string::npos);
+  EXPECT_NE(w.applyJointEffort("bot::base_joint", 1, w.time(), 1).find("no movable joint"), std::string::npos);
+  EXPECT_NE(w.applyJointEffort("nobody::left_wheel_hinge", 1, w.time(), 1), "");
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);

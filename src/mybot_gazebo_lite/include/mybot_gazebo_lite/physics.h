@@ -230,6 +230,12 @@ public:
   void clearBodyWrenches(const std::string& link = "");
   // The world-frame centre of mass of the body `link` belongs to; false when there is none.
   bool centreOfMass(const std::string& link, btVector3& out) const;
+  // gazebo_ros's apply_joint_effort: `effort` (N m or N) added on a robot's movable joint at every
+  // step from `start` for `duration` s, as apply_body_wrench. `joint` is "model::joint", or a
+  // joint name that one robot alone has. "" or why it was refused.
+  std::string applyJointEffort(const std::string& joint, double effort, double start, double duration);
+  // clear_joint_forces: that joint's efforts ("": all of them).
+  void clearJointForces(const std::string& joint = "");
 
   const WorldSpec& worldSpec() const { return spec_; }
   std::vector<DynamicObstacle> dynamicObstacles(const Robot* exclude) const;
@@ -300,6 +306,13 @@ private:
   };
   std::vector<WrenchJob> wrenches_;
   void applyWrenches();
+  struct EffortJob
+  {
+    std::string asked, model, joint;  // as asked for (clear_joint_forces matches it), and resolved
+    double effort, start, end;
+  };
+  std::vector<EffortJob> efforts_;
+  void applyEfforts();
   btAlignedObjectArray<btQuaternion> scratch_q_;
   btAlignedObjectArray<btVector3> scratch_m_;
 };

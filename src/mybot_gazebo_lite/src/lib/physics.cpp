@@ -730,6 +730,7 @@ void PhysicsWorld::step()
     }
   }
   applyWrenches();
+  applyEfforts();
   world_->stepSimulation(dt, 0, dt);
   ++steps_;
   time_ = steps_ * dt + 0.0;
@@ -1121,6 +1122,61 @@ void PhysicsWorld::applyWrenches()
     // Over once this step ends at or past its end.
     if (!exists || time_ + opt_.step > j.end - 1e-12)
       it = wrenches_.erase(it);
+    else
+      ++it;
+  }
+}
+
+std::string PhysicsWorld::applyJointEffort(const std::string& joint, double effort, double start, double duration)
+{
+  std::string model, name = joint;
+  const size_t sep = joint.find("::");
+  if (sep != std::string::npos)
+  {
+    model = joint.substr(0, sep);
+    name = joint.substr(sep + 2);
+    const Robot* r = robotNamed(model);
+    if (!r || !r->hasJoint(name))
+      return "no movable joint named '" + joint + "'";
+  }
+  else
+  {
+    std::vector<std::string> owners;
+    for (const auto& r : robots_)
+      if (r->hasJoint(name))
+        owners.push_back(r->name_);
+    if (owners.empty())
+      return "no movable joint named '" + joint + "'";
+    if (owners.size() > 1)
+      return "joint '" + joint + "' is in " + std::to_string(owners.size()) + " models (" + owners[0] + ", " +
+             owners[1] + (owners.size() > 2 ? ", ..." : "") + "): name it model::joint";
+    model = owners[0];
+  }
+  const double end = duration < 0 ? std::numeric_limits<double>::infinity() : start + std::max(duration, opt_.step);
+  efforts_.push_back({joint, model, name, effort, start, end});
+  return "";
+}
+
+void PhysicsWorld::clearJointForces(const std::string& joint)
+{
+  efforts_.erase(std::remove_if(efforts_.begin(), efforts_.end(),
+                                [&](const EffortJob& j) { return joint.empty() || j.asked == joint; }),
+                 efforts_.end());
+}
+
+void PhysicsWorld::applyEfforts()
+{
+  for (auto it = efforts_.begin(); it != efforts_.end();)
+  {
+    Robot* r = robot(it->model);
+    const bool exists = r && r->hasJoint(it->joint);
+    if (exists && it->start <= time_ + 1e-12)
+    {
+      r->mb_->addJointTorque(r->joint(it->joint).link, it->effort);
+      r->mb_->wakeUp();
+    }
+    if (!exists || time_ + opt_.step > it->end - 1e-12)
+      it = efforts_.erase(it);
     else
       ++it;
   }

@@ -3,16 +3,18 @@
 #include "mybot_gazebo_lite/ros/sim_plugin.h"
 
 #include "gazebo_msgs/ApplyBodyWrench.h"
+#include "gazebo_msgs/ApplyJointEffort.h"
 #include "gazebo_msgs/BodyRequest.h"
 #include "gazebo_msgs/DeleteModel.h"
 #include "gazebo_msgs/GetLinkState.h"
 #include "gazebo_msgs/GetModelState.h"
 #include "gazebo_msgs/GetWorldProperties.h"
+#include "gazebo_msgs/JointRequest.h"
 #include "gazebo_msgs/LinkStates.h"
 #include "gazebo_msgs/ModelStates.h"
-#include "mybot_gazebo_lite/ModelContacts.h"
 #include "gazebo_msgs/SetModelState.h"
 #include "gazebo_msgs/SpawnModel.h"
+#include "mybot_gazebo_lite/ModelContacts.h"
 #include "mybot_gazebo_lite/parsing.h"
 #include "mybot_gazebo_lite/physics.h"
 #include "mybot_common/checks.h"
@@ -34,11 +36,13 @@
 namespace mybot_gazebo_lite
 {
 using gazebo_msgs::ApplyBodyWrench;
+using gazebo_msgs::ApplyJointEffort;
 using gazebo_msgs::BodyRequest;
 using gazebo_msgs::DeleteModel;
 using gazebo_msgs::GetLinkState;
 using gazebo_msgs::GetModelState;
 using gazebo_msgs::GetWorldProperties;
+using gazebo_msgs::JointRequest;
 using gazebo_msgs::SetModelState;
 using gazebo_msgs::SpawnModel;
 
@@ -141,6 +145,8 @@ public:
     srvs_.push_back(g.advertiseService("get_world_properties", &SimNode::getWorldProperties, this));
     srvs_.push_back(g.advertiseService("apply_body_wrench", &SimNode::applyBodyWrench, this));
     srvs_.push_back(g.advertiseService("clear_body_wrenches", &SimNode::clearBodyWrenches, this));
+    srvs_.push_back(g.advertiseService("apply_joint_effort", &SimNode::applyJointEffort, this));
+    srvs_.push_back(g.advertiseService("clear_joint_forces", &SimNode::clearJointForces, this));
     srvs_.push_back(g.advertiseService("set_model_state", &SimNode::setState, this));
     if (lockstep)
       lockstep_ = std::make_unique<mybot_lockstep::Coordinator>(timeout, ros::getGlobalCallbackQueue());
@@ -384,6 +390,7 @@ private:
     // time came back to where the reset had been).
     world_->resetTime();
     world_->clearBodyWrenches();  // their times were of the old clock
+    world_->clearJointForces();
     resetWorld(a, b);
     last_clock_ = -1;
     last_contacts_ = -1;
@@ -691,6 +698,30 @@ private:
   {
     if (!req.body_name.empty())  // an empty name would clear every body's, which upstream does not
       world_->clearBodyWrenches(req.body_name);
+    return true;
+  }
+
+  // As apply_body_wrench's times; the joint "model::joint", or a name one robot alone has.
+  bool applyJointEffort(ApplyJointEffort::Request& req, ApplyJointEffort::Response& res)
+  {
+    res.status_message = mybot_common::firstInvalid({{"effort", req.effort}}, kMaxCoordinate);
+    if (!res.status_message.empty())
+      res.status_message = "refused: " + res.status_message;
+    else if (!req.duration.isZero())
+      res.status_message = world_->applyJointEffort(
+          req.joint_name, req.effort, std::max(req.start_time.toSec(), world_->time()), req.duration.toSec());
+    res.success = res.status_message.empty();
+    if (!res.success)
+      ROS_ERROR("gazebo_lite: apply_joint_effort: %s", res.status_message.c_str());
+    else if (req.duration.isZero())
+      res.status_message = "duration 0: nothing applied";
+    return true;
+  }
+
+  bool clearJointForces(JointRequest::Request& req, JointRequest::Response&)
+  {
+    if (!req.joint_name.empty())
+      world_->clearJointForces(req.joint_name);
     return true;
   }
 

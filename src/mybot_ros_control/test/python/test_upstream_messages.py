@@ -41,6 +41,7 @@ PUBLISHED = {
     },
     "gazebo_msgs": {
         "ApplyBodyWrench": "585b9f9618aa0581b207e2f2d90866bc",
+        "ApplyJointEffort": "c0039811b8cc919490b3cff748cdf46b",
         "BodyRequest": "5eade9afe7f232d78005bd0cafeab755",
         "ContactState": "48c0ffb054b8c444f870cecea1ee50d9",
         "ContactsState": "acbcb1601a8e525bf72509f18e6f668d",
@@ -48,6 +49,7 @@ PUBLISHED = {
         "GetLinkState": "09d6c98cce97b35f7ab9bd70300657ab",
         "GetModelState": "4c515e936d3319c9610c559c60bfc3d4",
         "GetWorldProperties": "36bb0f2eccf4d8be971410c22818ba3f",
+        "JointRequest": "0be1351618e1dc030eb7959d9a4902de",
         "LinkState": "0818ebbf28ce3a08d48ab1eaa7309ebe",
         "LinkStates": "48c080191eb15c41858319b4d8a609c2",
         "ModelState": "9330fd35f2fcd82d457e54bd54e10593",
