@@ -298,18 +298,28 @@ private:
   static Pose modelFrameState(const WorldBody& wb);
   std::vector<WorldBody> world_bodies_;
   std::vector<std::string> model_order_;  // every model's name, in the order it came in
+  // When a wrench or an effort acts, as gazebo_ros times them: at every step from `start`; for
+  // `duration` s (< 0: until cleared; shorter than a step: one step).
+  struct JobTime
+  {
+    double start, end;  // sim time; end infinite: until cleared
+    JobTime(double start, double duration, double step);
+    bool due(double t) const { return start <= t + 1e-12; }
+    bool over(double t, double step) const { return t + step > end - 1e-12; }  // after the step from t
+  };
   struct WrenchJob
   {
-    std::string link;
+    std::string asked, model, link;  // as asked for (clear_body_wrenches matches it), and split
     btVector3 force, torque;
-    double start, end;  // sim time; end infinite: until cleared
+    JobTime time;
   };
   std::vector<WrenchJob> wrenches_;
   void applyWrenches();
   struct EffortJob
   {
     std::string asked, model, joint;  // as asked for (clear_joint_forces matches it), and resolved
-    double effort, start, end;
+    double effort;
+    JobTime time;
   };
   std::vector<EffortJob> efforts_;
   void applyEfforts();

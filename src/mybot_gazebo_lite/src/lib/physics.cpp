@@ -1045,15 +1045,21 @@ bool PhysicsWorld::applyBodyWrench(const std::string& link, const btVector3& for
   btVector3 com;
   if (!centreOfMass(link, com))
     return false;
-  const double end = duration < 0 ? std::numeric_limits<double>::infinity() : start + std::max(duration, opt_.step);
-  wrenches_.push_back({link, force, torque, start, end});
+  const size_t sep = link.find("::");  // centreOfMass found it, so it has one
+  wrenches_.push_back(
+      {link, link.substr(0, sep), link.substr(sep + 2), force, torque, JobTime(start, duration, opt_.step)});
   return true;
+}
+
+PhysicsWorld::JobTime::JobTime(double start_, double duration, double step)
+    : start(start_), end(duration < 0 ? std::numeric_limits<double>::infinity() : start_ + std::max(duration, step))
+{
 }
 
 void PhysicsWorld::clearBodyWrenches(const std::string& link)
 {
   wrenches_.erase(std::remove_if(wrenches_.begin(), wrenches_.end(),
-                                 [&](const WrenchJob& j) { return link.empty() || j.link == link; }),
+                                 [&](const WrenchJob& j) { return link.empty() || j.asked == link; }),
                   wrenches_.end());
 }
 
@@ -1086,15 +1092,13 @@ void PhysicsWorld::applyWrenches()
   for (auto it = wrenches_.begin(); it != wrenches_.end();)
   {
     const WrenchJob& j = *it;
-    const size_t sep = j.link.find("::");
-    const std::string model = j.link.substr(0, sep), name = j.link.substr(sep + 2);
     bool exists = false;
-    if (Robot* r = robot(model); r && r->hasLink(name))
+    if (Robot* r = robot(j.model); r && r->hasLink(j.link))
     {
       exists = true;
-      if (j.start <= time_ + 1e-12)
+      if (j.time.due(time_))
       {
-        const int body = r->links_.at(name).body;
+        const int body = r->links_.at(j.link).body;
         if (body < 0)
         {
           r->mb_->addBaseForce(j.force);
@@ -1109,18 +1113,17 @@ void PhysicsWorld::applyWrenches()
       }
     }
     for (auto& wb : world_bodies_)
-      if (wb.model == model && wb.link_name == name && wb.body)
+      if (wb.model == j.model && wb.link_name == j.link && wb.body)
       {
         exists = true;
-        if (j.start <= time_ + 1e-12)
+        if (j.time.due(time_))
         {
           wb.body->applyCentralForce(j.force);
           wb.body->applyTorque(j.torque);
           wb.body->activate(true);
         }
       }
-    // Over once this step ends at or past its end.
-    if (!exists || time_ + opt_.step > j.end - 1e-12)
+    if (!exists || j.time.over(time_, opt_.step))
       it = wrenches_.erase(it);
     else
       ++it;
@@ -1152,8 +1155,7 @@ std::string PhysicsWorld::applyJointEffort(const std::string& joint, double effo
              owners[1] + (owners.size() > 2 ? ", ..." : "") + "): name it model::joint";
     model = owners[0];
   }
-  const double end = duration < 0 ? std::numeric_limits<double>::infinity() : start + std::max(duration, opt_.step);
-  efforts_.push_back({joint, model, name, effort, start, end});
+  efforts_.push_back({joint, model, name, effort, JobTime(start, duration, opt_.step)});
   return "";
 }
 
@@ -1170,12 +1172,12 @@ void PhysicsWorld::applyEfforts()
   {
     Robot* r = robot(it->model);
     const bool exists = r && r->hasJoint(it->joint);
-    if (exists && it->start <= time_ + 1e-12)
+    if (exists && it->time.due(time_))
     {
       r->mb_->addJointTorque(r->joint(it->joint).link, it->effort);
       r->mb_->wakeUp();
     }
-    if (!exists || time_ + opt_.step > it->end - 1e-12)
+    if (!exists || it->time.over(time_, opt_.step))
       it = efforts_.erase(it);
     else
       ++it;
