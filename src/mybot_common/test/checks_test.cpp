@@ -25,6 +25,13 @@ TEST(Checks, NamesAValueBeyondTheLimit)
 
 using mybot_common::scanGeometryError;
 
+TEST(Checks, NumbersAreShownShort)
+{
+  EXPECT_EQ(mybot_common::formatNumber(0.003), "0.003");
+  EXPECT_EQ(mybot_common::formatNumber(-3.0), "-3");
+  EXPECT_EQ(mybot_common::formatNumber(1e30), "1e+30");
+}
+
 TEST(Checks, ScanWhoseRangesMatchItsAnglesPasses)
 {
   EXPECT_EQ(scanGeometryError(-M_PI / 2, M_PI / 2, M_PI / 360, 361), "");

@@ -17,15 +17,16 @@ import xml.etree.ElementTree as ET
 import rospy
 import rostest
 import tf2_ros
-from geometry_msgs.msg import Pose, Twist, Wrench
+from geometry_msgs.msg import Pose, Twist, Vector3, Wrench
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
-from gazebo_msgs.msg import LinkStates, ModelState, ModelStates
-from gazebo_msgs.srv import (ApplyBodyWrench, ApplyJointEffort, BodyRequest, DeleteModel, GetLinkState, GetModelState,
-                              GetWorldProperties, SetModelState, SpawnModel)
+from gazebo_msgs.msg import LinkState, LinkStates, ModelState, ModelStates, ODEPhysics
+from gazebo_msgs.srv import (ApplyBodyWrench, ApplyJointEffort, BodyRequest, DeleteModel, GetJointProperties,
+                              GetLinkState, GetModelProperties, GetModelState, GetPhysicsProperties, GetWorldProperties,
+                              SetLinkState, SetModelState, SetPhysicsProperties, SpawnModel)
 from mybot_gazebo_lite.msg import ModelContacts
 from mybot_common.geometry import wrap, yaw_of
 from mybot_lockstep import participant
@@ -447,6 +448,133 @@ class StatesTests(unittest.TestCase):
         self.assertGreater(centre_range(), 5.0)  # the block is gone from the laser's world too
         with self.r.lock:
             self.assertEqual(self.states['model'][1].name, ['ground_plane', 'mybot'])
+
+    def test_model_and_joint_properties_as_gazebo_gives_them(self):
+        urdf = rospy.get_param('/robot_description')
+        root = root_link(urdf)
+        props = rospy.ServiceProxy('/gazebo/get_model_properties', GetModelProperties)(model_name='mybot')
+        self.assertTrue(props.success, props.status_message)
+        # Gazebo's links: the root body (every fixed link lumped in it) and the wheels.
+        self.assertEqual(props.body_names, [root, 'left_wheel', 'right_wheel'])
+        self.assertEqual(props.canonical_body_name, root)
+        self.assertEqual(props.joint_names, ['left_wheel_hinge', 'right_wheel_hinge'])
+        self.assertIn(root + '_fixed_joint_lump__chassis_collision', props.geom_names)
+        self.assertFalse(props.is_static)
+        self.assertTrue(rospy.ServiceProxy('/gazebo/get_model_properties', GetModelProperties)(
+            model_name='ground_plane').is_static)
+        self.assertFalse(rospy.ServiceProxy('/gazebo/get_model_properties', GetModelProperties)(
+            model_name='nobody').success)
+        get_joint = rospy.ServiceProxy('/gazebo/get_joint_properties', GetJointProperties)
+        self.r.publish_for(0.3, 0.0, 0.5, 50)
+        j = get_joint(joint_name='mybot::left_wheel_hinge')  # while it rolls at 0.3 m/s
+        self.assertTrue(j.success, j.status_message)
+        self.assertEqual(j.type, j.CONTINUOUS)
+        self.assertGreater(j.rate[0], 1.0)
+        self.r.drive(0.0, 0.0, 0.0)
+        self.r.settle(0.5)  # stopped: joint_states and the service see the same wheel
+        j = get_joint(joint_name='left_wheel_hinge')  # one model has it
+        with self.r.lock:
+            js = self.r.joints
+        self.assertAlmostEqual(j.position[0], js.position[js.name.index('left_wheel_hinge')], delta=1e-3)
+        self.assertLess(abs(j.rate[0]), 0.01)
+        self.assertFalse(get_joint(joint_name='mybot::chassis_joint').success)  # fixed: lumped, as in Gazebo
+
+    def test_set_link_state_moves_a_robot_by_its_root_body_and_refuses_wheels(self):
+        get_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
+        set_link = rospy.ServiceProxy('/gazebo/set_link_state', SetLinkState)
+        root = root_link(rospy.get_param('/robot_description'))
+        z = get_state(model_name='mybot').pose.position.z
+        state = LinkState(link_name='mybot::' + root)
+        state.pose.position.x, state.pose.position.y, state.pose.position.z = -1.0, 0.5, z
+        state.pose.orientation.w = 1.0
+        res = set_link(link_state=state)
+        self.assertTrue(res.success, res.status_message)
+        p = get_state(model_name='mybot').pose.position
+        self.assertAlmostEqual(p.x, -1.0, delta=1e-9)
+        self.assertAlmostEqual(p.y, 0.5, delta=1e-9)
+        # The topic, counted under lockstep: set in the period it was sent in.
+        topic = self.r.ls.Publisher('/gazebo/set_link_state', LinkState)
+        self.r.wait(lambda: topic.get_num_connections() > 0, 'the simulator on set_link_state')
+        state.pose.position.x = 1.5
+        topic.publish(state)
+        self.r.settle(0.01)
+        self.assertAlmostEqual(get_state(model_name='mybot').pose.position.x, 1.5, delta=0.002)
+        for name, text in (('mybot::left_wheel', 'placed by its joints'), ('mybot::nothing', 'no link')):
+            res = set_link(link_state=LinkState(link_name=name, pose=state.pose))
+            self.assertFalse(res.success, name)
+            self.assertIn(text, res.status_message)
+        self.assertAlmostEqual(get_state(model_name='mybot').pose.position.x, 1.5, delta=0.002)
+
+    def test_physics_properties_change_step_gravity_and_rate(self):
+        get = rospy.ServiceProxy('/gazebo/get_physics_properties', GetPhysicsProperties)
+        set_ = rospy.ServiceProxy('/gazebo/set_physics_properties', SetPhysicsProperties)
+        before = get()
+        self.assertTrue(before.success)
+        self.assertEqual((before.time_step, before.max_update_rate, before.pause), (0.001, 0.0, False))
+        self.assertEqual((before.gravity.x, before.gravity.y, before.gravity.z), (0.0, 0.0, -9.8))
+        self.assertGreaterEqual(before.ode_config.sor_pgs_iters, 1)
+        crate = ('<sdf version="1.6"><model name="floater"><link name="l"><inertial><mass>1</mass></inertial>'
+                 '<collision name="c"><geometry><box><size>0.2 0.2 0.2</size></box></geometry></collision>'
+                 '</link></model></sdf>')
+        pose = Pose()
+        pose.position.x, pose.position.y, pose.position.z, pose.orientation.w = 0.0, -2.0, 1.0, 1.0
+        earth, weightless = Vector3(0.0, 0.0, -9.8), Vector3(0.0, 0.0, 0.0)
+
+        def iters(n):
+            return ODEPhysics(sor_pgs_iters=n)
+        try:
+            # Weightless, a crate stays where it is put; two-millisecond steps count half the states.
+            res = set_(time_step=0.002, max_update_rate=0.0, gravity=weightless, ode_config=before.ode_config)
+            self.assertTrue(res.success, res.status_message)
+            self.assertTrue(rospy.ServiceProxy('/gazebo/spawn_sdf_model', SpawnModel)(
+                model_name='floater', model_xml=crate, initial_pose=pose).success)
+            with self.r.lock:
+                t0, n0 = rospy.get_time(), self.states['model'][0]
+            self.r.settle(0.5)
+            with self.r.lock:
+                t1, n1 = rospy.get_time(), self.states['model'][0]
+            self.assertEqual(n1 - n0, round((t1 - t0) / 0.002))
+            z = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)(model_name='floater').pose.position.z
+            self.assertAlmostEqual(z, 1.0, delta=1e-6)
+            now = get()
+            self.assertEqual((now.time_step, now.gravity.z), (0.002, 0.0))
+            # Refused, naming the field, and nothing changed: a step that does not divide the lockstep
+            # period (10 ms), a NaN, no solver iterations.
+            for kwargs, text in (({'time_step': 0.003}, 'lockstep period'),
+                                 ({'time_step': float('nan')}, 'time_step'),
+                                 ({'max_update_rate': -1.0}, 'max_update_rate')):
+                args = dict(time_step=0.002, max_update_rate=0.0, gravity=earth, ode_config=before.ode_config)
+                args.update(kwargs)
+                res = set_(**args)
+                self.assertFalse(res.success, kwargs)
+                self.assertIn(text, res.status_message)
+            res = set_(time_step=0.002, max_update_rate=0.0, gravity=earth, ode_config=iters(0))
+            self.assertIn('sor_pgs_iters', res.status_message)
+            self.assertEqual(get().gravity.z, 0.0)
+        finally:  # the world as the other tests know it
+            set_(time_step=0.001, max_update_rate=0.0, gravity=earth, ode_config=iters(before.ode_config.sor_pgs_iters))
+            rospy.ServiceProxy('/gazebo/delete_model', DeleteModel)(model_name='floater')
+
+    def test_spawn_model_sets_initial_joint_positions(self):
+        """spawn_model -J (set_model_configuration after the spawn, as gazebo_ros)."""
+        turntable = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'fixtures', 'turntable.urdf')
+        self.r.release()  # the tool takes seconds to start
+        try:
+            p = subprocess.run(['rosrun', 'gazebo_ros', 'spawn_model', '-urdf', '-file', turntable, '-model', 'table',
+                                '-y', '3', '-J', 'turn', '1.2'], capture_output=True, text=True, timeout=60)
+            self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+            j = rospy.ServiceProxy('/gazebo/get_joint_properties', GetJointProperties)(joint_name='table::turn')
+            self.assertTrue(j.success, j.status_message)
+            self.assertAlmostEqual(j.position[0], 1.2, delta=1e-6)  # nothing turns it about the vertical
+            self.assertEqual(list(j.damping), [0.1])
+            p = subprocess.run(['rosrun', 'gazebo_ros', 'spawn_model', '-urdf', '-file', turntable, '-model', 'table2',
+                                '-y', '-3', '-J', 'turn', '4'], capture_output=True, text=True, timeout=60)
+            self.assertEqual(p.returncode, 1)
+            self.assertIn("beyond the limits [-3, 3] of joint 'turn'", p.stdout + p.stderr)
+        finally:
+            for name in ('table', 'table2'):
+                rospy.ServiceProxy('/gazebo/delete_model', DeleteModel)(model_name=name)
+
 
 class RestTests(unittest.TestCase):
     @classmethod

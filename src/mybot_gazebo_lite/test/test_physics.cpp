@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 using namespace mybot_gazebo_lite;
 
@@ -43,6 +44,27 @@ WorldModel boxModel(const std::string& name, const btVector3& center, const btVe
   l.shapes.push_back(box);
   m.links.push_back(l);
   return m;
+}
+
+// An arm: a 4 kg base and a 0.5 m, 1 kg link on a shoulder about y, 0.1 m above the base. `shoulder`
+// is the shoulder's type and what follows its axis; `rooted`: fixed 1 m above the world by a
+// `world` link, as UR's and most arms' descriptions are.
+std::string armUrdf(bool rooted, const std::string& shoulder)
+{
+  const std::string world = R"(<link name="world"/>
+    <joint name="world_joint" type="fixed"><parent link="world"/><child link="base_link"/>
+      <origin xyz="0 0 1.0"/></joint>)";
+  return "<robot name='arm'>" + (rooted ? world : std::string()) + R"(<link name="base_link">
+      <collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision>
+      <inertial><mass value="4"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.03"/></inertial>
+    </link>
+    <link name="arm_link">
+      <collision><origin xyz="0.25 0 0"/><geometry><box size="0.5 0.05 0.05"/></geometry></collision>
+      <inertial><origin xyz="0.25 0 0"/><mass value="1"/>
+        <inertia ixx="0.0004" ixy="0" ixz="0" iyy="0.021" iyz="0" izz="0.021"/></inertial>
+    </link>
+    <joint name="shoulder" type=")" +
+         shoulder + R"(</joint></robot>)";
 }
 
 void run(PhysicsWorld& w, double seconds)
@@ -418,6 +440,160 @@ TEST(Physics, JointEffortsTurnAJointForTheirDuration)
   EXPECT_NE(w.applyJointEffort("nobody::left_wheel_hinge", 1, w.time(), 1), "");
 }
 
+// get_model_properties names what Gazebo's URDF conversion makes of a robot: a link per moving
+// body (fixed children lumped into it, their collisions renamed and counted across the body).
+TEST(Physics, ModelPropertiesAsGazeboBuildsTheModel)
+{
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
+  PhysicsWorld w(flatWorld(), {});
+  w.addRobot(spec, "bot", "", makeTransform(btVector3(0, 0, 0.1), btVector3(0, 0, 0)));
+  ModelProperties p;
+  ASSERT_TRUE(w.modelProperties("bot", p));
+  EXPECT_EQ(p.links, (std::vector<std::string>{"base_footprint", "left_wheel", "right_wheel"}));
+  EXPECT_EQ(p.canonical_link, "base_footprint");
+  EXPECT_EQ(p.collisions, (std::vector<std::string>{"base_footprint_fixed_joint_lump__chassis_collision",
+                                                    "base_footprint_fixed_joint_lump__caster_front_collision_1",
+                                                    "base_footprint_fixed_joint_lump__caster_back_collision_2",
+                                                    "base_footprint_fixed_joint_lump__hokuyo_collision_3",
+                                                    "left_wheel_collision", "right_wheel_collision"}));
+  EXPECT_EQ(p.joints, (std::vector<std::string>{"left_wheel_hinge", "right_wheel_hinge"}));
+  EXPECT_FALSE(p.is_static);
+
+  WorldModel crate = boxModel("crate", btVector3(2, 0, 0.5), btVector3(0.2, 0.2, 0.2), false);
+  crate.links[0].shapes[0].name = "crate_collision";
+  w.addModel(crate);
+  ASSERT_TRUE(w.modelProperties("crate", p));
+  EXPECT_EQ(p.links, std::vector<std::string>{"link"});
+  EXPECT_EQ(p.collisions, std::vector<std::string>{"crate_collision"});
+  EXPECT_TRUE(p.joints.empty());
+  EXPECT_FALSE(p.is_static);
+  ASSERT_TRUE(w.modelProperties("ground_plane", p));
+  EXPECT_TRUE(p.is_static);
+  EXPECT_FALSE(w.modelProperties("nobody", p));
+}
+
+// set_model_configuration puts joints where asked, at rest, the body they hang from unmoved; a
+// joint it does not know, a position past the limits or lists of different lengths change nothing.
+TEST(Physics, ModelConfigurationSetsJointsAtOnce)
+{
+  const std::string urdf = armUrdf(true, R"(revolute"><parent link="base_link"/><child link="arm_link"/>
+      <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="50" velocity="2"/>
+      <dynamics damping="0.7"/>)");
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(urdf, "arm.urdf"));
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(spec, "arm", "", makeTransform(btVector3(0, 0, 0), btVector3(0, 0, 0)));
+  ModelProperties mp;
+  ASSERT_TRUE(w.modelProperties("arm", mp));
+  EXPECT_EQ(mp.links, (std::vector<std::string>{"base_link", "arm_link"}));  // "world" is the world's
+
+  // Pitched down by 1 rad about +y: the arm's far end goes down, x = 0.5 cos 1, z = 1.1 - 0.5 sin 1.
+  EXPECT_EQ(w.setJointPositions("arm", {"shoulder"}, {1.0}), "");
+  EXPECT_NEAR(r.jointPosition("shoulder"), 1.0, 1e-12);
+  EXPECT_EQ(r.jointVelocity("shoulder"), 0.0);
+  const btVector3 tip = r.linkPose("arm_link") * btVector3(0.5, 0, 0);
+  EXPECT_NEAR(tip.x(), 0.5 * std::cos(1.0), 1e-9);
+  EXPECT_NEAR(tip.z(), 1.1 - 0.5 * std::sin(1.0), 1e-9);
+  EXPECT_NEAR(r.linkPose("base_link").getOrigin().z(), 1.0, 1e-9);
+  JointProperties jp;
+  EXPECT_EQ(w.jointProperties("shoulder", jp), "");
+  EXPECT_EQ(jp.type, JointSpec::REVOLUTE);
+  EXPECT_EQ(jp.damping, 0.7);
+  EXPECT_NEAR(jp.position, 1.0, 1e-12);
+  run(w, 0.1);  // gravity swings it on from there
+  EXPECT_EQ(w.jointProperties("arm::shoulder", jp), "");
+  EXPECT_GT(jp.rate, 0.1);
+
+  for (const auto& [names, positions, says] :
+       std::vector<std::tuple<std::vector<std::string>, std::vector<double>, std::string>>{
+           {{"elbow"}, {0.1}, "no movable joint named 'elbow'"},
+           {{"world_joint"}, {0.1}, "no movable joint named 'world_joint'"},
+           {{"shoulder"}, {2.5}, "2.5 is beyond the limits [-2, 2] of joint 'shoulder'"},
+           {{"shoulder"}, {std::nan("")}, "not a number"},
+           {{"shoulder"}, {}, "different lengths"}})
+  {
+    const double before = r.jointPosition("shoulder");
+    const std::string why = w.setJointPositions("arm", names, positions);
+    EXPECT_NE(why.find(says), std::string::npos) << why;
+    EXPECT_EQ(r.jointPosition("shoulder"), before);
+  }
+  EXPECT_NE(w.setJointPositions("nobody", {}, {}).find("no model named 'nobody'"), std::string::npos);
+  EXPECT_NE(w.jointProperties("elbow", jp), "");
+}
+
+// set_link_state moves a world model's link, or a robot by a link on its root body; a link that
+// its joints place is refused.
+TEST(Physics, LinkStateMovesFreeLinksAndRobotsByTheirRootBody)
+{
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(spec, "bot", "", makeTransform(btVector3(0, 0, 0.1), btVector3(0, 0, 0)));
+  w.addModel(boxModel("crate", btVector3(2, 0, 0.1), btVector3(0.2, 0.2, 0.2), false));
+  w.addModel(boxModel("wall", btVector3(-2, 0, 0.5), btVector3(0.1, 2, 1), true));
+  run(w, 0.2);
+
+  // The hokuyo is lumped into the root body: where it goes, the robot goes.
+  const btTransform hokuyo_in_root = r.linkPose("base_footprint").inverse() * r.linkPose("hokuyo");
+  const btTransform target = makeTransform(btVector3(1, 3, 0.4), btVector3(0, 0, 1.0));
+  EXPECT_EQ(w.setLinkState("bot::hokuyo", target, btVector3(0.5, 0, 0), btVector3(0, 0, 0)), "");
+  EXPECT_NEAR((r.linkPose("hokuyo").getOrigin() - target.getOrigin()).length(), 0, 1e-9);
+  const btTransform root = r.linkPose("base_footprint");
+  EXPECT_NEAR((root * hokuyo_in_root).getOrigin().distance(target.getOrigin()), 0, 1e-9);
+  EXPECT_NEAR(r.linkState("base_footprint").linear.x(), 0.5, 1e-9);
+
+  bool moved_static = false;
+  EXPECT_EQ(w.setLinkState("wall::link", makeTransform(btVector3(-3, 0, 0.5), btVector3(0, 0, 0)), btVector3(0, 0, 0),
+                           btVector3(0, 0, 0), &moved_static),
+            "");
+  EXPECT_TRUE(moved_static);
+  EXPECT_NEAR(w.rayTest(btVector3(0, 0, 0.5), btVector3(-5, 0, 0.5), nullptr), 2.95, 0.01);
+  EXPECT_EQ(w.setLinkState("crate::link", makeTransform(btVector3(2, 0, 2), btVector3(0, 0, 0)), btVector3(0, 0, 0),
+                           btVector3(0, 0, 0)),
+            "");
+  Pose crate;
+  ASSERT_TRUE(w.entityState("crate::link", crate));
+  EXPECT_NEAR(crate.tf.getOrigin().z(), 2.0, 1e-9);
+  run(w, 0.3);  // and falls from there
+  ASSERT_TRUE(w.entityState("crate::link", crate));
+  EXPECT_LT(crate.tf.getOrigin().z(), 1.7);
+
+  const btTransform wheel = r.linkPose("left_wheel");
+  EXPECT_NE(
+      w.setLinkState("bot::left_wheel", target, btVector3(0, 0, 0), btVector3(0, 0, 0)).find("placed by its joints"),
+      std::string::npos);
+  EXPECT_EQ(r.linkPose("left_wheel").getOrigin(), wheel.getOrigin());
+  EXPECT_NE(w.setLinkState("bot::nothing", target, btVector3(0, 0, 0), btVector3(0, 0, 0)), "");
+  EXPECT_NE(w.setLinkState("crate", target, btVector3(0, 0, 0), btVector3(0, 0, 0)), "");
+}
+
+// set_physics_properties: a new step size goes on from the time reached (no jump), and new gravity
+// pulls from the next step.
+TEST(Physics, StepSizeAndGravityChangeWhileRunning)
+{
+  PhysicsWorld w(flatWorld(), {});
+  w.addModel(boxModel("ball", btVector3(0, 0, 50), btVector3(0.2, 0.2, 0.2), false));
+  run(w, 0.5);
+  EXPECT_NEAR(w.time(), 0.5, 1e-12);
+  w.setStepSize(0.004);
+  w.step();
+  EXPECT_NEAR(w.time(), 0.504, 1e-12);
+  run(w, 0.496);
+  EXPECT_NEAR(w.time(), 1.0, 1e-12);
+
+  Pose p;
+  ASSERT_TRUE(w.entityState("ball", p));
+  EXPECT_NEAR(p.linear.z(), -9.8, 0.05);  // 1 s of fall
+  w.setGravity(btVector3(0, 0, 1.62));    // pointing up now
+  run(w, 1.0);
+  ASSERT_TRUE(w.entityState("ball", p));
+  EXPECT_NEAR(p.linear.z(), -9.8 + 1.62, 0.05);
+  EXPECT_EQ(w.gravity(), btVector3(0, 0, 1.62));
+  w.setSolverIterations(30);
+  EXPECT_EQ(w.solverIterations(), 30);
+  w.resetTime();
+  w.step();
+  EXPECT_NEAR(w.time(), 0.004, 1e-12);
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);
@@ -429,23 +605,10 @@ int main(int argc, char** argv)
 // Without the `world` link the same robot falls.
 TEST(Physics, ARobotRootedAtAWorldLinkIsFixedWhereItIsSpawned)
 {
-  const std::string arm = R"(<link name="base_link">
-      <collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision>
-      <inertial><mass value="4"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.03"/></inertial>
-    </link>
-    <link name="arm_link">
-      <collision><origin xyz="0.25 0 0"/><geometry><box size="0.5 0.05 0.05"/></geometry></collision>
-      <inertial><origin xyz="0.25 0 0"/><mass value="1"/>
-        <inertia ixx="0.0004" ixy="0" ixz="0" iyy="0.021" iyz="0" izz="0.021"/></inertial>
-    </link>
-    <joint name="shoulder" type="continuous"><parent link="base_link"/><child link="arm_link"/>
-      <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/></joint>)";
-  const std::string world = R"(<link name="world"/>
-    <joint name="world_joint" type="fixed"><parent link="world"/><child link="base_link"/>
-      <origin xyz="0 0 1.0"/></joint>)";
   for (bool rooted : {true, false})
   {
-    const std::string urdf = "<robot name='arm'>" + (rooted ? world : std::string()) + arm + "</robot>";
+    const std::string urdf = armUrdf(rooted, R"(continuous"><parent link="base_link"/><child link="arm_link"/>
+      <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>)");
     auto spec = std::make_shared<RobotSpec>(parseUrdf(urdf, "arm.urdf"));
     PhysicsWorld w(flatWorld(), {});
     Robot& r =

@@ -22,6 +22,9 @@ struct NamedValue
 std::string firstInvalid(std::initializer_list<NamedValue> values,
                          double limit = std::numeric_limits<double>::infinity());
 
+// A number as a message shows it (printf's %g): "0.003", "4", "1e+30".
+std::string formatNumber(double v);
+
 // A LaserScan's own geometry (REP 117 / sensor_msgs): finite angles, a non-zero increment with
 // the sign of angle_max - angle_min, and round((angle_max - angle_min) / angle_increment) + 1
 // ranges. "" if it holds, else a message with both numbers ("has 100 ranges where its angles

@@ -25,6 +25,13 @@ std::string firstInvalid(std::initializer_list<NamedValue> values, double limit)
   return "";
 }
 
+std::string formatNumber(double v)
+{
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
 std::string scanGeometryError(double angle_min, double angle_max, double angle_increment, std::size_t ranges)
 {
   char text[256];

@@ -42,6 +42,7 @@ struct Shape
   btVector3 mesh_scale{1, 1, 1};
   std::shared_ptr<const std::vector<Triangle>> triangles;  // mesh, scaled, shape frame
   btTransform pose = btTransform::getIdentity();           // relative to its link
+  std::string name;                                        // an SDF <collision name>
   double mu1 = 1.0, mu2 = 1.0;
   // Gazebo's contact stiffness and damping (<gazebo reference> kp, kd); 0 = not set. Read, not
   // simulated: contacts are rigid (see urdf_parser.cpp).

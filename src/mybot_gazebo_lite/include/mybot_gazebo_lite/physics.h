@@ -116,6 +116,7 @@ public:
   struct Contacts
   {
     uint64_t steps = 0;            // steps with at least one contact
+    double time = 0;               // and their time (s)
     double max_depth = 0;          // deepest penetration (m)
     double first_time = -1;        // sim time of the first contact (s), -1 = none yet
     std::string first_model;       // what it touched first
@@ -164,6 +165,24 @@ struct DynamicObstacle
   double zmin, zmax;
 };
 
+// What gazebo_ros's get_model_properties tells of a model, as Gazebo builds it from a URDF: one
+// link per moving body (a fixed joint's child is lumped into its parent), the movable joints, and
+// the collisions named as Gazebo's URDF conversion names them ("<link>_collision", the body's
+// n-th from the second on "_<n>", a lumped child's "<link>_fixed_joint_lump__<child>_collision").
+struct ModelProperties
+{
+  std::string canonical_link;  // the root link (a "world" root: its first child body)
+  std::vector<std::string> links, collisions, joints;
+  bool is_static = false;
+};
+
+// gazebo_ros's get_joint_properties of one movable joint.
+struct JointProperties
+{
+  JointSpec::Type type = JointSpec::REVOLUTE;
+  double damping = 0, position = 0, rate = 0;
+};
+
 class PhysicsWorld
 {
 public:
@@ -188,14 +207,20 @@ public:
   double time() const { return time_; }
   double stepSize() const { return opt_.step; }
   uint64_t steps() const { return steps_; }
+  // set_physics_properties: from the next step on. Time goes on from where it is.
+  void setStepSize(double step);
+  int solverIterations() const { return opt_.solver_iterations; }
+  void setSolverIterations(int iterations);
+  const btVector3& gravity() const { return spec_.gravity; }
+  void setGravity(const btVector3& g);
 
   // Robots back to their spawn poses at rest, dynamic world models to their initial poses.
   // Returns whether the static world changed (a static model moved by setModelState went back).
   bool resetWorld();
   void resetTime()
   {
-    time_ = 0;
-    steps_ = 0;
+    time_ = time_base_ = 0;
+    steps_ = steps_base_ = 0;
   }
 
   // Sets the velocity of a robot's root link frame (world frame), for the next step.
@@ -219,6 +244,21 @@ public:
   std::vector<std::pair<std::string, Pose>> linkStates() const;
   // A model's state, or a link's ("model::link"); false when there is no such entity.
   bool entityState(const std::string& name, Pose& out) const;
+
+  // get_model_properties; false when there is no such model.
+  bool modelProperties(const std::string& model, ModelProperties& out) const;
+  // get_joint_properties of "model::joint", or of a joint name one robot alone has; "" or why not.
+  std::string jointProperties(const std::string& joint, JointProperties& out) const;
+  // set_model_configuration: the named joints of a robot at these positions, at rest, at once; the
+  // root link stays where it is, and so do the joints not named. "" or why nothing was set (an
+  // unknown joint or a position beyond the joint's limits, named).
+  std::string setJointPositions(const std::string& model, const std::vector<std::string>& joints,
+                                const std::vector<double>& positions);
+  // set_link_state of "model::link" (world frame): a world model's link, or the link a robot's
+  // root body carries (which moves the robot). A link placed by joints is refused: its pose is
+  // its joints'. "" or why; *moved_static as setModelState.
+  std::string setLinkState(const std::string& link, const btTransform& pose, const btVector3& lin, const btVector3& ang,
+                           bool* moved_static = nullptr);
 
   // gazebo_ros's apply_body_wrench: a world-frame force at the centre of mass of `link`'s body and
   // a world-frame torque, applied at every step from sim time `start` for `duration` s (< 0:
@@ -269,6 +309,9 @@ private:
   WorldSpec spec_;
   double time_ = 0;
   uint64_t steps_ = 0;
+  // Time is counted in whole steps from the last change of step size (no sum of rounded steps).
+  double time_base_ = 0;
+  uint64_t steps_base_ = 0;
   std::unique_ptr<btCollisionConfiguration> config_;
   std::unique_ptr<btCollisionDispatcher> dispatcher_;
   std::unique_ptr<btBroadphaseInterface> broadphase_;
@@ -293,6 +336,8 @@ private:
   // A static body placed anew: the broadphase and the spec the static world's caches read follow.
   void placeStatic(WorldBody& wb, const btTransform& body_tf);
   const Robot* robotNamed(const std::string& name) const;
+  // "model::joint", or a joint name one robot alone has, to its robot and name; "" or why not.
+  std::string resolveJoint(const std::string& joint, const Robot*& robot, std::string& name) const;
   // The state of a world body's link frame, or of its model's frame.
   static Pose linkFrameState(const WorldBody& wb);
   static Pose modelFrameState(const WorldBody& wb);

@@ -1,4 +1,5 @@
 #include "mybot_gazebo_lite/physics.h"
+#include "mybot_common/checks.h"
 
 #include <BulletCollision/CollisionShapes/btBvhTriangleMeshShape.h>
 #include <BulletCollision/CollisionShapes/btTriangleMesh.h>
@@ -733,7 +734,7 @@ void PhysicsWorld::step()
   applyEfforts();
   world_->stepSimulation(dt, 0, dt);
   ++steps_;
-  time_ = steps_ * dt + 0.0;
+  time_ = time_base_ + (steps_ - steps_base_) * dt;
   updateContacts();
 }
 
@@ -834,7 +835,10 @@ void PhysicsWorld::updateContacts()
   }
   for (auto& r : robots_)
     if (!r->contacts_.now.empty())
+    {
       ++r->contacts_.steps;
+      r->contacts_.time += opt_.step;
+    }
 }
 
 bool PhysicsWorld::resetWorld()
@@ -1130,32 +1134,55 @@ void PhysicsWorld::applyWrenches()
   }
 }
 
-std::string PhysicsWorld::applyJointEffort(const std::string& joint, double effort, double start, double duration)
+std::string PhysicsWorld::resolveJoint(const std::string& joint, const Robot*& robot, std::string& name) const
 {
-  std::string model, name = joint;
+  robot = nullptr;
+  name = joint;
   const size_t sep = joint.find("::");
   if (sep != std::string::npos)
   {
-    model = joint.substr(0, sep);
     name = joint.substr(sep + 2);
-    const Robot* r = robotNamed(model);
-    if (!r || !r->hasJoint(name))
-      return "no movable joint named '" + joint + "'";
+    robot = robotNamed(joint.substr(0, sep));
+    return robot && robot->hasJoint(name) ? "" : "no movable joint named '" + joint + "'";
   }
-  else
-  {
-    std::vector<std::string> owners;
-    for (const auto& r : robots_)
-      if (r->hasJoint(name))
-        owners.push_back(r->name_);
-    if (owners.empty())
-      return "no movable joint named '" + joint + "'";
-    if (owners.size() > 1)
-      return "joint '" + joint + "' is in " + std::to_string(owners.size()) + " models (" + owners[0] + ", " +
-             owners[1] + (owners.size() > 2 ? ", ..." : "") + "): name it model::joint";
-    model = owners[0];
-  }
-  efforts_.push_back({joint, model, name, effort, JobTime(start, duration, opt_.step)});
+  std::vector<std::string> owners;
+  for (const auto& r : robots_)
+    if (r->hasJoint(name))
+    {
+      owners.push_back(r->name_);
+      robot = r.get();
+    }
+  if (owners.empty())
+    return "no movable joint named '" + joint + "'";
+  if (owners.size() > 1)
+    return "joint '" + joint + "' is in " + std::to_string(owners.size()) + " models (" + owners[0] + ", " + owners[1] +
+           (owners.size() > 2 ? ", ..." : "") + "): name it model::joint";
+  return "";
+}
+
+std::string PhysicsWorld::applyJointEffort(const std::string& joint, double effort, double start, double duration)
+{
+  const Robot* r = nullptr;
+  std::string name;
+  const std::string why = resolveJoint(joint, r, name);
+  if (!why.empty())
+    return why;
+  efforts_.push_back({joint, r->name_, name, effort, JobTime(start, duration, opt_.step)});
+  return "";
+}
+
+std::string PhysicsWorld::jointProperties(const std::string& joint, JointProperties& out) const
+{
+  const Robot* r = nullptr;
+  std::string name;
+  const std::string why = resolveJoint(joint, r, name);
+  if (!why.empty())
+    return why;
+  const Robot::Joint& j = r->joint(name);
+  out.type = j.spec->type;
+  out.damping = j.spec->damping;
+  out.position = r->jointPosition(name);
+  out.rate = r->jointVelocity(name);
   return "";
 }
 
@@ -1192,6 +1219,182 @@ Pose relativeTo(const Pose& s, const Pose& frame)
   out.linear = to_frame * (s.linear - frame.linear);
   out.angular = to_frame * (s.angular - frame.angular);
   return out;
+}
+
+bool PhysicsWorld::modelProperties(const std::string& model, ModelProperties& out) const
+{
+  out = ModelProperties();
+  if (const Robot* r = robotNamed(model))
+  {
+    const RobotSpec& rs = *r->spec_;
+    // The links that begin a body, in the URDF's order: the root and every movable joint's child.
+    // A "world" root is no link of Gazebo's: the world itself.
+    std::map<int, std::string> body_link;
+    for (const auto& l : rs.links)
+    {
+      const auto ref = r->links_.find(l.name);
+      if (ref == r->links_.end() || (l.name == rs.root && anchoredToWorld(rs)))
+        continue;
+      const bool starts_body =
+          l.name == rs.root ||
+          std::any_of(rs.joints.begin(), rs.joints.end(),
+                      [&](const JointSpec& j) { return j.child == l.name && j.type != JointSpec::FIXED; });
+      if (starts_body || !body_link.count(ref->second.body))
+        body_link[ref->second.body] = l.name;
+    }
+    for (const auto& l : rs.links)
+    {
+      const auto ref = r->links_.find(l.name);
+      if (ref == r->links_.end() || !body_link.count(ref->second.body) || body_link.at(ref->second.body) != l.name)
+        continue;
+      out.links.push_back(l.name);
+      // The body's collisions: its own link's first, then its lumped children's, counted across the body.
+      size_t n = 0;
+      for (const auto& m : rs.links)
+      {
+        const auto mref = r->links_.find(m.name);
+        if (mref == r->links_.end() || mref->second.body != ref->second.body)
+          continue;
+        const std::string base = m.name == l.name ? l.name : l.name + "_fixed_joint_lump__" + m.name;
+        for (size_t k = 0; k < m.collisions.size(); ++k, ++n)
+          out.collisions.push_back(base + "_collision" + (n > 0 ? "_" + std::to_string(n) : ""));
+      }
+    }
+    if (!out.links.empty())
+      out.canonical_link = out.links.front();
+    out.joints = r->movableJoints();
+    return true;
+  }
+  const auto m =
+      std::find_if(spec_.models.begin(), spec_.models.end(), [&](const WorldModel& w) { return w.name == model; });
+  if (m == spec_.models.end())
+  {
+    if (model != "ground_plane" || !spec_.ground_plane)
+      return false;
+    out.links = {"link"};
+    out.collisions = {"collision"};
+    out.canonical_link = "link";
+    out.is_static = true;
+    return true;
+  }
+  for (const auto& l : m->links)
+  {
+    out.links.push_back(l.name);
+    for (const auto& s : l.shapes)
+      out.collisions.push_back(s.name);
+  }
+  if (!out.links.empty())
+    out.canonical_link = out.links.front();
+  out.is_static = m->is_static;
+  return true;
+}
+
+std::string PhysicsWorld::setJointPositions(const std::string& model, const std::vector<std::string>& joints,
+                                            const std::vector<double>& positions)
+{
+  if (joints.size() != positions.size())
+    return "joint_names and joint_positions have different lengths (" + std::to_string(joints.size()) + " and " +
+           std::to_string(positions.size()) + ")";
+  Robot* r = robot(model);
+  const bool exists =
+      r || std::any_of(spec_.models.begin(), spec_.models.end(), [&](const WorldModel& w) { return w.name == model; });
+  if (!exists)
+    return "no model named '" + model + "'";
+  for (size_t i = 0; i < joints.size(); ++i)
+  {
+    if (!r || !r->hasJoint(joints[i]))
+      return "model '" + model + "' has no movable joint named '" + joints[i] + "'";
+    const JointSpec& js = *r->joint(joints[i]).spec;
+    if (!std::isfinite(positions[i]))
+      return "joint_positions[" + std::to_string(i) + "] (" + joints[i] + ") is not a number";
+    if (js.has_limits && js.type != JointSpec::CONTINUOUS &&
+        (positions[i] < js.lower - 1e-9 || positions[i] > js.upper + 1e-9))
+      return "joint_positions[" + std::to_string(i) + "] = " + mybot_common::formatNumber(positions[i]) +
+             " is beyond the limits [" + mybot_common::formatNumber(js.lower) + ", " +
+             mybot_common::formatNumber(js.upper) + "] of joint '" + joints[i] + "'";
+  }
+  if (!r)
+    return "";
+  for (size_t i = 0; i < joints.size(); ++i)
+  {
+    const int link = r->joint(joints[i]).link;
+    r->mb_->setJointPos(link, positions[i]);
+    r->mb_->setJointVel(link, 0);
+  }
+  r->mb_->wakeUp();
+  syncRobotTransforms(*r);
+  return "";
+}
+
+std::string PhysicsWorld::setLinkState(const std::string& link, const btTransform& pose, const btVector3& lin,
+                                       const btVector3& ang, bool* moved_static)
+{
+  const size_t sep = link.find("::");
+  const std::string model = sep == std::string::npos ? "" : link.substr(0, sep);
+  const std::string name = sep == std::string::npos ? "" : link.substr(sep + 2);
+  if (Robot* r = robot(model); r && r->hasLink(name))
+  {
+    const Robot::LinkRef& ref = r->links_.at(name);
+    if (ref.body >= 0)
+      return "link '" + link +
+             "' is placed by its joints: move the model (set_model_state) or its joints "
+             "(set_model_configuration)";
+    // The root link rides on the same body: where the root goes when this link is at `pose`.
+    const std::string& root = r->spec_->root;
+    const btTransform link_in_root = r->linkPose(root).inverse() * r->linkPose(name);
+    const btTransform root_pose = pose * link_in_root.inverse();
+    setRobotPose(*r, root_pose, lin + ang.cross(root_pose.getOrigin() - pose.getOrigin()), ang);
+    return "";
+  }
+  for (auto& wb : world_bodies_)
+  {
+    if (wb.model != model || wb.link_name != name)
+      continue;
+    const btTransform body_tf = pose * wb.link_in_body.inverse();
+    if (!wb.body)
+    {
+      placeStatic(wb, body_tf);
+      if (moved_static)
+        *moved_static = true;
+      return "";
+    }
+    wb.body->setWorldTransform(body_tf);
+    wb.body->setLinearVelocity(lin + ang.cross(body_tf.getOrigin() - pose.getOrigin()));
+    wb.body->setAngularVelocity(ang);
+    wb.body->activate(true);
+    return "";
+  }
+  return "no link named '" + link + "' (links are named model::link; a link without a <collision> is not simulated)";
+}
+
+void PhysicsWorld::setStepSize(double step)
+{
+  time_base_ = time_;
+  steps_base_ = steps_;
+  opt_.step = step;
+  world_->getSolverInfo().m_timeStep = step;
+  // Joint friction is an impulse per step.
+  for (auto& r : robots_)
+    for (auto& j : r->joints_)
+      if (j.friction)
+        j.friction->setMaxAppliedImpulse(j.spec->friction * step);
+}
+
+void PhysicsWorld::setSolverIterations(int iterations)
+{
+  opt_.solver_iterations = iterations;
+  world_->getSolverInfo().m_numIterations = iterations;
+}
+
+void PhysicsWorld::setGravity(const btVector3& g)
+{
+  spec_.gravity = g;      // what the IMUs read
+  world_->setGravity(g);  // and every rigid body's own copy
+  for (const auto& wb : world_bodies_)
+    if (wb.body)
+      wb.body->activate(true);  // a sleeping body would not feel it
+  for (auto& r : robots_)
+    r->mb_->wakeUp();
 }
 
 const Robot* PhysicsWorld::robotNamed(const std::string& name) const

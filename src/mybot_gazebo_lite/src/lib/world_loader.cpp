@@ -201,6 +201,7 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
       std::string cw = lw + " <collision name='" + (col->Attribute("name") ? col->Attribute("name") : "") + "'>";
       Shape s = parseSdfGeometry(c, col->FirstChildElement("geometry"), cw);
       s.pose = c.pose(col, cw);
+      s.name = col->Attribute("name") ? col->Attribute("name") : "collision";
       if (const XMLElement* surf = col->FirstChildElement("surface"))
         if (const XMLElement* fr = surf->FirstChildElement("friction"))
           if (const XMLElement* ode = fr->FirstChildElement("ode"))

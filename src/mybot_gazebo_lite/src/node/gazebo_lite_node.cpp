@@ -6,13 +6,19 @@
 #include "gazebo_msgs/ApplyJointEffort.h"
 #include "gazebo_msgs/BodyRequest.h"
 #include "gazebo_msgs/DeleteModel.h"
+#include "gazebo_msgs/GetJointProperties.h"
 #include "gazebo_msgs/GetLinkState.h"
+#include "gazebo_msgs/GetModelProperties.h"
 #include "gazebo_msgs/GetModelState.h"
+#include "gazebo_msgs/GetPhysicsProperties.h"
 #include "gazebo_msgs/GetWorldProperties.h"
 #include "gazebo_msgs/JointRequest.h"
 #include "gazebo_msgs/LinkStates.h"
 #include "gazebo_msgs/ModelStates.h"
+#include "gazebo_msgs/SetLinkState.h"
+#include "gazebo_msgs/SetModelConfiguration.h"
 #include "gazebo_msgs/SetModelState.h"
+#include "gazebo_msgs/SetPhysicsProperties.h"
 #include "gazebo_msgs/SpawnModel.h"
 #include "mybot_gazebo_lite/ModelContacts.h"
 #include "mybot_gazebo_lite/parsing.h"
@@ -39,11 +45,17 @@ using gazebo_msgs::ApplyBodyWrench;
 using gazebo_msgs::ApplyJointEffort;
 using gazebo_msgs::BodyRequest;
 using gazebo_msgs::DeleteModel;
+using gazebo_msgs::GetJointProperties;
 using gazebo_msgs::GetLinkState;
+using gazebo_msgs::GetModelProperties;
 using gazebo_msgs::GetModelState;
+using gazebo_msgs::GetPhysicsProperties;
 using gazebo_msgs::GetWorldProperties;
 using gazebo_msgs::JointRequest;
+using gazebo_msgs::SetLinkState;
+using gazebo_msgs::SetModelConfiguration;
 using gazebo_msgs::SetModelState;
+using gazebo_msgs::SetPhysicsProperties;
 using gazebo_msgs::SpawnModel;
 
 class SimNode
@@ -148,17 +160,19 @@ public:
     srvs_.push_back(g.advertiseService("apply_joint_effort", &SimNode::applyJointEffort, this));
     srvs_.push_back(g.advertiseService("clear_joint_forces", &SimNode::clearJointForces, this));
     srvs_.push_back(g.advertiseService("set_model_state", &SimNode::setState, this));
+    srvs_.push_back(g.advertiseService("set_link_state", &SimNode::setLinkState, this));
+    srvs_.push_back(g.advertiseService("get_model_properties", &SimNode::getModelProperties, this));
+    srvs_.push_back(g.advertiseService("get_joint_properties", &SimNode::getJointProperties, this));
+    srvs_.push_back(g.advertiseService("set_model_configuration", &SimNode::setModelConfiguration, this));
+    srvs_.push_back(g.advertiseService("get_physics_properties", &SimNode::getPhysicsProperties, this));
+    srvs_.push_back(g.advertiseService("set_physics_properties", &SimNode::setPhysicsProperties, this));
     if (lockstep)
       lockstep_ = std::make_unique<mybot_lockstep::Coordinator>(timeout, ros::getGlobalCallbackQueue());
     // Under lockstep, counted as the simulator's other inputs: a state sent for period k is set in it.
-    auto on_state = [this](const gazebo_msgs::ModelState& m) { applyModelState(m); };
-    if (lockstep_)
-      set_model_state_sub_ = lockstep_->subscribe<gazebo_msgs::ModelState>(g, "set_model_state", 100, on_state);
-    else
-      set_model_state_sub_ = g.subscribe<gazebo_msgs::ModelState>(
-          "set_model_state", 10,
-          boost::function<void(const gazebo_msgs::ModelState::ConstPtr&)>(
-              [on_state](const gazebo_msgs::ModelState::ConstPtr& m) { on_state(*m); }));
+    set_model_state_sub_ = subscribeCounted<gazebo_msgs::ModelState>(
+        g, "set_model_state", [this](const gazebo_msgs::ModelState& m) { applyModelState(m); });
+    set_link_state_sub_ = subscribeCounted<gazebo_msgs::LinkState>(
+        g, "set_link_state", [this](const gazebo_msgs::LinkState& m) { applyLinkState(m); });
     publishClock(true);
     ROS_INFO("gazebo_lite: world '%s' (%zu models), step %.4f s, real_time_factor %g%s%s", spec.name.c_str(),
              spec.models.size(), step, rtf_, paused_ ? ", paused" : "",
@@ -262,6 +276,17 @@ private:
     return std::mt19937(seq);
   }
 
+  // A topic the simulator takes commands on: under lockstep a message sent in period k is handled in it.
+  template <class Msg>
+  ros::Subscriber subscribeCounted(ros::NodeHandle& nh, const std::string& topic, std::function<void(const Msg&)> cb)
+  {
+    if (lockstep_)
+      return lockstep_->subscribe<Msg>(nh, topic, 100, cb);
+    return nh.subscribe<Msg>(
+        topic, 10,
+        boost::function<void(const typename Msg::ConstPtr&)>([cb](const typename Msg::ConstPtr& m) { cb(*m); }));
+  }
+
   bool bad(const std::string& param, const std::string& msg)
   {
     ROS_FATAL("gazebo_lite: parameter ~%s: %s", param.c_str(), msg.c_str());
@@ -356,7 +381,7 @@ private:
       m.model_name = r->name();
       m.touching = c.now;
       m.contact_steps = c.steps;
-      m.contact_time = c.steps * world_->stepSize();
+      m.contact_time = c.time;
       m.max_depth = c.max_depth;
       m.first_time = c.first_time;
       m.first_model = c.first_model;
@@ -725,6 +750,134 @@ private:
     return true;
   }
 
+  // As gazebo_ros: links and collisions unscoped, as Gazebo names them (see ModelProperties). One
+  // difference: canonical_body_name is given (gazebo_ros leaves it empty).
+  bool getModelProperties(GetModelProperties::Request& req, GetModelProperties::Response& res)
+  {
+    ModelProperties p;
+    res.success = world_->modelProperties(req.model_name, p);
+    if (!res.success)
+    {
+      res.status_message = "GetModelProperties: no model named '" + req.model_name + "'";
+      return true;
+    }
+    res.canonical_body_name = p.canonical_link;
+    res.body_names = p.links;
+    res.geom_names = p.collisions;
+    res.joint_names = p.joints;
+    res.is_static = p.is_static;
+    res.status_message = "GetModelProperties: got properties";
+    return true;
+  }
+
+  // The joint's own type and damping (gazebo_ros says REVOLUTE and no damping for every joint).
+  bool getJointProperties(GetJointProperties::Request& req, GetJointProperties::Response& res)
+  {
+    JointProperties p;
+    res.status_message = world_->jointProperties(req.joint_name, p);
+    res.success = res.status_message.empty();
+    if (!res.success)
+    {
+      res.status_message = "GetJointProperties: " + res.status_message;
+      return true;
+    }
+    switch (p.type)
+    {
+      case JointSpec::CONTINUOUS:
+        res.type = GetJointProperties::Response::CONTINUOUS;
+        break;
+      case JointSpec::PRISMATIC:
+        res.type = GetJointProperties::Response::PRISMATIC;
+        break;
+      default:
+        res.type = GetJointProperties::Response::REVOLUTE;
+    }
+    res.damping = {p.damping};
+    res.position = {p.position};
+    res.rate = {p.rate};
+    res.status_message = "GetJointProperties: got properties";
+    return true;
+  }
+
+  // Joint positions at once, between two steps (gazebo_ros pauses the world for it). spawn_model -J.
+  bool setModelConfiguration(SetModelConfiguration::Request& req, SetModelConfiguration::Response& res)
+  {
+    res.status_message = world_->setJointPositions(req.model_name, req.joint_names, req.joint_positions);
+    res.success = res.status_message.empty();
+    if (!res.success)
+    {
+      res.status_message = "SetModelConfiguration: " + res.status_message;
+      ROS_ERROR("gazebo_lite: %s", res.status_message.c_str());
+      return true;
+    }
+    res.status_message = "SetModelConfiguration: success";
+    return true;
+  }
+
+  // max_update_rate is steps per wall second: real_time_factor / time_step. Of ode_config only
+  // sor_pgs_iters means something here (Bullet's solver iterations); the rest is given as 0.
+  bool getPhysicsProperties(GetPhysicsProperties::Request&, GetPhysicsProperties::Response& res)
+  {
+    res.time_step = world_->stepSize();
+    res.pause = paused_;
+    res.max_update_rate = rtf_ / world_->stepSize();
+    const btVector3& g = world_->gravity();
+    res.gravity.x = g.x();
+    res.gravity.y = g.y();
+    res.gravity.z = g.z();
+    res.ode_config.sor_pgs_iters = world_->solverIterations();
+    res.success = true;
+    res.status_message = "GetPhysicsProperties: got properties";
+    return true;
+  }
+
+  // Takes effect from the next step. A value out of range is refused naming its field, and then
+  // nothing is changed. Under lockstep the period must stay a whole number of steps.
+  bool setPhysicsProperties(SetPhysicsProperties::Request& req, SetPhysicsProperties::Response& res)
+  {
+    const auto& g = req.gravity;
+    std::string why = mybot_common::firstInvalid({{"time_step", req.time_step},
+                                                  {"max_update_rate", req.max_update_rate},
+                                                  {"gravity.x", g.x},
+                                                  {"gravity.y", g.y},
+                                                  {"gravity.z", g.z}},
+                                                 kMaxCoordinate);
+    const double period = steps_per_period_ * world_->stepSize();
+    long steps = 0;  // of the new size in a lockstep period
+    if (!why.empty())
+      why = "refused: " + why;
+    else if (!(req.time_step > 0 && req.time_step <= 0.01))
+      why = "time_step " + mybot_common::formatNumber(req.time_step) + " out of (0, 0.01] s";
+    else if (req.max_update_rate < 0)
+      why = "max_update_rate must be >= 0 (0: as fast as possible)";
+    else if (req.ode_config.sor_pgs_iters < 1 || req.ode_config.sor_pgs_iters > 1000)
+      why = "ode_config.sor_pgs_iters " + std::to_string(req.ode_config.sor_pgs_iters) +
+            " out of [1, 1000] (the solver's iterations a step)";
+    else if (lockstep_ &&
+             (steps = std::lround(period / req.time_step), std::fabs(steps * req.time_step - period) > 1e-9))
+      why = "time_step " + mybot_common::formatNumber(req.time_step) + " s does not divide the lockstep period (" +
+            mybot_common::formatNumber(period) + " s)";
+    res.success = why.empty();
+    if (!res.success)
+    {
+      res.status_message = "SetPhysicsProperties: " + why;
+      ROS_ERROR("gazebo_lite: %s", res.status_message.c_str());
+      return true;
+    }
+    if (req.time_step != world_->stepSize())
+    {
+      world_->setStepSize(req.time_step);
+      if (lockstep_)
+        steps_per_period_ = static_cast<int>(steps);
+    }
+    world_->setSolverIterations(static_cast<int>(req.ode_config.sor_pgs_iters));
+    world_->setGravity(btVector3(g.x, g.y, g.z));
+    rtf_ = req.max_update_rate * req.time_step;
+    anchor();
+    res.status_message = "physics engine updated";
+    return true;
+  }
+
   static geometry_msgs::Pose poseMsg(const Pose& s)
   {
     geometry_msgs::Pose p;
@@ -751,6 +904,64 @@ private:
     return t;
   }
 
+  bool setLinkState(SetLinkState::Request& req, SetLinkState::Response& res)
+  {
+    const std::string why = applyLinkState(req.link_state);
+    res.success = why.empty();
+    res.status_message = res.success ? "SetLinkState: success" : why;
+    return true;
+  }
+  // Teleports a link (the service, and the topic /gazebo/set_link_state): see
+  // PhysicsWorld::setLinkState. "" or why it refused, which is logged too.
+  std::string applyLinkState(const gazebo_msgs::LinkState& m)
+  {
+    btTransform pose;
+    btVector3 lin, ang;
+    std::string why = readState("link_state", m.pose, m.twist, m.reference_frame, pose, lin, ang);
+    bool moved_static = false;
+    if (why.empty())
+      why = world_->setLinkState(m.link_name, pose, lin, ang, &moved_static);
+    if (moved_static)
+      slices_->invalidate();  // the lasers' and cameras' static world
+    if (!why.empty())
+      ROS_ERROR("gazebo_lite: set_link_state '%s': %s", m.link_name.c_str(), why.c_str());
+    return why;
+  }
+  // A ModelState's or LinkState's pose and twist, checked (`field` names the message in errors):
+  // "" or why it is refused.
+  static std::string readState(const std::string& field, const geometry_msgs::Pose& mp, const geometry_msgs::Twist& mt,
+                               const std::string& reference_frame, btTransform& pose, btVector3& lin, btVector3& ang)
+  {
+    const std::string bad = mybot_common::firstInvalid({{"pose.position.x", mp.position.x},
+                                                        {"pose.position.y", mp.position.y},
+                                                        {"pose.position.z", mp.position.z},
+                                                        {"pose.orientation.x", mp.orientation.x},
+                                                        {"pose.orientation.y", mp.orientation.y},
+                                                        {"pose.orientation.z", mp.orientation.z},
+                                                        {"pose.orientation.w", mp.orientation.w},
+                                                        {"twist.linear.x", mt.linear.x},
+                                                        {"twist.linear.y", mt.linear.y},
+                                                        {"twist.linear.z", mt.linear.z},
+                                                        {"twist.angular.x", mt.angular.x},
+                                                        {"twist.angular.y", mt.angular.y},
+                                                        {"twist.angular.z", mt.angular.z}},
+                                                       kMaxCoordinate);
+    btQuaternion q(mp.orientation.x, mp.orientation.y, mp.orientation.z, mp.orientation.w);
+    if (!bad.empty())
+      return "refused: " + field + "." + bad;
+    if (q.length2() < 1e-12)
+      return "refused: " + field + ".pose.orientation is a zero quaternion";
+    if (!reference_frame.empty() && reference_frame != "world" && reference_frame != "map")
+      // Gazebo would place it relative to that entity; a pose taken as the world's instead
+      // would teleport it somewhere else.
+      return "refused: " + field + ".reference_frame '" + reference_frame + "' not supported (use world)";
+    q.normalize();
+    pose = btTransform(q, btVector3(mp.position.x, mp.position.y, mp.position.z));
+    lin = btVector3(mt.linear.x, mt.linear.y, mt.linear.z);
+    ang = btVector3(mt.angular.x, mt.angular.y, mt.angular.z);
+    return "";
+  }
+
   bool setState(SetModelState::Request& req, SetModelState::Response& res)
   {
     const std::string why = applyModelState(req.model_state);
@@ -762,41 +973,14 @@ private:
   // refused, which is logged too (a topic has no reply).
   std::string applyModelState(const gazebo_msgs::ModelState& m)
   {
-    const auto& mp = m.pose;
-    const auto& mt = m.twist;
-    const std::string bad = mybot_common::firstInvalid({{"model_state.pose.position.x", mp.position.x},
-                                                        {"model_state.pose.position.y", mp.position.y},
-                                                        {"model_state.pose.position.z", mp.position.z},
-                                                        {"model_state.pose.orientation.x", mp.orientation.x},
-                                                        {"model_state.pose.orientation.y", mp.orientation.y},
-                                                        {"model_state.pose.orientation.z", mp.orientation.z},
-                                                        {"model_state.pose.orientation.w", mp.orientation.w},
-                                                        {"model_state.twist.linear.x", mt.linear.x},
-                                                        {"model_state.twist.linear.y", mt.linear.y},
-                                                        {"model_state.twist.linear.z", mt.linear.z},
-                                                        {"model_state.twist.angular.x", mt.angular.x},
-                                                        {"model_state.twist.angular.y", mt.angular.y},
-                                                        {"model_state.twist.angular.z", mt.angular.z}},
-                                                       kMaxCoordinate);
-    std::string why;
-    btQuaternion q(mp.orientation.x, mp.orientation.y, mp.orientation.z, mp.orientation.w);
-    if (!bad.empty())
-      why = "refused: " + bad;
-    else if (q.length2() < 1e-12)
-      why = "refused: model_state.pose.orientation is a zero quaternion";
-    else if (!m.reference_frame.empty() && m.reference_frame != "world" && m.reference_frame != "map")
-      // Gazebo would place it relative to that entity; a pose taken as the world's instead
-      // would teleport the model somewhere else.
-      why = "refused: model_state.reference_frame '" + m.reference_frame + "' not supported (use world)";
+    btTransform pose;
+    btVector3 lin, ang;
+    const std::string why = readState("model_state", m.pose, m.twist, m.reference_frame, pose, lin, ang);
     if (!why.empty())
     {
       ROS_ERROR("gazebo_lite: set_model_state '%s' %s", m.model_name.c_str(), why.c_str());
       return why;
     }
-    q.normalize();
-    btTransform pose(q, btVector3(mp.position.x, mp.position.y, mp.position.z));
-    btVector3 lin(mt.linear.x, mt.linear.y, mt.linear.z);
-    btVector3 ang(mt.angular.x, mt.angular.y, mt.angular.z);
     bool moved_static = false;
     const bool found = world_->setModelState(m.model_name, pose, lin, ang, &moved_static);
     if (moved_static)
@@ -837,7 +1021,7 @@ private:
   std::vector<ModelEntry> models_;
   std::vector<ros::ServiceServer> srvs_;
   ros::Publisher clock_pub_, contacts_pub_, model_states_pub_, link_states_pub_;
-  ros::Subscriber set_model_state_sub_;
+  ros::Subscriber set_model_state_sub_, set_link_state_sub_;
   tf2_ros::TransformBroadcaster tfb_;
   int seed_ = 0;
   double rtf_ = 1, clock_hz_ = 100, last_clock_ = -1, last_contacts_ = -1, sim0_ = 0;
