@@ -65,6 +65,21 @@ class ArmTrajectory(ControllerTest):
             "/arm_controller/follow_joint_trajectory/feedback": "control_msgs/FollowJointTrajectoryActionFeedback",
             "/arm_controller/state": "control_msgs/JointTrajectoryControllerState"})
 
+    def test_0b_the_arm_starts_where_spawn_model_put_it_and_is_held_there(self):
+        # spawn_model -J elbow_joint 0.5 set the elbow after the spawn; the spawner started the
+        # controllers while the world stood, before or after that: they start when time moves, from
+        # the joints as they are then (upstream's switch waits for the control loop), so they hold
+        # the bent elbow instead of pulling it back to where the model was built.
+        self.assertTrue(self.ls.wait_for(lambda: self.state is not None, 5.0), "no state")
+        with self.lock:
+            first = self.history[0][1]
+            s = self.state
+        self.assertAlmostEqual(first["elbow_joint"], 0.5, delta=1e-6)
+        self.assertAlmostEqual(first["shoulder_joint"], 0.0, delta=1e-6)
+        self.assertAlmostEqual(s.desired.positions[ARM.index("elbow_joint")], 0.5, delta=1e-6)
+        self.ls.sleep(1.0)
+        self.assertAlmostEqual(self.position("elbow_joint"), 0.5, delta=0.02)
+
     def test_1_a_goal_is_followed_through_its_points_to_success(self):
         self.assertTrue(self.ls.wait_for(lambda: self.position("wrist_joint") is not None, 5.0), "no joint_states")
         self.assertEqual({c.name: c.type for c in self.list().controller}["arm_controller"],

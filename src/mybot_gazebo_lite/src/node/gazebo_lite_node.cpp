@@ -512,6 +512,7 @@ private:
           entry.noise.push_back(std::make_unique<std::mt19937>(noiseStream(seed_, req.model_name, i, ps.name)));
           ctx.rng = entry.noise.back().get();
           ctx.lockstep = lockstep_.get();
+          ctx.paused = &paused_;
           if (auto plugin = createPlugin(ctx))
             entry.plugins.push_back(std::move(plugin));
         }

@@ -51,6 +51,12 @@ ControllerManager::Entry* ControllerManager::find(const std::string& name)
 void ControllerManager::update(double t, double dt)
 {
   for (auto& e : entries_)
+    if (e.state == State::RUNNING && e.start_pending)
+    {
+      e.controller->starting(t);
+      e.start_pending = false;
+    }
+  for (auto& e : entries_)
     if (e.state == State::RUNNING)
       e.controller->update(t, dt);
 }
@@ -58,7 +64,7 @@ void ControllerManager::update(double t, double dt)
 void ControllerManager::restart(double t)
 {
   for (auto& e : entries_)
-    if (e.state == State::RUNNING)
+    if (e.state == State::RUNNING && !e.start_pending)  // a pending one starts at the next update
     {
       e.controller->stopping(t);
       e.controller->starting(t);
@@ -174,13 +180,20 @@ std::string ControllerManager::switchControllers(const std::vector<std::string>&
     return problems + " (STRICT: nothing switched)";
   for (Entry* e : to_stop)
   {
-    e->controller->stopping(t);
+    if (!e->start_pending)  // one that never started has nothing to stop
+      e->controller->stopping(t);
     e->state = State::STOPPED;
+    e->start_pending = false;
   }
+  const bool paused = plugin_.paused && *plugin_.paused;
+  if (!to_start.empty() && !paused)
+    hw_.read(*plugin_.robot);  // the joints now, not at the last control period
   for (Entry* e : to_start)
   {
-    e->controller->starting(t);
     e->state = State::RUNNING;
+    e->start_pending = paused;
+    if (!paused)
+      e->controller->starting(t);
   }
   if (!problems.empty())
     ROS_WARN("%s: %s (BEST_EFFORT)", service("switch_controller").c_str(), problems.c_str());
@@ -264,7 +277,7 @@ bool ControllerManager::onReload(cmm::ReloadControllerLibraries::Request& req,
   }
   const double t = plugin_.world->time();
   for (auto& e : entries_)
-    if (e.state == State::RUNNING)
+    if (e.state == State::RUNNING && !e.start_pending)
       e.controller->stopping(t);
   entries_.clear();
   res.ok = true;

@@ -57,6 +57,7 @@ struct PluginContext
   StaticSliceCache* slices;
   std::mt19937* rng;
   mybot_lockstep::Coordinator* lockstep = nullptr;  // set when the simulation runs in lockstep
+  const bool* paused = nullptr;                     // the simulation is paused (pause_physics)
 };
 
 // A command input. Under lockstep it is counted (the period waits until every command a

@@ -21,7 +21,8 @@ class ControllerManager
 {
 public:
   ControllerManager(RobotHWSim& hw, const mybot_gazebo_lite::PluginContext& plugin, const ros::NodeHandle& root);
-  // One control period: every running controller, in load order.
+  // One control period: every running controller, in load order; one switched on while the world
+  // was paused starts first (see switchControllers).
   void update(double t, double dt);
   // reset_world / reset_simulation: running controllers stop and start again (as upstream).
   void restart(double t);
@@ -29,6 +30,11 @@ public:
   // The service bodies (also called directly by tests). Each returns "" or why it failed.
   std::string load(const std::string& name);
   std::string unload(const std::string& name);
+  // Upstream switches in its control loop. Running, that is a step away: a controller starts now,
+  // from the joints as they are. Paused, time stands: it starts at the first control period once
+  // time moves, from the joints as they are then, so it holds them where spawn_model -J put them
+  // whichever of the spawner and spawn_model came first (upstream's call blocks until then; this
+  // one returns and lists the controller running).
   std::string switchControllers(const std::vector<std::string>& start, const std::vector<std::string>& stop,
                                 int strictness);
 
@@ -44,6 +50,7 @@ private:
     std::string name, type;
     std::unique_ptr<Controller> controller;
     State state = State::INITIALIZED;
+    bool start_pending = false;  // RUNNING, switched on while paused: its starting() is due at the next update
   };
   Entry* find(const std::string& name);
   // A service's full name, which starts the log line saying why a call to it failed.
