@@ -555,6 +555,49 @@ class StatesTests(unittest.TestCase):
             set_(time_step=0.001, max_update_rate=0.0, gravity=earth, ode_config=iters(before.ode_config.sor_pgs_iters))
             rospy.ServiceProxy('/gazebo/delete_model', DeleteModel)(model_name='floater')
 
+    def test_an_sdf_model_with_joints_and_plugins_is_simulated_as_gazebo_does(self):
+        """spawn_sdf_model of a flap hinged to a post anchored to the world, with gazebo_ros's joint
+        state publisher: its joint moves, its plugin publishes, as in Gazebo (until 2026-12-01 its
+        links were one rigid body and its plugin was not run)."""
+        flap = ('<sdf version="1.6"><model name="flap">'
+                '<link name="post"><pose>0 0 0.5 0 0 0</pose><collision name="c"><geometry><box>'
+                '<size>0.05 0.05 1</size></box></geometry></collision></link>'
+                '<link name="leaf"><pose>0.3 0 0.5 0 0 0</pose><inertial><mass>2</mass><inertia><ixx>0.1</ixx>'
+                '<iyy>0.1</iyy><izz>0.1</izz></inertia></inertial><collision name="c"><geometry><box>'
+                '<size>0.5 0.02 0.5</size></box></geometry></collision></link>'
+                '<joint name="anchor" type="fixed"><parent>world</parent><child>post</child></joint>'
+                '<joint name="hinge" type="revolute"><pose>-0.25 0 0 0 0 0</pose><parent>post</parent>'
+                '<child>leaf</child><axis><xyz>0 0 1</xyz><dynamics><damping>0.5</damping></dynamics></axis></joint>'
+                '<plugin name="js" filename="libgazebo_ros_joint_state_publisher.so"><jointName>hinge</jointName>'
+                '<updateRate>50</updateRate></plugin></model></sdf>')
+        pose = Pose()
+        pose.position.x, pose.position.y, pose.orientation.w = -2.0, -2.0, 1.0
+        res = rospy.ServiceProxy('/gazebo/spawn_sdf_model', SpawnModel)(
+            model_name='flap', model_xml=flap, robot_namespace='flap', initial_pose=pose)
+        self.assertTrue(res.success, res.status_message)
+        try:
+            props = rospy.ServiceProxy('/gazebo/get_model_properties', GetModelProperties)(model_name='flap')
+            self.assertEqual((props.body_names, props.joint_names), (['post', 'leaf'], ['hinge']))
+            res = rospy.ServiceProxy('/gazebo/apply_joint_effort', ApplyJointEffort)(
+                joint_name='flap::hinge', effort=2.0, start_time=rospy.Time(0), duration=rospy.Duration(0.5))
+            self.assertTrue(res.success, res.status_message)
+            self.r.settle(1.0)
+            angle = rospy.ServiceProxy('/gazebo/get_joint_properties', GetJointProperties)(
+                joint_name='flap::hinge').position[0]
+            self.assertGreater(angle, 0.2)
+            # The leaf turned about its hinge (-1.95, -2): its centre is still 0.25 m from it.
+            leaf = rospy.ServiceProxy('/gazebo/get_link_state', GetLinkState)(link_name='flap::leaf')
+            p = leaf.link_state.pose.position
+            self.assertAlmostEqual(math.hypot(p.x + 1.95, p.y + 2.0), 0.25, delta=1e-6)
+            post = rospy.ServiceProxy('/gazebo/get_link_state', GetLinkState)(link_name='flap::post')
+            self.assertAlmostEqual(post.link_state.pose.position.x, -2.0, delta=1e-6)  # anchored
+            self.r.release()  # a blocking wait: time moves meanwhile
+            js = rospy.wait_for_message('/flap/joint_states', JointState, timeout=30)
+            self.assertEqual(list(js.name), ['hinge'])
+            self.assertGreater(js.position[0], 0.2)
+        finally:
+            rospy.ServiceProxy('/gazebo/delete_model', DeleteModel)(model_name='flap')
+
     def test_spawn_model_sets_initial_joint_positions(self):
         """spawn_model -J (set_model_configuration after the spawn, as gazebo_ros)."""
         turntable = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'fixtures', 'turntable.urdf')

@@ -594,6 +594,66 @@ TEST(Physics, StepSizeAndGravityChangeWhileRunning)
   EXPECT_NEAR(w.time(), 0.004, 1e-12);
 }
 
+// An SDF model with joints is simulated as Gazebo simulates it, a robot: a door anchored to the
+// world, hinged at its edge (the joint's <pose> in the door's frame), swings about that edge.
+TEST(Physics, SdfModelWithJointsSwingsAboutItsHinge)
+{
+  const std::string door = R"(<sdf version="1.6"><model name="door"><pose>1 2 0 0 0 0</pose>
+      <link name="frame"><pose>0 0 1 0 0 0</pose>
+        <collision name="post"><geometry><box><size>0.1 0.1 2</size></box></geometry></collision></link>
+      <link name="leaf"><pose>0.55 0 1 0 0 0</pose>
+        <inertial><mass>10</mass><inertia><ixx>3.4</ixx><iyy>4.2</iyy><izz>0.85</izz></inertia></inertial>
+        <collision name="panel"><geometry><box><size>1 0.04 1.9</size></box></geometry></collision></link>
+      <joint name="anchor" type="fixed"><parent>world</parent><child>frame</child></joint>
+      <joint name="hinge" type="revolute"><pose>-0.5 0 0 0 0 0</pose><parent>frame</parent><child>leaf</child>
+        <axis><xyz>0 0 1</xyz><limit><lower>-2</lower><upper>2</upper></limit><dynamics><damping>1</damping></dynamics>
+        </axis></joint></model></sdf>)";
+  SdfSpawn sdf = parseSdfSpawn(door, "door.sdf", ".");
+  ASSERT_TRUE(sdf.robot);
+  EXPECT_EQ(sdf.robot->root, "world");
+  EXPECT_EQ(sdf.robot->name, "door");
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(sdf.robot, "door", "", sdf.model.pose * sdf.root_in_model);
+  EXPECT_NEAR(r.linkPose("leaf").getOrigin().distance(btVector3(1.55, 2, 1)), 0, 1e-9);
+  EXPECT_EQ(w.applyJointEffort("door::hinge", 20, w.time(), 0.5), "");
+  run(w, 1.0);
+  const double a = r.jointPosition("hinge");
+  EXPECT_GT(a, 0.2);
+  // The hinge, at (1.05, 2), stays where it is: the leaf's centre is 0.5 m from it, at the angle turned.
+  const btVector3 c = r.linkPose("leaf").getOrigin();
+  EXPECT_NEAR(c.distance(btVector3(1.05, 2, 1)), 0.5, 1e-6);
+  EXPECT_NEAR(std::atan2(c.y() - 2, c.x() - 1.05), a, 1e-6);
+  EXPECT_NEAR(r.linkPose("frame").getOrigin().distance(btVector3(1, 2, 1)), 0, 1e-6);  // anchored
+
+  // A static model, or one without joints or plugins, stays a world model.
+  EXPECT_FALSE(parseSdfSpawn(R"(<model name="crate"><link name="l"><collision name="c"><geometry><box>
+      <size>0.2 0.2 0.2</size></box></geometry></collision></link></model>)",
+                             "crate.sdf", ".")
+                   .robot);
+  // What it cannot simulate, named.
+  for (const auto& [xml, says] : std::vector<std::pair<std::string, std::string>>{
+           {R"(<model name="m"><link name="a"/><link name="b"/><joint name="j" type="ball"><parent>a</parent>
+               <child>b</child></joint></model>)",
+            "<joint name='j'>: type 'ball' is not simulated"},
+           {R"(<model name="m"><link name="a"/><link name="b"/><link name="c"/><joint name="j" type="revolute">
+               <parent>a</parent><child>b</child></joint></model>)",
+            "links 'a' and 'c' are not joined"},
+           {R"(<model name="m"><link name="a"/><joint name="j" type="revolute"><parent>a</parent>
+               <child>nothing</child></joint></model>)",
+            "no link named 'nothing'"}})
+  {
+    try
+    {
+      parseSdfSpawn(xml, "m.sdf", ".");
+      ADD_FAILURE() << "accepted: " << xml;
+    }
+    catch (const LoadError& e)
+    {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  }
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);

@@ -109,6 +109,10 @@ struct JointSpec
   } type = FIXED;
   std::string name, parent, child;
   btTransform origin = btTransform::getIdentity();  // child frame in parent frame
+  // The joint's own frame in the child's: URDF's is the child frame itself; SDF's joint <pose>
+  // puts it elsewhere (a door's hinge at its edge). The axis is in this frame and passes through
+  // its origin.
+  btTransform pivot = btTransform::getIdentity();
   btVector3 axis{1, 0, 0};
   bool has_limits = false;
   double lower = 0, upper = 0, effort = 0, velocity = 0;

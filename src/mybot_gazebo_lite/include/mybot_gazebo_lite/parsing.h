@@ -6,6 +6,7 @@
 #include "mybot_gazebo_lite/model.h"
 
 #include <functional>
+#include <memory>
 #include <string>
 
 namespace tinyxml2
@@ -37,6 +38,19 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
 // nested models are flattened into it, as in a world.
 WorldModel parseSdfModel(const std::string& xml, const std::string& source, const std::string& base_dir,
                          const UriResolver& resolver = defaultResolveUri);
+// What gazebo_ros's spawn_sdf_model makes of an SDF model: a world model of rigid links when it
+// is static or has neither joints nor plugins (its own or its sensors'); otherwise a robot as
+// Gazebo simulates it (`robot` set): its links, joints (revolute, continuous, prismatic, fixed;
+// a joint to `world` anchors it, as a URDF's `world` link) and plugins, its root link at the
+// model's pose times `root_in_model`.
+struct SdfSpawn
+{
+  WorldModel model;
+  std::shared_ptr<RobotSpec> robot;
+  btTransform root_in_model = btTransform::getIdentity();
+};
+SdfSpawn parseSdfSpawn(const std::string& xml, const std::string& source, const std::string& base_dir,
+                       const UriResolver& resolver = defaultResolveUri);
 WorldSpec loadImageWorld(const std::string& yaml_path, long max_image_side = mybot_common::kDefaultMaxImageSide);
 
 // Helpers shared by the loaders.
@@ -48,5 +62,13 @@ XmlNode toXmlNode(const tinyxml2::XMLElement* e);
 // Gazebo/Grey, Gazebo/Orange, ...); false for any other name.
 bool gazeboMaterialColor(const std::string& name, float rgb[3]);
 std::shared_ptr<const std::vector<Triangle>> loadMesh(const std::string& path, const btVector3& scale);
+// A link's inertia as a physics engine can invert it: a negative moment is refused (LoadError naming
+// `source` and `where`); a zero or impossible tensor is replaced by its first collision's, with a
+// warning naming the link.
+void checkInertia(const std::string& source, LinkSpec& link, const std::string& where,
+                  std::vector<std::string>& warnings);
+// Every link's sensor plugins into spec.plugins, each with a copy of its <sensor> block; a plugin
+// without a filename is refused, naming the link as `link_tag` + name + "'>" ("<link name='").
+void addSensorPlugins(RobotSpec& spec, const std::string& link_tag);
 
 }  // namespace mybot_gazebo_lite

@@ -1,11 +1,13 @@
 #include "mybot_gazebo_lite/parsing.h"
 
+#include <Eigen/Eigenvalues>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <tinyxml2.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <algorithm>
 #include <fstream>
@@ -281,6 +283,87 @@ std::shared_ptr<const std::vector<Triangle>> loadMesh(const std::string& path, c
     throw LoadError("mesh '" + path + "': no triangles");
   cache[key.str()] = tris;
   return tris;
+}
+
+// The solid body of the link's first collision (a sphere of 5 cm if it has none or a mesh):
+// principal moments about its centre, for a mass whose inertia the URDF left unusable.
+static btVector3 solidInertia(const LinkSpec& link)
+{
+  const double m = link.inertial.mass;
+  if (!link.collisions.empty())
+  {
+    const Shape& s = link.collisions.front();
+    if (s.type == Shape::BOX)
+    {
+      const btVector3& d = s.size;
+      return btVector3(d.y() * d.y() + d.z() * d.z(), d.x() * d.x() + d.z() * d.z(), d.x() * d.x() + d.y() * d.y()) *
+             (m / 12.0);
+    }
+    if (s.type == Shape::CYLINDER)
+    {
+      const double side = m * (3 * s.radius * s.radius + s.length * s.length) / 12.0;
+      return btVector3(side, side, m * s.radius * s.radius / 2.0);
+    }
+    if (s.type == Shape::SPHERE)
+      return btVector3(1, 1, 1) * (0.4 * m * s.radius * s.radius);
+  }
+  return btVector3(1, 1, 1) * (0.4 * m * 0.05 * 0.05);
+}
+
+// A body with mass needs an inertia a physics engine can invert: moments that are not negative
+// (refused: a sign error the author must see) and a positive definite tensor whose principal
+// moments obey the triangle inequality (all zero, as many hand-written URDFs have, or
+// impossible ones: corrected with a warning naming the link, as Gazebo's URDF import does
+// rather than let the robot sit still or explode).
+void checkInertia(const std::string& source, LinkSpec& link, const std::string& where,
+                  std::vector<std::string>& warnings)
+{
+  Inertial& in = link.inertial;
+  const std::string w = where + " <inertia>";
+  for (auto [name, v] : {std::pair<const char*, double>{"ixx", in.ixx}, {"iyy", in.iyy}, {"izz", in.izz}})
+    if (v < 0)
+      throw LoadError(source + ": " + w + ": " + name + "=" + std::to_string(v) + " is negative");
+  if (in.mass <= 0)
+    return;
+  Eigen::Matrix3d I;
+  I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();  // ascending
+  // Relative tolerances: a sensor link of a few grams has moments of 1e-9 and is fine.
+  if (ev(2) > 0 && ev(0) > 1e-9 * ev(2) && ev(0) + ev(1) >= ev(2) * (1 - 1e-9))
+    return;
+  const btVector3 d = solidInertia(link);
+  char msg[512];
+  std::snprintf(msg, sizeof msg,
+                "%s: %s: ixx=%g iyy=%g izz=%g ixy=%g ixz=%g iyz=%g is not a physical inertia for mass %g (principal "
+                "moments %g %g %g); using ixx=%g iyy=%g izz=%g from its collision shape",
+                source.c_str(), w.c_str(), in.ixx, in.iyy, in.izz, in.ixy, in.ixz, in.iyz, in.mass, ev(0), ev(1), ev(2),
+                d.x(), d.y(), d.z());
+  warnings.push_back(msg);
+  in.ixx = d.x();
+  in.iyy = d.y();
+  in.izz = d.z();
+  in.ixy = in.ixz = in.iyz = 0;
+}
+
+void addSensorPlugins(RobotSpec& spec, const std::string& link_tag)
+{
+  for (const auto& l : spec.links)
+    for (const auto& s : l.sensors)
+      for (const auto& p : s.children)
+        if (p.name == "plugin")
+        {
+          PluginSpec ps;
+          ps.xml = p;
+          ps.name = p.attr("name");
+          ps.filename = p.attr("filename");
+          ps.reference = l.name;
+          ps.has_sensor = true;
+          ps.sensor = s;
+          if (ps.filename.empty())
+            throw LoadError(spec.source + ": " + link_tag + l.name + "'> <sensor> <plugin name='" + ps.name +
+                            "'>: missing attribute 'filename'");
+          spec.plugins.push_back(std::move(ps));
+        }
 }
 
 }  // namespace mybot_gazebo_lite

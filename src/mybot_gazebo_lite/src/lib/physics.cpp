@@ -542,8 +542,9 @@ void PhysicsWorld::buildMultiBody(const std::vector<LumpedBody>& bodies, Robot& 
     const LumpedBody& b = bodies[i];
     const btTransform& Pi = bodies[b.parent].mp.inertial;
     const btTransform& Ci = b.mp.inertial;
-    btTransform offA = Pi.inverse() * b.joint_in_parent_root;
-    btTransform offB = Ci.inverse();
+    // The joint frame (at zero position) seen from the parent's and from the child's centre of mass.
+    btTransform offA = Pi.inverse() * b.joint_in_parent_root * b.joint->pivot;
+    btTransform offB = Ci.inverse() * b.joint->pivot;
     btQuaternion rotParentToThis = offB.getRotation() * offA.getRotation().inverse();
     btVector3 axis = quatRotate(offB.getRotation(), b.joint->axis);
     int parent_link = b.parent - 1;
@@ -733,6 +734,10 @@ void PhysicsWorld::step()
   applyWrenches();
   applyEfforts();
   world_->stepSimulation(dt, 0, dt);
+  // The links' world transforms at the new joint positions: Bullet leaves the cached ones where
+  // the step began (a link on a turning joint was reported a step behind its joint's position).
+  for (auto& rp : robots_)
+    rp->mb_->forwardKinematics(scratch_q_, scratch_m_);
   ++steps_;
   time_ = time_base_ + (steps_ - steps_base_) * dt;
   updateContacts();

@@ -2,7 +2,6 @@
 // file and element of every problem, and we need the <gazebo> blocks anyway.
 #include "mybot_gazebo_lite/parsing.h"
 
-#include <Eigen/Eigenvalues>
 #include <tinyxml2.h>
 
 #include <cmath>
@@ -155,65 +154,6 @@ JointSpec::Type jointType(const Ctx& c, const std::string& t, const std::string&
   if (t == "planar")
     return JointSpec::PLANAR;
   c.fail(where, "unknown joint type '" + t + "'");
-}
-
-// The solid body of the link's first collision (a sphere of 5 cm if it has none or a mesh):
-// principal moments about its centre, for a mass whose inertia the URDF left unusable.
-btVector3 solidInertia(const LinkSpec& link)
-{
-  const double m = link.inertial.mass;
-  if (!link.collisions.empty())
-  {
-    const Shape& s = link.collisions.front();
-    if (s.type == Shape::BOX)
-    {
-      const btVector3& d = s.size;
-      return btVector3(d.y() * d.y() + d.z() * d.z(), d.x() * d.x() + d.z() * d.z(), d.x() * d.x() + d.y() * d.y()) *
-             (m / 12.0);
-    }
-    if (s.type == Shape::CYLINDER)
-    {
-      const double side = m * (3 * s.radius * s.radius + s.length * s.length) / 12.0;
-      return btVector3(side, side, m * s.radius * s.radius / 2.0);
-    }
-    if (s.type == Shape::SPHERE)
-      return btVector3(1, 1, 1) * (0.4 * m * s.radius * s.radius);
-  }
-  return btVector3(1, 1, 1) * (0.4 * m * 0.05 * 0.05);
-}
-
-// A body with mass needs an inertia a physics engine can invert: moments that are not negative
-// (refused: a sign error the author must see) and a positive definite tensor whose principal
-// moments obey the triangle inequality (all zero, as many hand-written URDFs have, or
-// impossible ones: corrected with a warning naming the link, as Gazebo's URDF import does
-// rather than let the robot sit still or explode).
-void checkInertia(const Ctx& c, LinkSpec& link, const std::string& where, std::vector<std::string>& warnings)
-{
-  Inertial& in = link.inertial;
-  const std::string w = where + " <inertia>";
-  for (auto [name, v] : {std::pair<const char*, double>{"ixx", in.ixx}, {"iyy", in.iyy}, {"izz", in.izz}})
-    if (v < 0)
-      c.fail(w, std::string(name) + "=" + std::to_string(v) + " is negative");
-  if (in.mass <= 0)
-    return;
-  Eigen::Matrix3d I;
-  I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-  const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();  // ascending
-  // Relative tolerances: a sensor link of a few grams has moments of 1e-9 and is fine.
-  if (ev(2) > 0 && ev(0) > 1e-9 * ev(2) && ev(0) + ev(1) >= ev(2) * (1 - 1e-9))
-    return;
-  const btVector3 d = solidInertia(link);
-  char msg[512];
-  std::snprintf(msg, sizeof msg,
-                "%s: %s: ixx=%g iyy=%g izz=%g ixy=%g ixz=%g iyz=%g is not a physical inertia for mass %g (principal "
-                "moments %g %g %g); using ixx=%g iyy=%g izz=%g from its collision shape",
-                c.source.c_str(), w.c_str(), in.ixx, in.iyy, in.izz, in.ixy, in.ixz, in.iyz, in.mass, ev(0), ev(1),
-                ev(2), d.x(), d.y(), d.z());
-  warnings.push_back(msg);
-  in.ixx = d.x();
-  in.iyy = d.y();
-  in.izz = d.z();
-  in.ixy = in.ixz = in.iyz = 0;
 }
 
 bool textDouble(const XmlNode& n, double& out)
@@ -374,7 +314,7 @@ LinkSpec parseLink(const Ctx& c, const XMLElement* l, std::set<std::string>& nam
   for (const XMLElement* col = l->FirstChildElement("collision"); col; col = col->NextSiblingElement("collision"))
     link.collisions.push_back(parseGeometry(c, col, where + " <collision> #" + std::to_string(k++)));
   if (link.has_inertial)
-    checkInertia(c, link, where, warnings);
+    checkInertia(c.source, link, where, warnings);
   return link;
 }
 
@@ -555,24 +495,7 @@ void parseGazeboExtensions(const Ctx& c, const XMLElement* robot, const std::set
       }
     }
   }
-  // Sensor plugins carry a copy of their <sensor> block.
-  for (const auto& l : spec.links)
-    for (const auto& s : l.sensors)
-      for (const auto& p : s.children)
-        if (p.name == "plugin")
-        {
-          PluginSpec ps;
-          ps.xml = p;
-          ps.name = p.attr("name");
-          ps.filename = p.attr("filename");
-          ps.reference = l.name;
-          ps.has_sensor = true;
-          ps.sensor = s;
-          if (ps.filename.empty())
-            c.fail("<gazebo reference='" + l.name + "'> <sensor> <plugin name='" + ps.name + "'>",
-                   "missing attribute 'filename'");
-          spec.plugins.push_back(std::move(ps));
-        }
+  addSensorPlugins(spec, "<gazebo reference='");
 }
 
 // The one link that is no joint's child.

@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <cmath>
 #include <fstream>
+#include <set>
+#include <map>
 #include <sstream>
 
 namespace mybot_gazebo_lite
@@ -174,7 +176,236 @@ Shape parseSdfGeometry(const SdfCtx& c, const XMLElement* g, const std::string& 
   return shape;
 }
 
-WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string& where_in)
+// A link's <collision>s: shapes in the link's frame, with Gazebo's <ode> friction.
+std::vector<Shape> sdfCollisions(const SdfCtx& c, const XMLElement* l, const std::string& lw)
+{
+  std::vector<Shape> out;
+  for (const XMLElement* col = l->FirstChildElement("collision"); col; col = col->NextSiblingElement("collision"))
+  {
+    std::string cw = lw + " <collision name='" + (col->Attribute("name") ? col->Attribute("name") : "") + "'>";
+    Shape s = parseSdfGeometry(c, col->FirstChildElement("geometry"), cw);
+    s.pose = c.pose(col, cw);
+    s.name = col->Attribute("name") ? col->Attribute("name") : "collision";
+    if (const XMLElement* surf = col->FirstChildElement("surface"))
+      if (const XMLElement* fr = surf->FirstChildElement("friction"))
+        if (const XMLElement* ode = fr->FirstChildElement("ode"))
+        {
+          s.mu1 = c.number(ode, "mu", cw + " <friction><ode>", false, 1.0);
+          s.mu2 = c.number(ode, "mu2", cw + " <friction><ode>", false, s.mu1);
+        }
+    out.push_back(s);
+  }
+  return out;
+}
+
+// The colour of a link's first <visual><material> that has one (diffuse, else ambient, else one
+// of Gazebo's stock scripts), for the cameras; false when none has.
+bool sdfVisualColor(const SdfCtx& c, const XMLElement* l, const std::string& lw, float color[3])
+{
+  for (const XMLElement* vis = l->FirstChildElement("visual"); vis; vis = vis->NextSiblingElement("visual"))
+  {
+    const XMLElement* mat = vis->FirstChildElement("material");
+    if (!mat)
+      continue;
+    const XMLElement* col = mat->FirstChildElement("diffuse");
+    if (!col)
+      col = mat->FirstChildElement("ambient");
+    if (!col || !col->GetText())
+    {
+      // <script><name>Gazebo/Orange</name>: one of the stock scripts.
+      const XMLElement* script = mat->FirstChildElement("script");
+      const XMLElement* name = script ? script->FirstChildElement("name") : nullptr;
+      if (name && name->GetText() && gazeboMaterialColor(name->GetText(), color))
+        return true;
+      continue;
+    }
+    std::string vw = lw + " <visual><material><" + col->Name() + ">";
+    std::istringstream ss(col->GetText());
+    double rgb[3];
+    if (!(ss >> rgb[0] >> rgb[1] >> rgb[2]))
+      c.fail(vw, std::string("expected 'r g b [a]', got '") + col->GetText() + "'");
+    for (int i = 0; i < 3; ++i)
+      color[i] = static_cast<float>(std::clamp(rgb[i], 0.0, 1.0));
+    return true;
+  }
+  return false;
+}
+
+// A model that is not static and has joints or plugins (its own or its sensors'), as Gazebo
+// simulates it: a robot (see parseSdfSpawn). Link poses are the model's (SDF 1.6: relative to the
+// model frame); a joint's <pose> is its frame in the child link's, its axis in that frame unless
+// said to be in the model's. False for a rigid model.
+bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& where, RobotSpec& rs,
+                   btTransform& root_in_model)
+{
+  const std::string st = c.text(m, "static", where, false, "false");
+  if (st == "true" || st == "1")
+    return false;
+  bool articulated = m->FirstChildElement("joint") || m->FirstChildElement("plugin");
+  for (const XMLElement* l = m->FirstChildElement("link"); l && !articulated; l = l->NextSiblingElement("link"))
+    for (const XMLElement* sn = l->FirstChildElement("sensor"); sn && !articulated;
+         sn = sn->NextSiblingElement("sensor"))
+      articulated = sn->FirstChildElement("plugin") != nullptr;
+  if (!articulated)
+    return false;
+  if (m->FirstChildElement("model"))
+    c.fail(where + " <model>", "a model nested in a model with joints or plugins is not simulated");
+  rs.name = m->Attribute("name") ? m->Attribute("name") : "";
+  rs.source = c.source;
+  std::map<std::string, btTransform> pose_of;  // each link's frame in the model's
+  for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
+  {
+    LinkSpec ls;
+    ls.name = l->Attribute("name") ? l->Attribute("name") : "";
+    const std::string lw = where + " <link name='" + ls.name + "'>";
+    if (ls.name.empty() || ls.name == "world" || pose_of.count(ls.name))
+      c.fail(lw, ls.name.empty() ? "missing attribute 'name'" : "a second link of this name (or 'world')");
+    pose_of[ls.name] = c.pose(l, lw);
+    // SDF's defaults: 1 kg, unit moments.
+    ls.has_inertial = true;
+    ls.inertial.mass = 1.0;
+    ls.inertial.ixx = ls.inertial.iyy = ls.inertial.izz = 1.0;
+    if (const XMLElement* in = l->FirstChildElement("inertial"))
+    {
+      const std::string iw = lw + " <inertial>";
+      ls.inertial.mass = c.number(in, "mass", iw, false, 1.0);
+      if (ls.inertial.mass <= 0)
+        c.fail(iw + " <mass>", "mass must be positive");
+      ls.inertial.origin = c.pose(in, iw);
+      if (const XMLElement* I = in->FirstChildElement("inertia"))
+      {
+        const std::string Iw = iw + " <inertia>";
+        ls.inertial.ixx = c.number(I, "ixx", Iw, false, 1.0);
+        ls.inertial.iyy = c.number(I, "iyy", Iw, false, 1.0);
+        ls.inertial.izz = c.number(I, "izz", Iw, false, 1.0);
+        ls.inertial.ixy = c.number(I, "ixy", Iw, false, 0.0);
+        ls.inertial.ixz = c.number(I, "ixz", Iw, false, 0.0);
+        ls.inertial.iyz = c.number(I, "iyz", Iw, false, 0.0);
+      }
+    }
+    ls.collisions = sdfCollisions(c, l, lw);
+    sdfVisualColor(c, l, lw, ls.color);
+    for (const XMLElement* sn = l->FirstChildElement("sensor"); sn; sn = sn->NextSiblingElement("sensor"))
+      ls.sensors.push_back(toXmlNode(sn));
+    checkInertia(c.source, ls, lw, rs.warnings);
+    rs.links.push_back(std::move(ls));
+  }
+  if (rs.links.empty())
+    c.fail(where, "no <link>");
+  std::set<std::string> children, joint_names;
+  for (const XMLElement* j = m->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+  {
+    JointSpec js;
+    js.name = j->Attribute("name") ? j->Attribute("name") : "";
+    const std::string type = j->Attribute("type") ? j->Attribute("type") : "";
+    const std::string jw = where + " <joint name='" + js.name + "'>";
+    if (js.name.empty() || !joint_names.insert(js.name).second)
+      c.fail(jw, js.name.empty() ? "missing attribute 'name'" : "a second joint of this name");
+    if (type == "revolute")
+      js.type = JointSpec::REVOLUTE;
+    else if (type == "continuous")
+      js.type = JointSpec::CONTINUOUS;
+    else if (type == "prismatic")
+      js.type = JointSpec::PRISMATIC;
+    else if (type == "fixed")
+      js.type = JointSpec::FIXED;
+    else
+      c.fail(jw, "type '" + type + "' is not simulated (revolute, continuous, prismatic, fixed)");
+    js.parent = c.text(j, "parent", jw, true);
+    js.child = c.text(j, "child", jw, true);
+    if (js.parent == "world" && !pose_of.count("world"))
+    {
+      LinkSpec world;  // the world itself, as a URDF's `world` link: what anchors the model
+      world.name = "world";
+      rs.links.push_back(world);
+      pose_of["world"] = btTransform::getIdentity();
+    }
+    for (const std::string* l : {&js.parent, &js.child})
+      if (!pose_of.count(*l))
+        c.fail(jw, "no link named '" + *l + "' in the model");
+    if (js.child == "world" || !children.insert(js.child).second)
+      c.fail(jw, "link '" + js.child + "' is the child of a second joint (or the world)");
+    js.origin = pose_of[js.parent].inverse() * pose_of[js.child];
+    js.pivot = c.pose(j, jw);
+    js.axis = btVector3(0, 0, 1);
+    if (const XMLElement* ax = j->FirstChildElement("axis"))
+    {
+      const std::string aw = jw + " <axis>";
+      if (const XMLElement* x = ax->FirstChildElement("xyz"); x && x->GetText())
+      {
+        try
+        {
+          js.axis = parseVec3(x->GetText(), "<xyz>");
+        }
+        catch (const LoadError& e)
+        {
+          c.fail(aw, e.what());
+        }
+        const char* in = x->Attribute("expressed_in");
+        if ((in && std::string(in) == "__model__") || c.text(ax, "use_parent_model_frame", aw, false) == "true")
+          js.axis = (pose_of[js.child] * js.pivot).getBasis().transpose() * js.axis;
+      }
+      if (js.axis.length() < 1e-9)
+        c.fail(aw + " <xyz>", "zero axis");
+      js.axis.normalize();
+      if (const XMLElement* lim = ax->FirstChildElement("limit"))
+      {
+        // SDF's defaults: +-1e16 (no limits), -1 (no effort or velocity limit).
+        js.lower = c.number(lim, "lower", aw + " <limit>", false, -1e16);
+        js.upper = c.number(lim, "upper", aw + " <limit>", false, 1e16);
+        const double effort = c.number(lim, "effort", aw + " <limit>", false, -1);
+        const double velocity = c.number(lim, "velocity", aw + " <limit>", false, -1);
+        js.has_effort = effort >= 0;
+        js.effort = std::max(effort, 0.0);
+        js.has_velocity = velocity >= 0;
+        js.velocity = std::max(velocity, 0.0);
+      }
+      else
+      {
+        js.lower = -1e16;
+        js.upper = 1e16;
+      }
+      js.has_limits = js.type != JointSpec::CONTINUOUS && js.lower > -1e15 && js.upper < 1e15 && js.upper > js.lower;
+      if (js.type == JointSpec::REVOLUTE && !js.has_limits)
+        js.type = JointSpec::CONTINUOUS;  // unlimited, as URDF says it
+      if (const XMLElement* dyn = ax->FirstChildElement("dynamics"))
+      {
+        js.damping = c.number(dyn, "damping", aw + " <dynamics>", false, 0.0);
+        js.friction = c.number(dyn, "friction", aw + " <dynamics>", false, 0.0);
+        if (js.damping < 0 || js.friction < 0)
+          c.fail(aw + " <dynamics>", "negative damping or friction");
+      }
+    }
+    rs.joints.push_back(js);
+  }
+  std::vector<std::string> roots;
+  for (const auto& l : rs.links)
+    if (!children.count(l.name))
+      roots.push_back(l.name);
+  if (roots.empty())
+    c.fail(where, "every link is a joint's child: the joints make a loop");
+  if (roots.size() > 1)
+    c.fail(where, "links '" + roots[0] + "' and '" + roots[1] +
+                      "' are not joined: a model with joints is simulated as one tree of links");
+  rs.root = roots[0];
+  root_in_model = pose_of[rs.root];
+  for (const XMLElement* p = m->FirstChildElement("plugin"); p; p = p->NextSiblingElement("plugin"))
+  {
+    PluginSpec ps;
+    ps.xml = toXmlNode(p);
+    ps.name = ps.xml.attr("name");
+    ps.filename = ps.xml.attr("filename");
+    if (ps.filename.empty())
+      c.fail(where + " <plugin name='" + ps.name + "'>", "missing attribute 'filename'");
+    rs.plugins.push_back(std::move(ps));
+  }
+  addSensorPlugins(rs, where + " <link name='");
+  return true;
+}
+
+// A model's rigid links (nested models flattened into it); with `spawn`, also the robot it is when
+// it has joints or plugins (parseSdfRobot).
+WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string& where_in, SdfSpawn* spawn = nullptr)
 {
   WorldModel model;
   model.name = m->Attribute("name") ? m->Attribute("name") : "";
@@ -184,6 +415,12 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
   model.pose = c.pose(m, where);
   std::string st = c.text(m, "static", where, false, "false");
   model.is_static = (st == "true" || st == "1");
+  if (spawn)
+  {
+    RobotSpec rs;
+    if (parseSdfRobot(c, m, where, rs, spawn->root_in_model))
+      spawn->robot = std::make_shared<RobotSpec>(std::move(rs));
+  }
   for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
   {
     WorldLink link;
@@ -196,48 +433,8 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
       if (link.mass <= 0)
         c.fail(lw + " <inertial> <mass>", "mass must be positive");
     }
-    for (const XMLElement* col = l->FirstChildElement("collision"); col; col = col->NextSiblingElement("collision"))
-    {
-      std::string cw = lw + " <collision name='" + (col->Attribute("name") ? col->Attribute("name") : "") + "'>";
-      Shape s = parseSdfGeometry(c, col->FirstChildElement("geometry"), cw);
-      s.pose = c.pose(col, cw);
-      s.name = col->Attribute("name") ? col->Attribute("name") : "collision";
-      if (const XMLElement* surf = col->FirstChildElement("surface"))
-        if (const XMLElement* fr = surf->FirstChildElement("friction"))
-          if (const XMLElement* ode = fr->FirstChildElement("ode"))
-          {
-            s.mu1 = c.number(ode, "mu", cw + " <friction><ode>", false, 1.0);
-            s.mu2 = c.number(ode, "mu2", cw + " <friction><ode>", false, s.mu1);
-          }
-      link.shapes.push_back(s);
-    }
-    for (const XMLElement* vis = l->FirstChildElement("visual"); vis && !link.has_color;
-         vis = vis->NextSiblingElement("visual"))
-    {
-      const XMLElement* mat = vis->FirstChildElement("material");
-      if (!mat)
-        continue;
-      const XMLElement* col = mat->FirstChildElement("diffuse");
-      if (!col)
-        col = mat->FirstChildElement("ambient");
-      if (!col || !col->GetText())
-      {
-        // <script><name>Gazebo/Orange</name>: one of the stock scripts.
-        const XMLElement* script = mat->FirstChildElement("script");
-        const XMLElement* name = script ? script->FirstChildElement("name") : nullptr;
-        if (name && name->GetText())
-          link.has_color = gazeboMaterialColor(name->GetText(), link.color);
-        continue;
-      }
-      std::string vw = lw + " <visual><material><" + col->Name() + ">";
-      std::istringstream ss(col->GetText());
-      double rgb[3];
-      if (!(ss >> rgb[0] >> rgb[1] >> rgb[2]))
-        c.fail(vw, std::string("expected 'r g b [a]', got '") + col->GetText() + "'");
-      for (int i = 0; i < 3; ++i)
-        link.color[i] = static_cast<float>(std::clamp(rgb[i], 0.0, 1.0));
-      link.has_color = true;
-    }
+    link.shapes = sdfCollisions(c, l, lw);
+    link.has_color = sdfVisualColor(c, l, lw, link.color);
     model.links.push_back(std::move(link));
   }
   // Nested models are flattened into this one.
@@ -256,7 +453,7 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
 
 // Resolves <include><uri>model://X</uri></include>. Returns false for the
 // built-in sun (a light, nothing to simulate).
-bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, WorldModel& out)
+bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, WorldModel& out, SdfSpawn* spawn = nullptr)
 {
   std::string where = "<include>";
   std::string uri = c.text(inc, "uri", where, true);
@@ -305,7 +502,7 @@ bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, Worl
   if (!m)
     throw LoadError(sdf_file + ": no <sdf><model>");
   SdfCtx sub{sdf_file, dir, c.resolver};
-  out = parseSdfModel(sub, m, "");
+  out = parseSdfModel(sub, m, "", spawn);
   if (const char* n = inc->FirstChildElement("name") ? inc->FirstChildElement("name")->GetText() : nullptr)
     out.name = n;
   if (inc->FirstChildElement("pose"))
@@ -313,6 +510,8 @@ bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, Worl
   if (const XMLElement* st = inc->FirstChildElement("static"))
     if (st->GetText())
       out.is_static = std::string(st->GetText()) == "true" || std::string(st->GetText()) == "1";
+  if (spawn && out.is_static)
+    spawn->robot.reset();  // <static> in the <include> wins
   return true;
 }
 }  // namespace
@@ -433,10 +632,12 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
   return world;
 }
 
-WorldModel parseSdfModel(const std::string& xml, const std::string& source, const std::string& base_dir,
-                         const UriResolver& resolver)
+namespace
 {
-  SdfCtx c{source, base_dir, &resolver};
+// One model of an SDF document as spawn_sdf_model takes it: <sdf><model>, a bare <model>, or a
+// <world> of one <model> or <include> (spawn_model -database).
+WorldModel parseSdfDocument(const SdfCtx& c, const std::string& xml, SdfSpawn* spawn)
+{
   tinyxml2::XMLDocument doc;
   c.parse(doc, xml);
   const XMLElement* root = doc.RootElement();
@@ -454,10 +655,10 @@ WorldModel parseSdfModel(const std::string& xml, const std::string& source, cons
       if (items.size() != 1)
         c.fail("<sdf><world>", "holds " + std::to_string(items.size()) + " models; one model was expected");
       if (std::string(items[0]->Name()) == "model")
-        return parseSdfModel(c, items[0], "<world>");
+        return parseSdfModel(c, items[0], "<world>", spawn);
       WorldSpec ignored;
       WorldModel out;
-      if (!parseInclude(c, items[0], ignored, out))
+      if (!parseInclude(c, items[0], ignored, out, spawn))
         c.fail("<sdf><world><include>", "the sun and the ground plane are not models to spawn");
       return out;
     }
@@ -469,7 +670,24 @@ WorldModel parseSdfModel(const std::string& xml, const std::string& source, cons
     m = root;
   else
     c.fail("document", std::string("<") + (root ? root->Name() : "") + ">, where <sdf><model> was expected");
-  return parseSdfModel(c, m, "");
+  return parseSdfModel(c, m, "", spawn);
+}
+}  // namespace
+
+WorldModel parseSdfModel(const std::string& xml, const std::string& source, const std::string& base_dir,
+                         const UriResolver& resolver)
+{
+  return parseSdfDocument(SdfCtx{source, base_dir, &resolver}, xml, nullptr);
+}
+
+SdfSpawn parseSdfSpawn(const std::string& xml, const std::string& source, const std::string& base_dir,
+                       const UriResolver& resolver)
+{
+  SdfSpawn out;
+  out.model = parseSdfDocument(SdfCtx{source, base_dir, &resolver}, xml, &out);
+  if (out.robot)
+    out.robot->name = out.model.name;
+  return out;
 }
 
 namespace

@@ -470,65 +470,14 @@ private:
       return true;
     }
     // As gazebo_ros, either service takes either format: a URDF <robot> is simulated as a robot
-    // (its joints and plugins), an SDF <model> as a world model.
+    // (its joints and plugins), an SDF <model> as spawnSdf says.
     if (req.model_xml.find("<robot") == std::string::npos &&
         (req.model_xml.find("<sdf") != std::string::npos || req.model_xml.find("<model") != std::string::npos))
       return spawnSdf(req, res);
     try
     {
       auto spec = std::make_shared<RobotSpec>(parseUrdf(req.model_xml, "URDF of model '" + req.model_name + "'"));
-      for (const std::string& w : spec->warnings)
-        ROS_WARN("gazebo_lite: %s", w.c_str());
-      const auto& p = req.initial_pose;
-      btQuaternion q(p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w);
-      if (q.length2() < 1e-12)
-        q = btQuaternion::getIdentity();
-      q.normalize();
-      btTransform pose(q, btVector3(p.position.x, p.position.y, p.position.z));
-      std::string ns = req.robot_namespace;
-      Robot& robot = world_->addRobot(spec, req.model_name, ns, pose);
-      ModelEntry entry;
-      entry.name = req.model_name;
-      try
-      {
-        for (size_t i = 0; i < spec->plugins.size(); ++i)
-        {
-          const PluginSpec& ps = spec->plugins[i];
-          PluginContext ctx;
-          ctx.world = world_.get();
-          ctx.robot = &robot;
-          ctx.spec = &ps;
-          ctx.ns = ns;
-          if (const XmlNode* rn = ps.xml.child("robotNamespace"))
-            ctx.ns = rn->text;
-          ros::NodeHandle nsh(ctx.ns);
-          std::string key;
-          if (nsh.searchParam("tf_prefix", key))
-            nsh.getParam(key, ctx.tf_prefix);
-          while (!ctx.tf_prefix.empty() && ctx.tf_prefix[0] == '/')
-            ctx.tf_prefix.erase(0, 1);
-          ctx.tf = &tfb_;
-          ctx.slices = slices_.get();
-          entry.noise.push_back(std::make_unique<std::mt19937>(noiseStream(seed_, req.model_name, i, ps.name)));
-          ctx.rng = entry.noise.back().get();
-          ctx.lockstep = lockstep_.get();
-          ctx.paused = &paused_;
-          if (auto plugin = createPlugin(ctx))
-            entry.plugins.push_back(std::move(plugin));
-        }
-      }
-      catch (...)
-      {
-        world_->removeRobot(req.model_name);
-        throw;
-      }
-      models_.push_back(std::move(entry));
-      if (lockstep_)
-        lockstep_->requireConnections();  // its command inputs must connect first
-      res.success = true;
-      res.status_message = "spawned '" + req.model_name + "'";
-      ROS_INFO("gazebo_lite: spawned '%s' (namespace '%s') with %zu plugins", req.model_name.c_str(), ns.c_str(),
-               models_.back().plugins.size());
+      addRobotModel(spec, initialPose(req), req, res);
     }
     catch (const std::exception& e)
     {
@@ -538,22 +487,87 @@ private:
     return true;
   }
 
-  // An SDF model (spawn_sdf_model): a world model, static or dynamic, at initial_pose times its
-  // own <pose>. Its <plugin>s are not run (said once).
-  bool spawnSdf(SpawnModel::Request& req, SpawnModel::Response& res)
+  static btTransform initialPose(const SpawnModel::Request& req)
   {
     const auto& p = req.initial_pose;
     btQuaternion q(p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w);
     if (q.length2() < 1e-12)
       q = btQuaternion::getIdentity();
     q.normalize();
+    return btTransform(q, btVector3(p.position.x, p.position.y, p.position.z));
+  }
+
+  // A robot (from a URDF, or an SDF model with joints or plugins) with its root link at `pose`, and
+  // its plugins. Throws, having added nothing, when the physics or a plugin refuses it.
+  void addRobotModel(const std::shared_ptr<RobotSpec>& spec, const btTransform& pose, const SpawnModel::Request& req,
+                     SpawnModel::Response& res)
+  {
+    for (const std::string& w : spec->warnings)
+      ROS_WARN("gazebo_lite: %s", w.c_str());
+    std::string ns = req.robot_namespace;
+    Robot& robot = world_->addRobot(spec, req.model_name, ns, pose);
+    ModelEntry entry;
+    entry.name = req.model_name;
     try
     {
-      WorldModel m = parseSdfModel(req.model_xml, "SDF of model '" + req.model_name + "'", ".");
+      for (size_t i = 0; i < spec->plugins.size(); ++i)
+      {
+        const PluginSpec& ps = spec->plugins[i];
+        PluginContext ctx;
+        ctx.world = world_.get();
+        ctx.robot = &robot;
+        ctx.spec = &ps;
+        ctx.ns = ns;
+        if (const XmlNode* rn = ps.xml.child("robotNamespace"))
+          ctx.ns = rn->text;
+        ros::NodeHandle nsh(ctx.ns);
+        std::string key;
+        if (nsh.searchParam("tf_prefix", key))
+          nsh.getParam(key, ctx.tf_prefix);
+        while (!ctx.tf_prefix.empty() && ctx.tf_prefix[0] == '/')
+          ctx.tf_prefix.erase(0, 1);
+        ctx.tf = &tfb_;
+        ctx.slices = slices_.get();
+        entry.noise.push_back(std::make_unique<std::mt19937>(noiseStream(seed_, req.model_name, i, ps.name)));
+        ctx.rng = entry.noise.back().get();
+        ctx.lockstep = lockstep_.get();
+        ctx.paused = &paused_;
+        if (auto plugin = createPlugin(ctx))
+          entry.plugins.push_back(std::move(plugin));
+      }
+    }
+    catch (...)
+    {
+      world_->removeRobot(req.model_name);
+      throw;
+    }
+    models_.push_back(std::move(entry));
+    if (lockstep_)
+      lockstep_->requireConnections();  // its command inputs must connect first
+    res.success = true;
+    res.status_message = "spawned '" + req.model_name + "'";
+    ROS_INFO("gazebo_lite: spawned '%s' (namespace '%s') with %zu plugins", req.model_name.c_str(), ns.c_str(),
+             models_.back().plugins.size());
+  }
+
+  // An SDF model (spawn_sdf_model) at initial_pose times its own <pose>: a robot when it has joints
+  // or plugins (as Gazebo simulates it), else a world model, static or dynamic. The plugins of a
+  // static model are not run (said once).
+  bool spawnSdf(SpawnModel::Request& req, SpawnModel::Response& res)
+  {
+    try
+    {
+      SdfSpawn sdf = parseSdfSpawn(req.model_xml, "SDF of model '" + req.model_name + "'", ".");
+      if (sdf.robot)
+      {
+        addRobotModel(sdf.robot, initialPose(req) * sdf.model.pose * sdf.root_in_model, req, res);
+        return true;
+      }
+      WorldModel& m = sdf.model;
       if (req.model_xml.find("<plugin") != std::string::npos)
-        ROS_WARN("gazebo_lite: spawn '%s': the SDF model's <plugin>s are not run", req.model_name.c_str());
+        ROS_WARN("gazebo_lite: spawn '%s': the static model's <plugin>s are not run", req.model_name.c_str());
       m.name = req.model_name;
-      m.pose = btTransform(q, btVector3(p.position.x, p.position.y, p.position.z)) * m.pose;
+      m.pose = initialPose(req) * m.pose;
       world_->addModel(m);
       if (m.is_static)
         slices_->invalidate();  // the lasers' slices and the cameras' scene of the static world
