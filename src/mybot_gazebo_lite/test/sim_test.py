@@ -578,6 +578,7 @@ class StatesTests(unittest.TestCase):
         try:
             props = rospy.ServiceProxy('/gazebo/get_model_properties', GetModelProperties)(model_name='flap')
             self.assertEqual((props.body_names, props.joint_names), (['post', 'leaf'], ['hinge']))
+            self.assertEqual(props.geom_names, ['c', 'c'])  # the SDF's own collision names
             res = rospy.ServiceProxy('/gazebo/apply_joint_effort', ApplyJointEffort)(
                 joint_name='flap::hinge', effort=2.0, start_time=rospy.Time(0), duration=rospy.Duration(0.5))
             self.assertTrue(res.success, res.status_message)

@@ -168,7 +168,8 @@ struct DynamicObstacle
 // What gazebo_ros's get_model_properties tells of a model, as Gazebo builds it from a URDF: one
 // link per moving body (a fixed joint's child is lumped into its parent), the movable joints, and
 // the collisions named as Gazebo's URDF conversion names them ("<link>_collision", the body's
-// n-th from the second on "_<n>", a lumped child's "<link>_fixed_joint_lump__<child>_collision").
+// n-th from the second on "_<n>", a lumped child's "<link>_fixed_joint_lump__<child>_collision";
+// an SDF model's keep their own names).
 struct ModelProperties
 {
   std::string canonical_link;  // the root link (a "world" root: its first child body)

@@ -1262,7 +1262,9 @@ bool PhysicsWorld::modelProperties(const std::string& model, ModelProperties& ou
           continue;
         const std::string base = m.name == l.name ? l.name : l.name + "_fixed_joint_lump__" + m.name;
         for (size_t k = 0; k < m.collisions.size(); ++k, ++n)
-          out.collisions.push_back(base + "_collision" + (n > 0 ? "_" + std::to_string(n) : ""));
+          out.collisions.push_back(!m.collisions[k].name.empty()  // an SDF model's own name
+                                       ? m.collisions[k].name
+                                       : base + "_collision" + (n > 0 ? "_" + std::to_string(n) : ""));
       }
     }
     if (!out.links.empty())
