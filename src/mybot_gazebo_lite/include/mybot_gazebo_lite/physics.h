@@ -154,10 +154,6 @@ private:
   bool record_points_ = false;
   std::vector<btMultiBodyConstraint*> constraints_;
   std::vector<std::unique_ptr<std::vector<Surface>>> child_mu_;
-  // The links' cached world transforms are of before the last step (see bodyWorld).
-  mutable bool transforms_stale_ = false;
-  mutable btAlignedObjectArray<btQuaternion> fk_q_;
-  mutable btAlignedObjectArray<btVector3> fk_m_;
 };
 
 // A collision object that may intersect a sensor ray (robots and dynamic world bodies).

@@ -115,15 +115,7 @@ std::vector<std::string> Robot::movableJoints() const
 
 btTransform Robot::bodyWorld(const LinkRef& ref) const
 {
-  if (ref.body < 0)
-    return mb_->getBaseWorldTransform();
-  if (transforms_stale_)
-  {
-    // Only when a link off the base is asked for: most steps nobody asks.
-    mb_->forwardKinematics(fk_q_, fk_m_);
-    transforms_stale_ = false;
-  }
-  return mb_->getLink(ref.body).m_cachedWorldTransform;
+  return ref.body < 0 ? mb_->getBaseWorldTransform() : mb_->getLink(ref.body).m_cachedWorldTransform;
 }
 
 btTransform Robot::linkPose(const std::string& link) const
@@ -651,7 +643,6 @@ void PhysicsWorld::setRobotPose(Robot& r, const btTransform& root_pose, const bt
 void PhysicsWorld::syncRobotTransforms(Robot& r)
 {
   r.mb_->forwardKinematics(scratch_q_, scratch_m_);
-  r.transforms_stale_ = false;
   r.mb_->updateCollisionObjectWorldTransforms(scratch_q_, scratch_m_);
   for (auto* c : r.colliders_)
     world_->updateSingleAabb(c);
@@ -743,10 +734,10 @@ void PhysicsWorld::step()
   applyWrenches();
   applyEfforts();
   world_->stepSimulation(dt, 0, dt);
-  // Bullet leaves the links' cached world transforms where the step began (a link on a turning
-  // joint was reported a step behind its joint's position): bodyWorld refreshes them when asked.
+  // The links' world transforms at the new joint positions: Bullet leaves the cached ones where
+  // the step began (a link on a turning joint was reported a step behind its joint's position).
   for (auto& rp : robots_)
-    rp->transforms_stale_ = true;
+    rp->mb_->forwardKinematics(scratch_q_, scratch_m_);
   ++steps_;
   time_ = time_base_ + (steps_ - steps_base_) * dt;
   updateContacts();
