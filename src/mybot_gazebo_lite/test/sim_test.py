@@ -23,10 +23,11 @@ from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
-from gazebo_msgs.msg import LinkState, LinkStates, ModelState, ModelStates, ODEPhysics
+from gazebo_msgs.msg import LinkState, LinkStates, ModelState, ModelStates, ODEJointProperties, ODEPhysics
 from gazebo_msgs.srv import (ApplyBodyWrench, ApplyJointEffort, BodyRequest, DeleteModel, GetJointProperties,
-                              GetLinkState, GetModelProperties, GetModelState, GetPhysicsProperties, GetWorldProperties,
-                              SetLinkState, SetModelState, SetPhysicsProperties, SpawnModel)
+                              GetLinkProperties, GetLinkState, GetModelProperties, GetModelState, GetPhysicsProperties,
+                              GetWorldProperties, SetJointProperties, SetLinkProperties, SetLinkState, SetModelState,
+                              SetPhysicsProperties, SpawnModel)
 from mybot_gazebo_lite.msg import ModelContacts
 from mybot_common.geometry import wrap, yaw_of
 from mybot_lockstep import participant
@@ -618,6 +619,66 @@ class StatesTests(unittest.TestCase):
         finally:
             for name in ('table', 'table2'):
                 rospy.ServiceProxy('/gazebo/delete_model', DeleteModel)(model_name=name)
+
+
+    def test_link_and_joint_properties_as_gazebo_sets_them(self):
+        """get/set_link_properties and set_joint_properties on a turntable: its plate's mass, the
+        joint's motor (ODE's vel and fmax) and stops."""
+        with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), 'fixtures', 'turntable.urdf')) as f:
+            urdf = f.read()
+        pose = Pose()
+        pose.position.y, pose.orientation.w = 3.0, 1.0
+        res = rospy.ServiceProxy('/gazebo/spawn_urdf_model', SpawnModel)(model_name='table', model_xml=urdf,
+                                                                          initial_pose=pose)
+        self.assertTrue(res.success, res.status_message)
+        get_link = rospy.ServiceProxy('/gazebo/get_link_properties', GetLinkProperties)
+        set_link = rospy.ServiceProxy('/gazebo/set_link_properties', SetLinkProperties)
+        set_joint = rospy.ServiceProxy('/gazebo/set_joint_properties', SetJointProperties)
+        get_joint = rospy.ServiceProxy('/gazebo/get_joint_properties', GetJointProperties)
+        try:
+            plate = get_link(link_name='table::plate')
+            self.assertTrue(plate.success, plate.status_message)
+            self.assertEqual(plate.status_message, 'GetLinkProperties: got properties')
+            self.assertAlmostEqual(plate.com.position.x, 0.1, delta=1e-6)
+            self.assertEqual(plate.com.orientation.w, 1.0)
+            self.assertAlmostEqual(plate.mass, 0.5, delta=1e-6)
+            self.assertAlmostEqual(plate.izz, 0.004, delta=1e-6)
+            self.assertTrue(plate.gravity_mode)
+
+            # The joint's motor: 1 rad/s at up to 5 N m (ODE's erp is not applied: no error either).
+            res = set_joint(joint_name='table::turn',
+                            ode_joint_config=ODEJointProperties(fmax=[5.0], vel=[1.0], erp=[0.2]))
+            self.assertTrue(res.success, res.status_message)
+            self.r.settle(0.5)
+            self.assertAlmostEqual(get_joint(joint_name='table::turn').rate[0], 1.0, delta=0.02)
+            # A stop at 0.8 rad holds it there.
+            res = set_joint(joint_name='table::turn', ode_joint_config=ODEJointProperties(hiStop=[0.8]))
+            self.assertTrue(res.success, res.status_message)
+            self.r.settle(1.0)
+            self.assertAlmostEqual(get_joint(joint_name='table::turn').position[0], 0.8, delta=0.02)
+            res = set_joint(joint_name='table::turn', ode_joint_config=ODEJointProperties(loStop=[1.0]))
+            self.assertFalse(res.success)
+            self.assertIn('is above hiStop[0]', res.status_message)
+
+            # Twice the plate: the same motor still turns it; a NaN or a moved centre of mass is refused.
+            res = set_link(link_name='table::plate', com=plate.com, gravity_mode=True, mass=1.0, ixx=2 * plate.ixx,
+                           ixy=0.0, ixz=0.0, iyy=2 * plate.iyy, iyz=0.0, izz=2 * plate.izz)
+            self.assertTrue(res.success, res.status_message)
+            self.assertAlmostEqual(get_link(link_name='table::plate').mass, 1.0, delta=1e-6)
+            res = set_link(link_name='table::plate', com=plate.com, gravity_mode=True, mass=float('nan'),
+                           ixx=plate.ixx, iyy=plate.iyy, izz=plate.izz)
+            self.assertFalse(res.success)
+            self.assertIn('mass', res.status_message)
+            moved = Pose()
+            moved.position.x, moved.orientation.w = 0.3, 1.0
+            res = set_link(link_name='table::plate', com=moved, gravity_mode=True, mass=1.0, ixx=plate.ixx,
+                           iyy=plate.iyy, izz=plate.izz)
+            self.assertFalse(res.success)
+            self.assertIn("centre of mass", res.status_message)
+            self.assertAlmostEqual(get_link(link_name='table::plate').mass, 1.0, delta=1e-6)
+            self.assertFalse(get_link(link_name='table::nothing').success)
+        finally:
+            rospy.ServiceProxy('/gazebo/delete_model', DeleteModel)(model_name='table')
 
 
 class RestTests(unittest.TestCase):

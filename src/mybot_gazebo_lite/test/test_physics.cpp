@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <tuple>
@@ -65,6 +66,17 @@ std::string armUrdf(bool rooted, const std::string& shoulder)
     </link>
     <joint name="shoulder" type=")" +
          shoulder + R"(</joint></robot>)";
+}
+
+// armUrdf rooted, its shoulder a revolute about y with limits [-2, 2] rad: horizontal at 0, gravity
+// pitches it down (+). `dynamics`: a <dynamics> element, or nothing.
+std::shared_ptr<RobotSpec> pitchingArm(const std::string& dynamics = "")
+{
+  return std::make_shared<RobotSpec>(
+      parseUrdf(armUrdf(true, R"(revolute"><parent link="base_link"/><child link="arm_link"/>
+      <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="50" velocity="5"/>)" +
+                                  dynamics),
+                "arm.urdf"));
 }
 
 void run(PhysicsWorld& w, double seconds)
@@ -476,10 +488,7 @@ TEST(Physics, ModelPropertiesAsGazeboBuildsTheModel)
 // joint it does not know, a position past the limits or lists of different lengths change nothing.
 TEST(Physics, ModelConfigurationSetsJointsAtOnce)
 {
-  const std::string urdf = armUrdf(true, R"(revolute"><parent link="base_link"/><child link="arm_link"/>
-      <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="50" velocity="2"/>
-      <dynamics damping="0.7"/>)");
-  auto spec = std::make_shared<RobotSpec>(parseUrdf(urdf, "arm.urdf"));
+  auto spec = pitchingArm(R"(<dynamics damping="0.7"/>)");
   PhysicsWorld w(flatWorld(), {});
   Robot& r = w.addRobot(spec, "arm", "", makeTransform(btVector3(0, 0, 0), btVector3(0, 0, 0)));
   ModelProperties mp;
@@ -518,6 +527,187 @@ TEST(Physics, ModelConfigurationSetsJointsAtOnce)
   }
   EXPECT_NE(w.setJointPositions("nobody", {}, {}).find("no model named 'nobody'"), std::string::npos);
   EXPECT_NE(w.jointProperties("elbow", jp), "");
+}
+
+// get_link_properties reports a body as Gazebo does: its centre of mass in the link frame and its
+// inertia in the link frame's axes (a tensor with products comes back as the URDF gives it, though
+// Bullet holds it along its principal axes); a link lumped into another is not one.
+TEST(Physics, LinkPropertiesAsGazeboReportsThem)
+{
+  auto spec = pitchingArm();
+  PhysicsWorld w(flatWorld(), {});
+  w.addRobot(spec, "arm", "", btTransform::getIdentity());
+  LinkProperties p;
+  ASSERT_EQ(w.linkProperties("arm::arm_link", p), "");
+  EXPECT_NEAR((p.com - btVector3(0.25, 0, 0)).length(), 0, 1e-9);
+  EXPECT_NEAR(p.mass, 1.0, 1e-9);
+  const double want[3][3] = {{0.0004, 0, 0}, {0, 0.021, 0}, {0, 0, 0.021}};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(p.inertia[i][k], want[i][k], 1e-9) << i << k;
+  EXPECT_TRUE(p.gravity_mode);
+  ASSERT_EQ(w.linkProperties("base_link", p), "");  // one model alone has it
+  EXPECT_NEAR(p.mass, 4.0, 1e-9);
+  EXPECT_NE(w.linkProperties("arm::world", p), "");  // the world is no link
+
+  // A tensor with products, off its link frame's origin.
+  const std::string tilted = R"(<robot name="tilted"><link name="body">
+      <collision><geometry><box size="0.4 0.2 0.1"/></geometry></collision>
+      <inertial><origin xyz="0.05 -0.02 0.01"/><mass value="2"/>
+        <inertia ixx="0.03" ixy="0.01" ixz="-0.004" iyy="0.02" iyz="0.002" izz="0.04"/></inertial></link></robot>)";
+  w.addRobot(std::make_shared<RobotSpec>(parseUrdf(tilted, "tilted.urdf")), "tilted", "",
+             makeTransform(btVector3(3, 0, 1), btVector3(0, 0, 0)));
+  ASSERT_EQ(w.linkProperties("tilted::body", p), "");
+  EXPECT_NEAR((p.com - btVector3(0.05, -0.02, 0.01)).length(), 0, 1e-9);
+  const double full[3][3] = {{0.03, 0.01, -0.004}, {0.01, 0.02, 0.002}, {-0.004, 0.002, 0.04}};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(p.inertia[i][k], full[i][k], 1e-6) << i << k;  // Bullet's single-precision floats
+
+  auto bot = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
+  w.addRobot(bot, "bot", "", makeTransform(btVector3(-3, 0, 0.1), btVector3(0, 0, 0)));
+  const std::string lumped = w.linkProperties("bot::hokuyo", p);
+  EXPECT_NE(lumped.find("lumped into 'bot::base_footprint'"), std::string::npos) << lumped;
+  w.addModel(boxModel("crate", btVector3(2, 3, 0.1), btVector3(0.2, 0.2, 0.2), false));
+  w.addModel(boxModel("wall", btVector3(-2, 3, 0.5), btVector3(0.1, 2, 1), true));
+  ASSERT_EQ(w.linkProperties("crate::link", p), "");
+  EXPECT_NEAR(p.mass, 1.0, 1e-6);
+  EXPECT_NEAR(p.inertia[0][0], 1.0 / 12 * (0.04 + 0.04), 1e-6);  // a 0.2 m cube's
+  ASSERT_EQ(w.linkProperties("wall::link", p), "");
+  EXPECT_NEAR(p.mass, 1.0, 1e-9);
+  EXPECT_EQ(p.inertia[0][0], 0.0);  // static: not simulated
+  const std::string two = w.linkProperties("link", p);
+  EXPECT_NE(two.find("is in 3 models (ground_plane, crate, ..."), std::string::npos) << two;
+  EXPECT_NE(w.linkProperties("arm::nothing", p).find("no link named 'arm::nothing'"), std::string::npos);
+}
+
+// set_link_properties: a new mass and inertia change how a torque turns a link, gravity_mode false
+// takes its weight away; a moved centre of mass, turned axes or an unphysical body change nothing.
+TEST(Physics, LinkPropertiesChangeMassInertiaAndGravity)
+{
+  auto spec = pitchingArm();
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(spec, "arm", "", btTransform::getIdentity());
+  LinkProperties p;
+  ASSERT_EQ(w.linkProperties("arm::arm_link", p), "");
+
+  // Weightless, the horizontal arm stays where it is.
+  p.gravity_mode = false;
+  ASSERT_EQ(w.setLinkProperties("arm::arm_link", p), "");
+  run(w, 0.5);
+  EXPECT_NEAR(r.jointPosition("shoulder"), 0.0, 1e-6);
+  LinkProperties q;
+  ASSERT_EQ(w.linkProperties("arm::arm_link", q), "");
+  EXPECT_FALSE(q.gravity_mode);
+
+  // 1 N m for 0.1 s about the shoulder: omega = t / (iyy + m d^2), d = 0.25 m.
+  const auto spin = [&]()
+  {
+    w.setJointPositions("arm", {"shoulder"}, {0.0});
+    w.applyJointEffort("shoulder", 1.0, w.time(), 0.1);
+    run(w, 0.1);
+    return r.jointVelocity("shoulder");
+  };
+  EXPECT_NEAR(spin(), 0.1 / (0.021 + 0.0625), 0.01 * 0.1 / 0.0835);
+  p.mass = 2;
+  p.inertia = p.inertia * 2.0;
+  ASSERT_EQ(w.setLinkProperties("arm::arm_link", p), "");
+  EXPECT_NEAR(spin(), 0.1 / (0.042 + 0.125), 0.01 * 0.1 / 0.167);
+
+  // Refused, and nothing changes.
+  for (const auto& [change, says] :
+       std::vector<std::pair<std::function<void(LinkProperties&)>, std::string>>{
+           {[](LinkProperties& x) { x.com += btVector3(0.01, 0, 0); }, "is not where the link's centre of mass is"},
+           {[](LinkProperties& x) { x.inertia[0][1] = x.inertia[1][0] = 0.005; }, "principal axes"},
+           {[](LinkProperties& x) { x.mass = 0; }, "must be > 0"},
+           {[](LinkProperties& x) { x.inertia = btMatrix3x3(1, 0, 0, 0, 0.1, 0, 0, 0, 0.1); }, "are not a body's"},
+       })
+  {
+    LinkProperties bad = p;
+    change(bad);
+    const std::string why = w.setLinkProperties("arm::arm_link", bad);
+    EXPECT_NE(why.find(says), std::string::npos) << why;
+    ASSERT_EQ(w.linkProperties("arm::arm_link", q), "");
+    EXPECT_EQ(q.mass, 2.0);
+  }
+
+  // A world model's body too; a static one is refused.
+  w.addModel(boxModel("crate", btVector3(2, 0, 3), btVector3(0.2, 0.2, 0.2), false));
+  w.addModel(boxModel("wall", btVector3(-2, 0, 0.5), btVector3(0.1, 2, 1), true));
+  ASSERT_EQ(w.linkProperties("crate::link", q), "");
+  q.gravity_mode = false;
+  q.mass = 5;
+  q.inertia = q.inertia * 5.0;
+  ASSERT_EQ(w.setLinkProperties("crate::link", q), "");
+  run(w, 0.5);
+  Pose crate;
+  ASSERT_TRUE(w.entityState("crate::link", crate));
+  EXPECT_NEAR(crate.tf.getOrigin().z(), 3.0, 1e-6);
+  ASSERT_EQ(w.linkProperties("crate::link", q), "");
+  EXPECT_NEAR(q.mass, 5.0, 1e-6);
+  ASSERT_EQ(w.linkProperties("wall::link", q), "");
+  EXPECT_NE(w.setLinkProperties("wall::link", q).find("is static"), std::string::npos);
+}
+
+// set_joint_properties: damping, stops, and ODE's joint motor (vel at up to fmax); a list with a
+// value per axis past the first, stops the wrong way round or vel with no motor change nothing.
+TEST(Physics, JointPropertiesSetDampingStopsAndMotor)
+{
+  auto spec = pitchingArm(R"(<dynamics damping="0.7"/>)");
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(spec, "arm", "", btTransform::getIdentity());
+  JointProperties jp;
+
+  JointSettings s;
+  s.damping = {0.0};
+  s.lower = {-0.3};
+  s.upper = {0.3};
+  ASSERT_EQ(w.setJointProperties("shoulder", s), "");
+  ASSERT_EQ(w.jointProperties("shoulder", jp), "");
+  EXPECT_EQ(jp.damping, 0.0);
+  run(w, 1.0);  // gravity swings the arm down (+y pitch) onto the new stop
+  EXPECT_NEAR(r.jointPosition("shoulder"), 0.3, 0.02);
+  EXPECT_NE(w.setJointPositions("arm", {"shoulder"}, {1.0}).find("beyond the limits [-0.3, 0.3]"), std::string::npos);
+
+  // The motor: 1 rad/s against gravity's 2.45 N m at most, within stops wide apart.
+  s = JointSettings();
+  s.lower = {-100};
+  s.upper = {100};
+  s.fmax = {10};
+  s.vel = {-1};
+  ASSERT_EQ(w.setJointProperties("arm::shoulder", s), "");
+  run(w, 0.5);
+  EXPECT_NEAR(r.jointVelocity("shoulder"), -1.0, 0.02);
+  s = JointSettings();
+  s.vel = {0.5};  // the motor runs: a new velocity alone
+  ASSERT_EQ(w.setJointProperties("shoulder", s), "");
+  run(w, 0.2);
+  EXPECT_NEAR(r.jointVelocity("shoulder"), 0.5, 0.02);
+  s = JointSettings();
+  s.fmax = {0};  // off: the arm swings free
+  ASSERT_EQ(w.setJointProperties("shoulder", s), "");
+
+  for (const auto& [change, says] :
+       std::vector<std::pair<std::function<void(JointSettings&)>, std::string>>{
+           {[](JointSettings& x) {
+              x.damping = {1, 2};
+            },
+            "has one axis: damping has 2 values"},
+           {[](JointSettings& x) { x.upper = {std::nan("")}; }, "hiStop[0] is not a number"},
+           {[](JointSettings& x) { x.lower = {0.5}, x.upper = {0.2}; }, "is above hiStop[0]"},
+           {[](JointSettings& x) { x.damping = {-1}; }, "must be >= 0"},
+           {[](JointSettings& x) { x.vel = {1}; }, "vel without fmax"},
+       })
+  {
+    JointSettings bad;
+    change(bad);
+    const std::string why = w.setJointProperties("shoulder", bad);
+    EXPECT_NE(why.find(says), std::string::npos) << why;
+    ASSERT_EQ(w.jointProperties("shoulder", jp), "");
+    EXPECT_EQ(jp.damping, 0.0);
+  }
+  EXPECT_NE(w.setJointProperties("elbow", s).find("no movable joint named 'elbow'"), std::string::npos);
+  EXPECT_EQ(w.setJointPositions("arm", {"shoulder"}, {1.0}), "");  // the wide stops hold
 }
 
 // set_link_state moves a world model's link, or a robot by a link on its root body; a link that

@@ -3,6 +3,7 @@
 The node feeds it commands and the current (ROS) time; everything here is
 deterministic and testable with a fake backend.
 """
+import contextlib
 import math
 import threading
 
@@ -24,7 +25,12 @@ class WheelState:
 class DriverCore:
     """Owns the backend; every backend call goes through here under one lock
     (subscriber callbacks, the main loop and the watchdog run in different threads,
-    and the GoPiGo libraries are not thread safe)."""
+    and the GoPiGo libraries are not thread safe).
+
+    Messages are logged once the lock is released: a rospy log call asks the ROS master for a
+    parameter every time (rosout's /rosout_disable_topics_generation, unless it is set), so with
+    the master unreachable it blocks (1.3 s measured in test_two_machines), and a stop written
+    by another thread must not wait for it."""
 
     def __init__(self, backend, cmd_timeout=0.5, velocity_window=0.2, log=None):
         if not (cmd_timeout > 0.0 and math.isfinite(cmd_timeout)):
@@ -39,22 +45,63 @@ class DriverCore:
         self.stop_reason = "no command yet"
         self.inhibited = None             # reason commands are refused (e.g. master lost)
         self.closed = False               # after shutdown() the backend is never driven again
-        self.log = log or (lambda level, msg: None)
+        self.stop_written = None          # time a wheel's zero was written on receipt (see command)
+        self._log = log or (lambda level, msg: None)
+        self._depth = 0                   # how deep the lock's owner holds it (an RLock)
+        self._owner = None                # the thread holding it
+        self._pending = []                # messages to log once it is released
+
+    @contextlib.contextmanager
+    def _locked(self):
+        """The lock; the messages logged meanwhile are logged after it is released."""
+        with self._lock:
+            self._depth += 1
+            self._owner = threading.get_ident()
+            try:
+                yield
+            finally:
+                self._depth -= 1
+                pending = []
+                if self._depth == 0:
+                    self._owner = None
+                    pending, self._pending = self._pending, []
+        for level, msg in pending:
+            self._log(level, msg)
+
+    def log(self, level, msg):
+        if self._owner == threading.get_ident():
+            self._pending.append((level, msg))
+        else:
+            self._log(level, msg)
+
+    @property
+    def lock(self):
+        """Held around every backend call; hold it to read the backend from another thread."""
+        return self._lock
 
     # ---- inputs -----------------------------------------------------------
     def command(self, wheel, angular_vel, t):
-        """A wheel speed command (rad/s) received at time t. Returns False if rejected."""
+        """A wheel speed command (rad/s) received at time t. Returns False if rejected.
+
+        A wheel commanded to zero while the motors run is written at once: the loop would
+        write it up to a period (1 / rate) later, and a stop (a released key, a controller
+        whose input timed out) should not wait for the loop. Other commands wait for it, so
+        the motors are written at the loop's rate."""
         if not math.isfinite(angular_vel):
             self.log("error", "non-finite %s wheel command %r ignored" % ("left" if wheel == LEFT else "right", angular_vel))
             return False
-        with self._lock:
+        with self._locked():
+            stopping = angular_vel == 0.0 and self._targets[wheel] != 0.0
             self._targets[wheel] = float(angular_vel)
             self._stamps[wheel] = t
+            if stopping and not self.stopped:
+                self.write_commands(t)
+                self.stop_written = t
         return True
 
     def inhibit(self, reason, t):
         """Refuse commands and stop until release() (master lost, fatal error)."""
-        with self._lock:
+        with self._locked():
             if self.inhibited is None:
                 self.log("error", "stopping motors: %s" % reason)
             self.inhibited = reason
@@ -62,7 +109,7 @@ class DriverCore:
             self._stop(t, reason)
 
     def release(self):
-        with self._lock:
+        with self._locked():
             if self.inhibited is not None:
                 self.log("info", "commands accepted again (was: %s)" % self.inhibited)
             self.inhibited = None
@@ -77,20 +124,20 @@ class DriverCore:
 
     def deadline(self):
         """ROS time at which the motors must be stopped if no new command comes, or None."""
-        with self._lock:
+        with self._locked():
             if self.stopped or None in self._stamps:
                 return None
             return min(self._stamps) + self.cmd_timeout
 
     def check_timeout(self, t):
         """Stop the motors if the commands went stale. Returns True when stopped."""
-        with self._lock:
+        with self._locked():
             if not self.stopped and (self.inhibited is not None or not self.command_fresh(t)):
                 self._stop(t, "no command for %.2f s" % self.cmd_timeout)
             return self.stopped
 
     def emergency_stop(self, reason, t=None):
-        with self._lock:
+        with self._locked():
             self._stamps = [None, None]
             self._stop(t, reason)
 
@@ -108,7 +155,7 @@ class DriverCore:
     # ---- main loop --------------------------------------------------------
     def write_commands(self, t):
         """Send the current targets if fresh, otherwise hold the motors stopped."""
-        with self._lock:
+        with self._locked():
             if self.closed:
                 return False
             if self.inhibited is None and self.command_fresh(t):
@@ -124,7 +171,7 @@ class DriverCore:
 
     def read_state(self, t):
         """WheelState at t, or None if the encoders could not be read this cycle."""
-        with self._lock:
+        with self._locked():
             if self.closed:
                 return None
             try:
@@ -140,12 +187,12 @@ class DriverCore:
         return self.read_state(t)
 
     def battery_voltage(self):
-        with self._lock:
+        with self._locked():
             return None if self.closed else self.backend.battery_voltage()
 
     def shutdown(self):
         """Stop and release the hardware (node exit); safe to call more than once."""
-        with self._lock:
+        with self._locked():
             if self.closed:
                 return
             try:

@@ -73,7 +73,10 @@ class DriverNode:
 
     def _on_cmd(self, msg, wheel):
         self._last_cmd_wall = time.monotonic()
-        self.core.command(wheel, msg.data, rospy.get_rostime().to_sec())
+        t = rospy.get_rostime().to_sec()
+        written = self.core.stop_written
+        if self.core.command(wheel, msg.data, t) and self.core.stop_written != written:
+            self._publish_truth(rospy.Time.from_sec(t))  # a stop written on receipt
 
     # ---- watchdog thread (wall clock: it watches the network and the clock itself)
     def _watchdog(self):
@@ -108,16 +111,21 @@ class DriverNode:
         js.position = list(state.positions)
         js.velocity = list(state.velocities)
         self.js_pub.publish(js)
-        if self.truth_pub is not None:
-            truth = JointState()
-            truth.header.stamp = js.header.stamp
-            truth.name = js.name
-            truth.position, truth.velocity = (list(x) for x in self.core.backend.true_state())
-            truth.effort = [float(c) for c in self.core.backend.last_commands]  # motor commands applied
-            self.truth_pub.publish(truth)
+        self._publish_truth(js.header.stamp)
         if self.enc_pubs is not None:
             self.enc_pubs[0].publish(Float32(state.velocities[0]))
             self.enc_pubs[1].publish(Float32(state.velocities[1]))
+
+    def _publish_truth(self, stamp):
+        if self.truth_pub is None:
+            return
+        truth = JointState()
+        truth.header.stamp = stamp
+        truth.name = self.joint_state.name
+        with self.core.lock:  # the loop and the command callbacks both publish it
+            truth.position, truth.velocity = (list(x) for x in self.core.backend.true_state())
+            truth.effort = [float(c) for c in self.core.backend.last_commands]  # motor commands applied
+        self.truth_pub.publish(truth)
 
     def _battery(self, t):
         if self.cfg.battery_rate <= 0 or t < self._next_battery:

@@ -12,7 +12,7 @@ stop is timed on the pi itself, not through the cut link. Steps:
   1. a cmd_vel on the host moves the simulated motors on the pi, and the host's
      odometry advances;
   2. `ip link set <host-veth> down`: the pi stops the motors within 0.6 s and they
-     stay still during the outage;
+     stay still during the outage, the driver's loop running on (no second without a sample);
   3. `ip link set <host-veth> up`: control resumes.
 Exit 0 when every check passes; a message per failure otherwise.
 """
@@ -195,6 +195,13 @@ def main():
             if driven:
                 failures.append("motors driven again during the outage: %s at %.2f s after the cut"
                                 % (driven[0][3], driven[0][0] - t_cut))
+            # The driver's loop runs on through the outage (a rospy log call blocked it for 1.3 s
+            # while the master was unreachable, until 2026-12-01): no gap of a second in its samples.
+            stamps = [t_stop] + [r[0] for r in outage] + [t_restore - 0.1]
+            gap = max(b - a for a, b in zip(stamps, stamps[1:]))
+            log("longest gap in the pi's samples during the outage: %.3f s" % gap)
+            if gap > 1.0:
+                failures.append("the driver stopped publishing for %.2f s during the outage" % gap)
             settled = [r for r in outage if r[0] > t_stop + 0.5]  # motor time constant 0.1 s
             if settled:
                 spread = max(max(r[1][i] for r in settled) - min(r[1][i] for r in settled) for i in (0, 1))

@@ -1,3 +1,5 @@
+import threading
+
 import pytest
 
 from gopigo_bringup.backends import Backend, BackendError, SimBackend
@@ -61,6 +63,64 @@ def test_timeout_stops_within_cmd_timeout():
     core.step(t + 1.0)
     assert len(b.writes) == n       # stays stopped, stop re-sent
     assert b.stops >= 2
+
+
+def test_a_stop_is_written_on_receipt_other_commands_in_the_loop():
+    b = RecordingBackend()
+    core = DriverCore(b, cmd_timeout=0.5)
+    core.command(LEFT, 2.0, 1.0)
+    core.command(RIGHT, 2.0, 1.0)
+    assert b.writes == []                        # driving waits for the loop
+    core.step(1.0)
+    core.command(LEFT, 1.0, 1.02)
+    core.command(RIGHT, 1.0, 1.02)
+    assert b.writes == [(2.0, 2.0, 1.0)]         # so does slowing down
+    core.command(LEFT, 0.0, 1.03)                # a wheel stopping is written at once
+    assert b.writes[-1] == (0.0, 1.0, 1.03) and core.stop_written == 1.03
+    core.command(RIGHT, 0.0, 1.04)
+    assert b.writes[-1] == (0.0, 0.0, 1.04) and core.stop_written == 1.04
+    core.command(RIGHT, 0.0, 1.05)               # already zero: nothing new to write
+    assert len(b.writes) == 3 and core.stop_written == 1.04
+
+
+def test_a_zero_while_stopped_or_stale_drives_nothing():
+    b = RecordingBackend()
+    core = DriverCore(b, cmd_timeout=0.5)
+    core.command(LEFT, 2.0, 1.0)
+    core.command(LEFT, 0.0, 1.0)                 # never driven: stays stopped
+    assert b.writes == [] and core.stopped and core.stop_written is None
+    core.command(RIGHT, 2.0, 1.0)
+    core.command(LEFT, 2.0, 1.0)
+    core.step(1.0)
+    core.command(LEFT, 0.0, 2.0)                 # the right wheel's command is stale by now
+    assert b.writes == [(2.0, 2.0, 1.0)] and core.stopped and "no command" in core.stop_reason
+
+
+def test_messages_are_logged_with_the_lock_released():
+    """A log call may block (rospy asks the master for a parameter): the lock must be free then."""
+    logged = []
+
+    def log(level, msg):
+        free = []
+        t = threading.Thread(target=lambda: free.append(core.lock.acquire(blocking=False) and not core.lock.release()))
+        t.start()
+        t.join()
+        logged.append((msg, free[0]))
+
+    b = RecordingBackend()
+    core = DriverCore(b, cmd_timeout=0.5, log=log)
+    core.command(LEFT, 2.0, 1.0)
+    core.command(RIGHT, 2.0, 1.0)
+    core.step(1.0)                 # "motors driven"
+    core.step(2.0)                 # stale: "motors stopped"
+    core.inhibit("master lost", 2.1)
+    core.release()
+    b.fail = True
+    core.step(2.2)                 # a read failure is logged too
+    assert [m for m, _ in logged] == ["motors driven (commands fresh)", "motors stopped: no command for 0.50 s",
+                                      "stopping motors: master lost", "commands accepted again (was: master lost)",
+                                      "read failed"]
+    assert all(free for _, free in logged), logged
 
 
 def test_one_stale_wheel_stops_both():

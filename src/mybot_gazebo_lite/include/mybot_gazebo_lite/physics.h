@@ -14,6 +14,7 @@
 class btMultiBody;
 class btMultiBodyDynamicsWorld;
 class btMultiBodyJointMotor;
+class btMultiBodyJointLimitConstraint;
 class btCollisionObject;
 class btCollisionShape;
 class btRigidBody;
@@ -71,6 +72,11 @@ public:
     btMultiBodyJointMotor* friction = nullptr;
     Mode mode = Mode::NONE;
     double target = 0, max_effort = 0, target_velocity = 0;
+    // The spec's until set_joint_properties changes them.
+    double damping = 0;
+    bool limited = false;
+    double lower = 0, upper = 0;
+    btMultiBodyJointLimitConstraint* limit = nullptr;
   };
   // A URDF link lives in a body (-1 = multibody base, else link index).
   struct LinkRef
@@ -154,6 +160,7 @@ private:
   bool record_points_ = false;
   std::vector<btMultiBodyConstraint*> constraints_;
   std::vector<std::unique_ptr<std::vector<Surface>>> child_mu_;
+  std::vector<char> gravity_off_;  // by body (index body + 1): set_link_properties' gravity_mode false
 };
 
 // A collision object that may intersect a sensor ray (robots and dynamic world bodies).
@@ -175,6 +182,23 @@ struct ModelProperties
   std::string canonical_link;  // the root link (a "world" root: its first child body)
   std::vector<std::string> links, collisions, joints;
   bool is_static = false;
+};
+
+// gazebo_ros's get/set_link_properties of a link (a body: a link with the links fixed to it).
+// As Gazebo reports them: the centre of mass in the link frame with no rotation, the inertia about
+// it in the link frame's axes.
+struct LinkProperties
+{
+  btVector3 com{0, 0, 0};
+  bool gravity_mode = true;
+  double mass = 0;
+  btMatrix3x3 inertia{0, 0, 0, 0, 0, 0, 0, 0, 0};
+};
+
+// set_joint_properties: what it changes (a list of ODEJointProperties: empty = unchanged).
+struct JointSettings
+{
+  std::vector<double> damping, lower, upper, fmax, vel;
 };
 
 // gazebo_ros's get_joint_properties of one movable joint.
@@ -250,6 +274,17 @@ public:
   bool modelProperties(const std::string& model, ModelProperties& out) const;
   // get_joint_properties of "model::joint", or of a joint name one robot alone has; "" or why not.
   std::string jointProperties(const std::string& joint, JointProperties& out) const;
+  // get_link_properties of "model::link", or of a link name one model alone has; "" or why not.
+  // A static model's link: its mass, no inertia (it is not simulated).
+  std::string linkProperties(const std::string& link, LinkProperties& out) const;
+  // set_link_properties: mass, inertia and gravity of a link of a robot or of a dynamic world
+  // model, from the next step on. Bullet's bodies are built about their centre of mass and along
+  // the inertia's principal axes: a request that moves the centre of mass or turns the axes is
+  // refused, as are a mass or inertia that is not physical. "" or why nothing was set.
+  std::string setLinkProperties(const std::string& link, const LinkProperties& p);
+  // set_joint_properties of a movable joint (named as apply_joint_effort's): damping, limits,
+  // and the joint motor ODE's fmax and vel drive (fmax 0: off). "" or why nothing was set.
+  std::string setJointProperties(const std::string& joint, const JointSettings& s);
   // set_model_configuration: the named joints of a robot at these positions, at rest, at once; the
   // root link stays where it is, and so do the joints not named. "" or why nothing was set (an
   // unknown joint or a position beyond the joint's limits, named).
@@ -339,6 +374,22 @@ private:
   const Robot* robotNamed(const std::string& name) const;
   // "model::joint", or a joint name one robot alone has, to its robot and name; "" or why not.
   std::string resolveJoint(const std::string& joint, const Robot*& robot, std::string& name) const;
+  // "model::link", or a link name one model alone has, to the robot body or the world body it
+  // names (a link lumped into another by a fixed joint is not one: the message names the other).
+  struct BodyRef
+  {
+    const Robot* robot = nullptr;
+    int body = -1;
+    const WorldBody* world = nullptr;
+    std::string model, link;
+  };
+  std::string resolveBody(const std::string& link, BodyRef& out) const;
+  // The body's frame (its centre of mass and principal axes) in its link's frame.
+  static btTransform bodyInLink(const BodyRef& b);
+  // Each body of a robot and the link Gazebo names it by (the first link of the body in the URDF
+  // that begins it: the root or a movable joint's child).
+  static std::map<int, std::string> bodyLinks(const Robot& r);
+  void cancelGravity();  // on the bodies set_link_properties took it from
   // The state of a world body's link frame, or of its model's frame.
   static Pose linkFrameState(const WorldBody& wb);
   static Pose modelFrameState(const WorldBody& wb);

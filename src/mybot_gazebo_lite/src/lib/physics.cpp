@@ -558,6 +558,7 @@ void PhysicsWorld::buildMultiBody(const std::vector<LumpedBody>& bodies, Robot& 
   mb->finalizeMultiDof();
   world_->addMultiBody(mb);
   r.mb_ = mb;
+  r.gravity_off_.assign(bodies.size(), 0);
 }
 
 // Colliders: one compound per body in its inertial frame, each child shape with its own friction.
@@ -607,6 +608,10 @@ void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Ro
     Robot::Joint j;
     j.spec = js;
     j.link = i - 1;
+    j.damping = js->damping;
+    j.limited = js->has_limits && js->type != JointSpec::CONTINUOUS;
+    j.lower = js->lower;
+    j.upper = js->upper;
     j.motor = new btMultiBodyJointMotor(mb, i - 1, 0, 0);
     j.motor->setMaxAppliedImpulse(0);
     world_->addMultiBodyConstraint(j.motor);
@@ -617,11 +622,11 @@ void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Ro
       world_->addMultiBodyConstraint(j.friction);
       r.constraints_.push_back(j.friction);
     }
-    if (js->has_limits)
+    if (j.limited)
     {
-      auto* lim = new btMultiBodyJointLimitConstraint(mb, i - 1, js->lower, js->upper);
-      world_->addMultiBodyConstraint(lim);
-      r.constraints_.push_back(lim);
+      j.limit = new btMultiBodyJointLimitConstraint(mb, i - 1, j.lower, j.upper);
+      world_->addMultiBodyConstraint(j.limit);
+      r.constraints_.push_back(j.limit);
     }
     r.joint_index_[js->name] = r.joints_.size();
     r.joints_.push_back(j);
@@ -702,8 +707,8 @@ void PhysicsWorld::step()
     for (auto& j : r.joints_)
     {
       double qd = mb->getJointVel(j.link);
-      if (j.spec->damping > 0)
-        mb->addJointTorque(j.link, -j.spec->damping * qd);
+      if (j.damping > 0)
+        mb->addJointTorque(j.link, -j.damping * qd);
       switch (j.mode)
       {
         case Robot::Mode::NONE:
@@ -733,6 +738,7 @@ void PhysicsWorld::step()
   }
   applyWrenches();
   applyEfforts();
+  cancelGravity();
   world_->stepSimulation(dt, 0, dt);
   // The links' world transforms at the new joint positions: Bullet leaves the cached ones where
   // the step began (a link on a turning joint was reported a step behind its joint's position).
@@ -1185,9 +1191,258 @@ std::string PhysicsWorld::jointProperties(const std::string& joint, JointPropert
     return why;
   const Robot::Joint& j = r->joint(name);
   out.type = j.spec->type;
-  out.damping = j.spec->damping;
+  out.damping = j.damping;
   out.position = r->jointPosition(name);
   out.rate = r->jointVelocity(name);
+  return "";
+}
+
+std::string PhysicsWorld::resolveBody(const std::string& link, BodyRef& out) const
+{
+  out = BodyRef();
+  const size_t sep = link.find("::");
+  const std::string name = sep == std::string::npos ? link : link.substr(sep + 2);
+  const std::string model = sep == std::string::npos ? "" : link.substr(0, sep);
+  const auto in_model = [&](const std::string& m) { return sep == std::string::npos || m == model; };
+  std::vector<BodyRef> found;
+  std::string lumped;  // why a link that is lumped into another is not one
+  for (const auto& r : robots_)
+  {
+    if (!in_model(r->name_) || !r->hasLink(name))
+      continue;
+    const int body = r->links_.at(name).body;
+    const auto bodies = bodyLinks(*r);
+    const auto b = bodies.find(body);
+    if (b == bodies.end())
+      continue;  // a "world" root: the world, no link
+    if (b->second != name)
+    {
+      lumped = "link '" + link + "' is lumped into '" + r->name_ + "::" + b->second +
+               "' by a fixed joint, as in Gazebo: ask for that link";
+      continue;
+    }
+    BodyRef ref;
+    ref.robot = r.get();
+    ref.body = body;
+    ref.model = r->name_;
+    ref.link = name;
+    found.push_back(ref);
+  }
+  for (const auto& wb : world_bodies_)
+    if (wb.link_name == name && in_model(wb.model))
+    {
+      BodyRef ref;
+      ref.world = &wb;
+      ref.model = wb.model;
+      ref.link = name;
+      found.push_back(ref);
+    }
+  if (found.size() > 1)
+    return "link '" + link + "' is in " + std::to_string(found.size()) + " models (" + found[0].model + ", " +
+           found[1].model + (found.size() > 2 ? ", ..." : "") + "): name it model::link";
+  if (found.empty())
+    return !lumped.empty() ? lumped
+                           : "no link named '" + link +
+                                 "' (links are named model::link; a link without a <collision> is not simulated)";
+  out = found.front();
+  return "";
+}
+
+btTransform PhysicsWorld::bodyInLink(const BodyRef& b)
+{
+  // A multibody's body frame is its inertial frame; a world body's is its link frame (a plane's
+  // shape pose aside).
+  return b.robot ? b.robot->links_.at(b.link).in_body_inertial.inverse() : b.world->link_in_body.inverse();
+}
+
+static btMatrix3x3 diagonal(const btVector3& d)
+{
+  return btMatrix3x3(d.x(), 0, 0, 0, d.y(), 0, 0, 0, d.z());
+}
+
+std::string PhysicsWorld::linkProperties(const std::string& link, LinkProperties& out) const
+{
+  BodyRef b;
+  const std::string why = resolveBody(link, b);
+  if (!why.empty())
+    return why;
+  out = LinkProperties();
+  const btTransform frame = bodyInLink(b);
+  btVector3 moments(0, 0, 0);
+  if (b.robot)
+  {
+    const btMultiBody* mb = b.robot->mb_;
+    out.mass = b.body < 0 ? mb->getBaseMass() : mb->getLinkMass(b.body);
+    moments = b.body < 0 ? mb->getBaseInertia() : mb->getLinkInertia(b.body);
+    out.gravity_mode = !b.robot->gravity_off_[b.body + 1];
+  }
+  else if (b.world->body)
+  {
+    const btRigidBody* rb = b.world->body;
+    const auto inverse = [](btScalar x) { return x > 0 ? 1 / x : 0; };
+    out.mass = inverse(rb->getInvMass());
+    const btVector3 inv = rb->getInvInertiaDiagLocal();
+    moments = btVector3(inverse(inv.x()), inverse(inv.y()), inverse(inv.z()));
+    out.gravity_mode = !(rb->getFlags() & BT_DISABLE_WORLD_GRAVITY);
+  }
+  else
+  {
+    // A static model's link does not move: its mass is the SDF's, and it has no inertia here.
+    for (const auto& m : spec_.models)
+      for (const auto& l : m.links)
+        if (m.name == b.model && l.name == b.link)
+          out.mass = l.mass;
+  }
+  out.com = frame.getOrigin();
+  // The principal moments turned into the link frame's axes: R diag(I) R^T.
+  out.inertia = frame.getBasis() * diagonal(moments) * frame.getBasis().transpose();
+  return "";
+}
+
+std::string PhysicsWorld::setLinkProperties(const std::string& link, const LinkProperties& p)
+{
+  BodyRef b;
+  const std::string why = resolveBody(link, b);
+  if (!why.empty())
+    return why;
+  if (b.world && !b.world->body)
+    return "model '" + b.model + "' is static: its links do not move";
+  if (!(p.mass > 0))
+    return "mass " + mybot_common::formatNumber(p.mass) + " kg: it must be > 0";
+  const btTransform frame = bodyInLink(b);
+  const btVector3 com = frame.getOrigin();
+  if ((p.com - com).length() > 1e-6)
+    return "com (" + mybot_common::formatNumber(p.com.x()) + ", " + mybot_common::formatNumber(p.com.y()) + ", " +
+           mybot_common::formatNumber(p.com.z()) + ") is not where the link's centre of mass is (" +
+           mybot_common::formatNumber(com.x()) + ", " + mybot_common::formatNumber(com.y()) + ", " +
+           mybot_common::formatNumber(com.z()) + "): gazebo_lite builds a body about it and cannot move it";
+  // The inertia in the body's axes must be diagonal: the same principal axes.
+  const btMatrix3x3 in_body = frame.getBasis().transpose() * p.inertia * frame.getBasis();
+  const btVector3 moments(in_body[0][0], in_body[1][1], in_body[2][2]);
+  const double off = std::max({std::fabs(in_body[0][1]), std::fabs(in_body[0][2]), std::fabs(in_body[1][2])});
+  if (off > 1e-6 * std::max({std::fabs(moments.x()), std::fabs(moments.y()), std::fabs(moments.z())}))
+    return "ixy, ixz, iyz turn the inertia's principal axes: gazebo_lite builds a body along them and cannot turn "
+           "them (scale the tensor, or keep its products)";
+  const double eps = 1e-9 * (moments.x() + moments.y() + moments.z());
+  if (!(moments.x() > 0 && moments.y() > 0 && moments.z() > 0) || moments.x() > moments.y() + moments.z() + eps ||
+      moments.y() > moments.x() + moments.z() + eps || moments.z() > moments.x() + moments.y() + eps)
+    return "inertia: principal moments (" + mybot_common::formatNumber(moments.x()) + ", " +
+           mybot_common::formatNumber(moments.y()) + ", " + mybot_common::formatNumber(moments.z()) +
+           ") are not a body's (each > 0 and at most the sum of the other two)";
+  if (b.robot)
+  {
+    Robot& r = *robot(b.model);
+    if (b.body < 0)
+    {
+      r.mb_->setBaseMass(p.mass);
+      r.mb_->setBaseInertia(moments);
+    }
+    else
+    {
+      // Read afresh at every step by Bullet's articulated-body algorithm: nothing else to update.
+      r.mb_->getLink(b.body).m_mass = p.mass;
+      r.mb_->getLink(b.body).m_inertiaLocal = moments;
+    }
+    r.gravity_off_[b.body + 1] = !p.gravity_mode;
+    r.mb_->wakeUp();
+    return "";
+  }
+  btRigidBody* rb = b.world->body;
+  rb->setMassProps(p.mass, moments);
+  rb->updateInertiaTensor();
+  if (p.gravity_mode)
+  {
+    rb->setFlags(rb->getFlags() & ~BT_DISABLE_WORLD_GRAVITY);
+    rb->setGravity(world_->getGravity());
+  }
+  else
+  {
+    rb->setFlags(rb->getFlags() | BT_DISABLE_WORLD_GRAVITY);
+    rb->setGravity(btVector3(0, 0, 0));
+  }
+  rb->activate(true);
+  return "";
+}
+
+// Bullet pulls every multibody link down with its weight: the bodies set_link_properties took
+// gravity from get their weight back, upwards.
+void PhysicsWorld::cancelGravity()
+{
+  const btVector3& g = spec_.gravity;
+  for (auto& r : robots_)
+    for (size_t i = 0; i < r->gravity_off_.size(); ++i)
+    {
+      if (!r->gravity_off_[i])
+        continue;
+      const int body = static_cast<int>(i) - 1;
+      if (body < 0)
+        r->mb_->addBaseForce(-g * r->mb_->getBaseMass());
+      else
+        r->mb_->addLinkForce(body, -g * r->mb_->getLinkMass(body));
+    }
+}
+
+std::string PhysicsWorld::setJointProperties(const std::string& joint, const JointSettings& s)
+{
+  const Robot* found = nullptr;
+  std::string name;
+  const std::string why = resolveJoint(joint, found, name);
+  if (!why.empty())
+    return why;
+  const std::pair<const char*, const std::vector<double>*> lists[] = {
+      {"damping", &s.damping}, {"hiStop", &s.upper}, {"loStop", &s.lower}, {"fmax", &s.fmax}, {"vel", &s.vel}};
+  for (const auto& [field, values] : lists)
+  {
+    if (values->size() > 1)
+      return "joint '" + joint + "' has one axis: " + field + " has " + std::to_string(values->size()) + " values";
+    if (!values->empty() && std::isnan((*values)[0]))
+      return std::string(field) + "[0] is not a number";
+  }
+  const auto first = [](const std::vector<double>& v, double otherwise) { return v.empty() ? otherwise : v[0]; };
+  Robot& r = *robot(found->name_);
+  Robot::Joint& j = r.joints_[r.joint_index_.at(name)];
+  const double damping = first(s.damping, j.damping);
+  const double lower = first(s.lower, j.limited ? j.lower : -INFINITY);
+  const double upper = first(s.upper, j.limited ? j.upper : INFINITY);
+  const double fmax = first(s.fmax, j.mode == Robot::Mode::VELOCITY ? j.max_effort : 0);
+  const double vel = first(s.vel, j.mode == Robot::Mode::VELOCITY ? j.target : 0);
+  if (!(damping >= 0 && std::isfinite(damping)))
+    return "damping[0] = " + mybot_common::formatNumber(damping) + ": it must be >= 0";
+  if (!(lower <= upper))
+    return "loStop[0] = " + mybot_common::formatNumber(lower) +
+           " is above hiStop[0] = " + mybot_common::formatNumber(upper) + " of joint '" + joint + "'";
+  if (!(fmax >= 0 && std::isfinite(fmax)) || !std::isfinite(vel))
+    return "fmax[0] must be >= 0 and vel[0] finite";
+  if (!s.vel.empty() && s.fmax.empty() && fmax == 0)
+    return "vel without fmax: joint '" + joint + "' has no motor running (give fmax, its maximum effort)";
+  j.damping = damping;
+  if (!s.lower.empty() || !s.upper.empty())
+  {
+    j.limited = std::isfinite(lower) || std::isfinite(upper);
+    // No stop on a side: Gazebo's 1e16, a bound Bullet's limit rows can hold.
+    j.lower = std::max(lower, -1e16);
+    j.upper = std::min(upper, 1e16);
+    if (j.limit)
+    {
+      j.limit->setLowerBound(j.lower);
+      j.limit->setUpperBound(j.upper);
+    }
+    else if (j.limited)
+    {
+      j.limit = new btMultiBodyJointLimitConstraint(r.mb_, j.link, j.lower, j.upper);
+      world_->addMultiBodyConstraint(j.limit);
+      r.constraints_.push_back(j.limit);
+    }
+  }
+  if (!s.fmax.empty() || !s.vel.empty())
+  {
+    // ODE's joint motor: vel at up to fmax (0: off).
+    if (fmax > 0)
+      r.commandVelocity(name, vel, fmax);
+    else
+      r.commandNone(name);
+  }
+  r.mb_->wakeUp();
   return "";
 }
 
@@ -1226,27 +1481,34 @@ Pose relativeTo(const Pose& s, const Pose& frame)
   return out;
 }
 
+// The links that begin a body, in the URDF's order: the root and every movable joint's child. A
+// "world" root is no link of Gazebo's: the world itself.
+std::map<int, std::string> PhysicsWorld::bodyLinks(const Robot& r)
+{
+  const RobotSpec& rs = *r.spec_;
+  std::map<int, std::string> body_link;
+  for (const auto& l : rs.links)
+  {
+    const auto ref = r.links_.find(l.name);
+    if (ref == r.links_.end() || (l.name == rs.root && anchoredToWorld(rs)))
+      continue;
+    const bool starts_body = l.name == rs.root || std::any_of(rs.joints.begin(), rs.joints.end(),
+                                                              [&](const JointSpec& j) {
+                                                                return j.child == l.name && j.type != JointSpec::FIXED;
+                                                              });
+    if (starts_body || !body_link.count(ref->second.body))
+      body_link[ref->second.body] = l.name;
+  }
+  return body_link;
+}
+
 bool PhysicsWorld::modelProperties(const std::string& model, ModelProperties& out) const
 {
   out = ModelProperties();
   if (const Robot* r = robotNamed(model))
   {
     const RobotSpec& rs = *r->spec_;
-    // The links that begin a body, in the URDF's order: the root and every movable joint's child.
-    // A "world" root is no link of Gazebo's: the world itself.
-    std::map<int, std::string> body_link;
-    for (const auto& l : rs.links)
-    {
-      const auto ref = r->links_.find(l.name);
-      if (ref == r->links_.end() || (l.name == rs.root && anchoredToWorld(rs)))
-        continue;
-      const bool starts_body =
-          l.name == rs.root ||
-          std::any_of(rs.joints.begin(), rs.joints.end(),
-                      [&](const JointSpec& j) { return j.child == l.name && j.type != JointSpec::FIXED; });
-      if (starts_body || !body_link.count(ref->second.body))
-        body_link[ref->second.body] = l.name;
-    }
+    const std::map<int, std::string> body_link = bodyLinks(*r);
     for (const auto& l : rs.links)
     {
       const auto ref = r->links_.find(l.name);
@@ -1311,14 +1573,13 @@ std::string PhysicsWorld::setJointPositions(const std::string& model, const std:
   {
     if (!r || !r->hasJoint(joints[i]))
       return "model '" + model + "' has no movable joint named '" + joints[i] + "'";
-    const JointSpec& js = *r->joint(joints[i]).spec;
+    const Robot::Joint& j = r->joint(joints[i]);
     if (!std::isfinite(positions[i]))
       return "joint_positions[" + std::to_string(i) + "] (" + joints[i] + ") is not a number";
-    if (js.has_limits && js.type != JointSpec::CONTINUOUS &&
-        (positions[i] < js.lower - 1e-9 || positions[i] > js.upper + 1e-9))
+    if (j.limited && (positions[i] < j.lower - 1e-9 || positions[i] > j.upper + 1e-9))
       return "joint_positions[" + std::to_string(i) + "] = " + mybot_common::formatNumber(positions[i]) +
-             " is beyond the limits [" + mybot_common::formatNumber(js.lower) + ", " +
-             mybot_common::formatNumber(js.upper) + "] of joint '" + joints[i] + "'";
+             " is beyond the limits [" + mybot_common::formatNumber(j.lower) + ", " +
+             mybot_common::formatNumber(j.upper) + "] of joint '" + joints[i] + "'";
   }
   if (!r)
     return "";

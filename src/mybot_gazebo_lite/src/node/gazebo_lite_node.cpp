@@ -7,6 +7,7 @@
 #include "gazebo_msgs/BodyRequest.h"
 #include "gazebo_msgs/DeleteModel.h"
 #include "gazebo_msgs/GetJointProperties.h"
+#include "gazebo_msgs/GetLinkProperties.h"
 #include "gazebo_msgs/GetLinkState.h"
 #include "gazebo_msgs/GetModelProperties.h"
 #include "gazebo_msgs/GetModelState.h"
@@ -15,6 +16,8 @@
 #include "gazebo_msgs/JointRequest.h"
 #include "gazebo_msgs/LinkStates.h"
 #include "gazebo_msgs/ModelStates.h"
+#include "gazebo_msgs/SetJointProperties.h"
+#include "gazebo_msgs/SetLinkProperties.h"
 #include "gazebo_msgs/SetLinkState.h"
 #include "gazebo_msgs/SetModelConfiguration.h"
 #include "gazebo_msgs/SetModelState.h"
@@ -46,12 +49,15 @@ using gazebo_msgs::ApplyJointEffort;
 using gazebo_msgs::BodyRequest;
 using gazebo_msgs::DeleteModel;
 using gazebo_msgs::GetJointProperties;
+using gazebo_msgs::GetLinkProperties;
 using gazebo_msgs::GetLinkState;
 using gazebo_msgs::GetModelProperties;
 using gazebo_msgs::GetModelState;
 using gazebo_msgs::GetPhysicsProperties;
 using gazebo_msgs::GetWorldProperties;
 using gazebo_msgs::JointRequest;
+using gazebo_msgs::SetJointProperties;
+using gazebo_msgs::SetLinkProperties;
 using gazebo_msgs::SetLinkState;
 using gazebo_msgs::SetModelConfiguration;
 using gazebo_msgs::SetModelState;
@@ -164,6 +170,9 @@ public:
     srvs_.push_back(g.advertiseService("get_model_properties", &SimNode::getModelProperties, this));
     srvs_.push_back(g.advertiseService("get_joint_properties", &SimNode::getJointProperties, this));
     srvs_.push_back(g.advertiseService("set_model_configuration", &SimNode::setModelConfiguration, this));
+    srvs_.push_back(g.advertiseService("get_link_properties", &SimNode::getLinkProperties, this));
+    srvs_.push_back(g.advertiseService("set_link_properties", &SimNode::setLinkProperties, this));
+    srvs_.push_back(g.advertiseService("set_joint_properties", &SimNode::setJointProperties, this));
     srvs_.push_back(g.advertiseService("get_physics_properties", &SimNode::getPhysicsProperties, this));
     srvs_.push_back(g.advertiseService("set_physics_properties", &SimNode::setPhysicsProperties, this));
     if (lockstep)
@@ -811,6 +820,94 @@ private:
     res.position = {p.position};
     res.rate = {p.rate};
     res.status_message = "GetJointProperties: got properties";
+    return true;
+  }
+
+  // As gazebo_ros: the centre of mass in the link frame (no rotation) and the inertia in the link
+  // frame's axes. A link is "model::link" or a name one model alone has.
+  bool getLinkProperties(GetLinkProperties::Request& req, GetLinkProperties::Response& res)
+  {
+    LinkProperties p;
+    res.status_message = world_->linkProperties(req.link_name, p);
+    res.success = res.status_message.empty();
+    if (!res.success)
+    {
+      res.status_message = "GetLinkProperties: " + res.status_message;
+      return true;
+    }
+    res.com.position.x = p.com.x();
+    res.com.position.y = p.com.y();
+    res.com.position.z = p.com.z();
+    res.com.orientation.w = 1;
+    res.gravity_mode = p.gravity_mode;
+    res.mass = p.mass;
+    res.ixx = p.inertia[0][0];
+    res.ixy = p.inertia[0][1];
+    res.ixz = p.inertia[0][2];
+    res.iyy = p.inertia[1][1];
+    res.iyz = p.inertia[1][2];
+    res.izz = p.inertia[2][2];
+    res.status_message = "GetLinkProperties: got properties";
+    return true;
+  }
+
+  // Mass, inertia and gravity from the next step on (com.orientation is not read, as gazebo_ros).
+  // Refused, naming why, where gazebo_ros would take it without a word: a centre of mass moved,
+  // the inertia's axes turned, a mass or inertia no body has.
+  bool setLinkProperties(SetLinkProperties::Request& req, SetLinkProperties::Response& res)
+  {
+    const auto& c = req.com.position;
+    res.status_message = mybot_common::firstInvalid({{"com.position.x", c.x},
+                                                     {"com.position.y", c.y},
+                                                     {"com.position.z", c.z},
+                                                     {"mass", req.mass},
+                                                     {"ixx", req.ixx},
+                                                     {"ixy", req.ixy},
+                                                     {"ixz", req.ixz},
+                                                     {"iyy", req.iyy},
+                                                     {"iyz", req.iyz},
+                                                     {"izz", req.izz}},
+                                                    kMaxCoordinate);
+    if (res.status_message.empty())
+    {
+      LinkProperties p;
+      p.com = btVector3(c.x, c.y, c.z);
+      p.gravity_mode = req.gravity_mode;
+      p.mass = req.mass;
+      p.inertia = btMatrix3x3(req.ixx, req.ixy, req.ixz, req.ixy, req.iyy, req.iyz, req.ixz, req.iyz, req.izz);
+      res.status_message = world_->setLinkProperties(req.link_name, p);
+    }
+    res.success = res.status_message.empty();
+    if (!res.success)
+    {
+      res.status_message = "SetLinkProperties: " + res.status_message;
+      ROS_ERROR("gazebo_lite: %s", res.status_message.c_str());
+      return true;
+    }
+    res.status_message = "SetLinkProperties: properties set";
+    return true;
+  }
+
+  // damping, hiStop, loStop, and the joint motor's fmax and vel (ODE's motor: vel at up to fmax).
+  // ODE's erp, cfm, stop_erp, stop_cfm and fudge_factor have no counterpart here: not applied.
+  bool setJointProperties(SetJointProperties::Request& req, SetJointProperties::Response& res)
+  {
+    const auto& o = req.ode_joint_config;
+    JointSettings settings;
+    settings.damping = o.damping;
+    settings.lower = o.loStop;
+    settings.upper = o.hiStop;
+    settings.fmax = o.fmax;
+    settings.vel = o.vel;
+    res.status_message = world_->setJointProperties(req.joint_name, settings);
+    res.success = res.status_message.empty();
+    if (!res.success)
+    {
+      res.status_message = "SetJointProperties: " + res.status_message;
+      ROS_ERROR("gazebo_lite: %s", res.status_message.c_str());
+      return true;
+    }
+    res.status_message = "SetJointProperties: properties set";
     return true;
   }
 
