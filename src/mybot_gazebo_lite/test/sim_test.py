@@ -984,7 +984,32 @@ class BadPoseTests(unittest.TestCase):
         self.check_set_refused('twist.angular.z', float('nan'), 'model_state.twist.angular.z is nan')
 
 
-SUITES = {'bad_pose': BadPoseTests, 'drive': DriveTests, 'states': StatesTests, 'rest': RestTests, 'wall': WallTests, 'multi': MultiRobotTests, 'malformed': MalformedInputTests}
+class WorldRobotTests(unittest.TestCase):
+    """fixtures/flap.world: a flap hinged to a post anchored to the world, with gazebo_ros's joint
+    state publisher, in the world file itself."""
+
+    def test_a_world_files_model_with_joints_is_a_robot(self):
+        rospy.wait_for_service('/gazebo/get_model_properties', timeout=WALL_TIMEOUT)
+        props = rospy.ServiceProxy('/gazebo/get_model_properties', GetModelProperties)(model_name='flap')
+        self.assertTrue(props.success, props.status_message)
+        self.assertEqual((props.body_names, props.joint_names), (['post', 'leaf'], ['hinge']))
+        js = rospy.wait_for_message('/flap/joint_states', JointState, timeout=WALL_TIMEOUT)
+        self.assertEqual(list(js.name), ['hinge'])
+        res = rospy.ServiceProxy('/gazebo/apply_joint_effort', ApplyJointEffort)(
+            joint_name='flap::hinge', effort=2.0, start_time=rospy.Time(0), duration=rospy.Duration(0.5))
+        self.assertTrue(res.success, res.status_message)
+        t0 = rospy.get_time()
+        end = time.monotonic() + WALL_TIMEOUT
+        while rospy.get_time() < t0 + 1.0 and time.monotonic() < end:
+            time.sleep(0.01)  # the world runs on its own: nothing here takes part in lockstep
+        angle = rospy.ServiceProxy('/gazebo/get_joint_properties', GetJointProperties)(joint_name='hinge').position[0]
+        self.assertGreater(angle, 0.2)
+        post = rospy.ServiceProxy('/gazebo/get_link_state', GetLinkState)(link_name='flap::post')
+        self.assertAlmostEqual(post.link_state.pose.position.x, -2.0, delta=1e-6)  # anchored where the file put it
+
+
+SUITES = {'bad_pose': BadPoseTests, 'drive': DriveTests, 'states': StatesTests, 'rest': RestTests, 'wall': WallTests, 'multi': MultiRobotTests, 'malformed': MalformedInputTests,
+          'world_robots': WorldRobotTests}
 
 if __name__ == '__main__':
     rospy.init_node('sim_test', anonymous=True)

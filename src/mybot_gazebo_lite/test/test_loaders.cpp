@@ -197,6 +197,36 @@ TEST(Loaders, SdfStateAndIncludeOfBuiltins)
                LoadError);
 }
 
+// A world file's model with joints (or plugins) is a robot, as Gazebo simulates it; a static one,
+// or one with neither, stays rigid. A <state> block places the robot too.
+TEST(Loaders, SdfWorldModelsWithJointsAreRobots)
+{
+  const std::string link = "<collision name='c'><geometry><box><size>0.1 0.1 0.1</size></box></geometry></collision>";
+  WorldSpec w = parseSdfWorld(
+      "<sdf version='1.6'><world name='w'>"
+      "<model name='flap'><pose>1 2 0 0 0 0</pose><link name='post'><pose>0 0 0.5 0 0 0</pose>" +
+          link + "</link><link name='leaf'><pose>0.3 0 0.5 0 0 0</pose>" + link +
+          "</link><joint name='anchor' type='fixed'><parent>world</parent><child>post</child></joint>"
+          "<joint name='hinge' type='revolute'><parent>post</parent><child>leaf</child><axis><xyz>0 0 1</xyz></axis>"
+          "</joint></model>"
+          "<model name='frozen'><static>true</static><link name='a'>" +
+          link + "</link><link name='b'>" + link +
+          "</link><joint name='j' type='revolute'><parent>a</parent><child>b</child></joint></model>"
+          "<model name='crate'><link name='l'>" +
+          link +
+          "</link></model>"
+          "<state world_name='w'><model name='flap'><pose>5 6 0 0 0 0</pose></model></state></world></sdf>",
+      "w.world", ".");
+  ASSERT_EQ(w.robots.size(), 1u);
+  EXPECT_EQ(w.robots[0].name, "flap");
+  EXPECT_EQ(w.robots[0].spec->name, "flap");
+  EXPECT_EQ(w.robots[0].spec->joints.size(), 2u);
+  EXPECT_DOUBLE_EQ(w.robots[0].model_pose.getOrigin().x(), 5.0);  // the <state>'s
+  ASSERT_EQ(w.models.size(), 2u);
+  EXPECT_EQ(w.models[0].name, "frozen");
+  EXPECT_EQ(w.models[1].name, "crate");
+}
+
 TEST(Loaders, WorldPhysicsBlockSetsStepIterationsAndRealTimeFactor)
 {
   WorldSpec w = parseSdfWorld(

@@ -201,6 +201,16 @@ struct PlacedShape
   float color[3] = {0.7f, 0.7f, 0.7f};
 };
 
+// A model of the world file with joints or plugins: Gazebo simulates it as a robot (see
+// parseSdfSpawn), spawned with the world, its root link at `model_pose * root_in_model`.
+struct WorldRobot
+{
+  std::string name;
+  std::shared_ptr<RobotSpec> spec;
+  btTransform model_pose = btTransform::getIdentity();
+  btTransform root_in_model = btTransform::getIdentity();
+};
+
 struct WorldSpec
 {
   std::string name = "default";
@@ -208,7 +218,8 @@ struct WorldSpec
   std::string source;
   btVector3 gravity{0, 0, -9.8};
   bool ground_plane = false;
-  std::vector<WorldModel> models;
+  std::vector<WorldModel> models;  // rigid: static, or without joints and plugins
+  std::vector<WorldRobot> robots;
 };
 
 }  // namespace mybot_gazebo_lite

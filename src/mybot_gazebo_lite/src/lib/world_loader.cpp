@@ -590,18 +590,30 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
   }
   if (const XMLElement* ph = w->FirstChildElement("physics"))
     world.physics = parsePhysics(c, ph);
+  // A model with joints or plugins is a robot, as Gazebo simulates it (and as spawn_sdf_model takes it).
+  const auto add = [&](WorldModel m, const SdfSpawn& spawn)
+  {
+    if (!spawn.robot)
+    {
+      world.models.push_back(std::move(m));
+      return;
+    }
+    spawn.robot->name = m.name;
+    world.robots.push_back({m.name, spawn.robot, m.pose, spawn.root_in_model});
+  };
   for (const XMLElement* e = w->FirstChildElement(); e; e = e->NextSiblingElement())
   {
     std::string n = e->Name();
+    SdfSpawn spawn;
     if (n == "include")
     {
       WorldModel m;
-      if (parseInclude(c, e, world, m))
-        world.models.push_back(std::move(m));
+      if (parseInclude(c, e, world, m, &spawn))
+        add(std::move(m), spawn);
     }
     else if (n == "model")
     {
-      world.models.push_back(parseSdfModel(c, e, "<world>"));
+      add(parseSdfModel(c, e, "<world>", &spawn), spawn);
     }
   }
   // Gazebo applies the poses saved in a <state> block on load.
@@ -611,6 +623,9 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
     {
       std::string name = m->Attribute("name") ? m->Attribute("name") : "";
       std::string where = "<state> <model name='" + name + "'>";
+      for (auto& wr : world.robots)
+        if (wr.name == name && m->FirstChildElement("pose"))
+          wr.model_pose = c.pose(m, where);  // its links follow their joints
       for (auto& wm : world.models)
       {
         if (wm.name != name)

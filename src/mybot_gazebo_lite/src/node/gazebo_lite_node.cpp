@@ -182,9 +182,25 @@ public:
         g, "set_model_state", [this](const gazebo_msgs::ModelState& m) { applyModelState(m); });
     set_link_state_sub_ = subscribeCounted<gazebo_msgs::LinkState>(
         g, "set_link_state", [this](const gazebo_msgs::LinkState& m) { applyLinkState(m); });
+    // The world file's models with joints or plugins are robots, as Gazebo loads them.
+    for (const WorldRobot& r : spec.robots)
+    {
+      SpawnModel::Request req;
+      req.model_name = r.name;
+      SpawnModel::Response res;
+      try
+      {
+        addRobotModel(r.spec, r.model_pose * r.root_in_model, req, res);
+      }
+      catch (const std::exception& e)
+      {
+        ROS_FATAL("gazebo_lite: cannot load world: model '%s': %s", r.name.c_str(), e.what());
+        return false;
+      }
+    }
     publishClock(true);
     ROS_INFO("gazebo_lite: world '%s' (%zu models), step %.4f s, real_time_factor %g%s%s", spec.name.c_str(),
-             spec.models.size(), step, rtf_, paused_ ? ", paused" : "",
+             spec.models.size() + spec.robots.size(), step, rtf_, paused_ ? ", paused" : "",
              lockstep ? (", lockstep every " + std::to_string(period) + " s").c_str() : "");
     return true;
   }
