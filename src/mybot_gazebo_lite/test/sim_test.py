@@ -23,7 +23,8 @@ from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState, LaserScan
 from std_srvs.srv import Empty
 
-from gazebo_msgs.msg import LinkState, LinkStates, ModelState, ModelStates, ODEJointProperties, ODEPhysics
+from gazebo_msgs.msg import (LinkState, LinkStates, ModelState, ModelStates, ODEJointProperties, ODEPhysics,
+                             PerformanceMetrics)
 from gazebo_msgs.srv import (ApplyBodyWrench, ApplyJointEffort, BodyRequest, DeleteModel, GetJointProperties,
                               GetLinkProperties, GetLinkState, GetModelProperties, GetModelState, GetPhysicsProperties,
                               GetWorldProperties, SetJointProperties, SetLinkProperties, SetLinkState, SetModelState,
@@ -620,6 +621,37 @@ class StatesTests(unittest.TestCase):
             for name in ('table', 'table2'):
                 rospy.ServiceProxy('/gazebo/delete_model', DeleteModel)(model_name=name)
 
+
+    def test_performance_metrics_report_the_laser_at_its_rate(self):
+        """/gazebo/performance_metrics: the real-time factor and each sensor, named as Gazebo names it
+        (world::model::link::sensor, the link its body's), at its update rate in simulated time."""
+        root = rospy.ServiceProxy('/gazebo/get_model_properties', GetModelProperties)(
+            model_name='mybot').canonical_body_name
+        reports = []
+        sub = rospy.Subscriber('/gazebo/performance_metrics', PerformanceMetrics, reports.append)
+        # Reports come at most 5 a wall second: time moves until four of them span a simulated second.
+        def span():
+            return reports[-1].header.stamp.to_sec() - reports[0].header.stamp.to_sec() if reports else 0.0
+        end = time.monotonic() + WALL_TIMEOUT
+        try:
+            while (len(reports) < 4 or span() < 1.0) and time.monotonic() < end:
+                self.r.settle(0.2)
+        finally:
+            sub.unregister()
+        self.assertGreaterEqual(len(reports), 4, 'no four reports in %.0f s of wall time' % WALL_TIMEOUT)
+        laser = 'default::mybot::%s::head_hokuyo_sensor' % root
+        for m in reports:
+            self.assertGreater(m.real_time_factor, 0.0)
+            self.assertIn(laser, [s.name for s in m.sensors])
+        # The laser's updates over the reports' span (each report counts since the one before).
+        updates = 0.0
+        for prev, m in zip(reports, reports[1:]):
+            s = next(s for s in m.sensors if s.name == laser)
+            updates += s.sim_update_rate * (m.header.stamp.to_sec() - prev.header.stamp.to_sec())
+            self.assertEqual(s.fps, -1.0)  # not a camera
+            self.assertGreater(s.real_update_rate, 0.0)
+        self.assertGreaterEqual(span(), 1.0)
+        self.assertAlmostEqual(updates / span(), 40.0, delta=1.0 / span())  # 40 Hz, within one update
 
     def test_link_and_joint_properties_as_gazebo_sets_them(self):
         """get/set_link_properties and set_joint_properties on a turntable: its plate's mass, the

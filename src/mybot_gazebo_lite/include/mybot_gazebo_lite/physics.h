@@ -272,6 +272,9 @@ public:
 
   // get_model_properties; false when there is no such model.
   bool modelProperties(const std::string& model, ModelProperties& out) const;
+  // The link Gazebo names the body a robot's `link` is in (a fixed joint's child is lumped into its
+  // parent); `link` itself when there is no such robot or link.
+  std::string bodyLinkOf(const std::string& model, const std::string& link) const;
   // get_joint_properties of "model::joint", or of a joint name one robot alone has; "" or why not.
   std::string jointProperties(const std::string& joint, JointProperties& out) const;
   // get_link_properties of "model::link", or of a link name one model alone has; "" or why not.

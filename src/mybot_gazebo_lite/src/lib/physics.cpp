@@ -1502,6 +1502,16 @@ std::map<int, std::string> PhysicsWorld::bodyLinks(const Robot& r)
   return body_link;
 }
 
+std::string PhysicsWorld::bodyLinkOf(const std::string& model, const std::string& link) const
+{
+  const Robot* r = robotNamed(model);
+  if (!r || !r->hasLink(link))
+    return link;
+  const auto bodies = bodyLinks(*r);
+  const auto b = bodies.find(r->links_.at(link).body);
+  return b == bodies.end() ? link : b->second;
+}
+
 bool PhysicsWorld::modelProperties(const std::string& model, ModelProperties& out) const
 {
   out = ModelProperties();

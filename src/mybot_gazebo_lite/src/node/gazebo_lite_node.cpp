@@ -16,6 +16,7 @@
 #include "gazebo_msgs/JointRequest.h"
 #include "gazebo_msgs/LinkStates.h"
 #include "gazebo_msgs/ModelStates.h"
+#include "gazebo_msgs/PerformanceMetrics.h"
 #include "gazebo_msgs/SetJointProperties.h"
 #include "gazebo_msgs/SetLinkProperties.h"
 #include "gazebo_msgs/SetLinkState.h"
@@ -37,6 +38,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <memory>
@@ -151,6 +153,7 @@ public:
     contacts_pub_ = g.advertise<ModelContacts>("model_contacts", 10);
     model_states_pub_ = g.advertise<gazebo_msgs::ModelStates>("model_states", 10);
     link_states_pub_ = g.advertise<gazebo_msgs::LinkStates>("link_states", 10);
+    metrics_pub_ = g.advertise<gazebo_msgs::PerformanceMetrics>("performance_metrics", 10);
     srvs_.push_back(g.advertiseService("reset_world", &SimNode::resetWorld, this));
     srvs_.push_back(g.advertiseService("reset_simulation", &SimNode::resetSimulation, this));
     srvs_.push_back(g.advertiseService("pause_physics", &SimNode::pause, this));
@@ -281,6 +284,15 @@ private:
     std::string name;
     std::vector<std::unique_ptr<std::mt19937>> noise;  // one per plugin; outlives the plugins
     std::vector<std::unique_ptr<SimPlugin>> plugins;
+    // Its sensors, for /gazebo/performance_metrics: Gazebo's scoped name, the plugin, and its
+    // counts at the last report.
+    struct Sensor
+    {
+      std::string name;
+      const SimPlugin* plugin;
+      uint64_t updates = 0, frames = 0;
+    };
+    std::vector<Sensor> sensors;
   };
 
   // Each plugin draws its noise from its own stream, seeded by ~seed, the model and the plugin
@@ -333,7 +345,48 @@ private:
     if (t + 1e-9 >= last_contacts_ + kContactsPeriod)
       publishContacts();
     publishStates();
+    publishMetrics(t);
     return t;
+  }
+
+  // /gazebo/performance_metrics, as gazebo_ros relays Gazebo's: at most 5 a wall second while
+  // someone subscribes, the real-time factor and each sensor's rates over the time since the last
+  // one (Gazebo gives a sensor's rates from its last two updates; counted over the report's span
+  // here, they do not jump by one update's lateness).
+  void publishMetrics(double t)
+  {
+    const auto now = std::chrono::steady_clock::now();
+    if (now < next_metrics_)
+      return;
+    next_metrics_ = now + std::chrono::milliseconds(200);
+    const bool report = metrics_pub_.getNumSubscribers() > 0 && t > metrics_sim_ && metrics_sim_ >= 0;
+    const double sim = t - metrics_sim_;
+    const double wall = std::chrono::duration<double>(now - metrics_wall_).count();
+    gazebo_msgs::PerformanceMetrics m;
+    m.header.stamp = ros::Time(t);
+    m.real_time_factor = wall > 0 ? sim / wall : 0;
+    for (auto& model : models_)
+      for (auto& s : model.sensors)
+      {
+        const SensorUpdates u = s.plugin->sensorUpdates();
+        const uint64_t frames = u.frames ? *u.frames : 0;
+        if (report)
+        {
+          gazebo_msgs::SensorPerformanceMetric sm;
+          sm.name = s.name;
+          sm.sim_update_rate = (*u.updates - s.updates) / sim;
+          sm.real_update_rate = wall > 0 ? (*u.updates - s.updates) / wall : 0;
+          sm.fps = u.frames ? (wall > 0 ? (frames - s.frames) / wall : 0) : -1;
+          m.sensors.push_back(sm);
+        }
+        s.updates = *u.updates;
+        s.frames = frames;
+      }
+    if (report)
+      metrics_pub_.publish(m);
+    // A window starts here (also after a reset sent time back, or while nobody listened).
+    metrics_sim_ = t;
+    metrics_wall_ = now;
   }
   // real_time_factor is an upper bound: never run ahead of the wall clock times it.
   void pace(double t)
@@ -558,7 +611,14 @@ private:
         ctx.lockstep = lockstep_.get();
         ctx.paused = &paused_;
         if (auto plugin = createPlugin(ctx))
+        {
+          const auto sensor = ps.sensor.attributes.find("name");
+          if (ps.has_sensor && plugin->sensorUpdates().updates && sensor != ps.sensor.attributes.end())
+            entry.sensors.push_back({world_->worldSpec().name + "::" + req.model_name + "::" +
+                                         world_->bodyLinkOf(req.model_name, ps.reference) + "::" + sensor->second,
+                                     plugin.get()});
           entry.plugins.push_back(std::move(plugin));
+        }
       }
     }
     catch (...)
@@ -1148,7 +1208,9 @@ private:
   std::unique_ptr<StaticSliceCache> slices_;
   std::vector<ModelEntry> models_;
   std::vector<ros::ServiceServer> srvs_;
-  ros::Publisher clock_pub_, contacts_pub_, model_states_pub_, link_states_pub_;
+  ros::Publisher clock_pub_, contacts_pub_, model_states_pub_, link_states_pub_, metrics_pub_;
+  std::chrono::steady_clock::time_point next_metrics_{}, metrics_wall_{};
+  double metrics_sim_ = -1;  // sim time of the last performance report
   ros::Subscriber set_model_state_sub_, set_link_state_sub_;
   tf2_ros::TransformBroadcaster tfb_;
   int seed_ = 0;

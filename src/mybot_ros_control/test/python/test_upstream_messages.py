@@ -60,6 +60,8 @@ PUBLISHED = {
         "ModelStates": "48c080191eb15c41858319b4d8a609c2",
         "ODEJointProperties": "1b744c32a920af979f53afe2f9c3511f",
         "ODEPhysics": "667d56ddbd547918c32d1934503dc335",
+        "PerformanceMetrics": "884f71fd5037b886ec5e126b83c4425a",
+        "SensorPerformanceMetric": "01762ded18cfe9ebc7c8222667c99547",
         "SetJointProperties": "15a76e921b1410c698d82782ea5fa370",
         "SetLinkProperties": "d534ce1b36ee99de0ffa806c3a6348f0",
         "SetLinkState": "8a5146eb66ae4d26b0860b08f3f271be",

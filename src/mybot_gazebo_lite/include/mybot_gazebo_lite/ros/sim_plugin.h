@@ -72,13 +72,22 @@ ros::Subscriber subscribeCommand(const PluginContext& c, ros::NodeHandle& nh, co
   return nh.subscribe<M>(topic, queue_size, boost::function<void(const typename M::ConstPtr&)>(cb));
 }
 
+// A sensor's updates so far, for /gazebo/performance_metrics: how many times it fired, and a
+// camera's frames rendered (null for other sensors).
+struct SensorUpdates
+{
+  const uint64_t* updates = nullptr;
+  const uint64_t* frames = nullptr;
+};
+
 class SimPlugin
 {
 public:
   virtual ~SimPlugin() = default;
-  virtual void preStep(double /*t*/) {}  // apply commands
-  virtual void update(double t) = 0;     // after a physics step
-  virtual void reset() {}                // reset_world / reset_simulation
+  virtual void preStep(double /*t*/) {}                       // apply commands
+  virtual void update(double t) = 0;                          // after a physics step
+  virtual void reset() {}                                     // reset_world / reset_simulation
+  virtual SensorUpdates sensorUpdates() const { return {}; }  // a sensor plugin's
 };
 
 // Reads plugin/sensor parameters; every error names tag, link and file.
@@ -114,17 +123,19 @@ private:
 struct Rate
 {
   double period = 0, next = 0, last = -1;
+  uint64_t fired = 0;  // how many times it was due
   explicit Rate(double hz = 0) : period(hz > 0 ? 1.0 / hz : 0) {}
   bool due(double t)
   {
     if (period <= 0)
-      return true;
+      return ++fired, true;
     if (t < last)
       next = t;
     if (t + 1e-9 < next)
       return false;
     last = t;
     next = (next + period < t) ? t + period : next + period;
+    ++fired;
     return true;
   }
 };

@@ -121,6 +121,7 @@ public:
     // mounted on or in would fill the image.
     const PrismScene moving(c_.world->movingShapes(c_.robot));
     renderCamera(c_.slices->prisms(), &moving, k_, pose, settings_, need_rgb ? rgb_.data() : nullptr, depth_.data());
+    ++frames_;
     const ros::Time stamp(t);
     info_.header.stamp = stamp;
     if (need_rgb && !depth_sensor_ && noise_sd_ > 0)
@@ -156,6 +157,8 @@ public:
     if (want_points)
       points_pub_.publish(pointCloud(stamp));
   }
+
+  SensorUpdates sensorUpdates() const override { return {&rate_.fired, &frames_}; }
 
 private:
   sensor_msgs::ImagePtr colorImage(const ros::Time& stamp) const
@@ -224,6 +227,7 @@ private:
   std::string link_, frame_, encoding_;
   btTransform sensor_pose_;
   Rate rate_;
+  uint64_t frames_ = 0;  // rendered
   CameraIntrinsics k_;
   RenderSettings settings_;
   double noise_mean_ = 0, noise_sd_ = 0, cutoff_ = 0.4, cutoff_max_ = 5.0;

@@ -92,6 +92,8 @@ public:
     pub_.publish(m);
   }
 
+  SensorUpdates sensorUpdates() const override { return {&rate_.fired, nullptr}; }
+
 private:
   PluginContext c_;
   std::string body_, frame_;

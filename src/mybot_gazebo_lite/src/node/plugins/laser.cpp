@@ -107,6 +107,8 @@ public:
     pub_.publish(m);
   }
 
+  SensorUpdates sensorUpdates() const override { return {&rate_.fired, nullptr}; }
+
 private:
   PluginContext c_;
   std::string link_, frame_;

@@ -59,6 +59,8 @@ public:
     pub_.publish(msg_);
   }
 
+  SensorUpdates sensorUpdates() const override { return {&rate_.fired, nullptr}; }
+
 private:
   PluginContext c_;
   std::string link_;
