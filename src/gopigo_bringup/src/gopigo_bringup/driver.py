@@ -45,7 +45,7 @@ class DriverCore:
         self.stop_reason = "no command yet"
         self.inhibited = None             # reason commands are refused (e.g. master lost)
         self.closed = False               # after shutdown() the backend is never driven again
-        self.stop_written = None          # time a wheel's zero was written on receipt (see command)
+        self.stops_written = 0            # wheels' zeros written on receipt (see command)
         self._log = log or (lambda level, msg: None)
         self._depth = 0                   # how deep the lock's owner holds it (an RLock)
         self._owner = None                # the thread holding it
@@ -96,7 +96,7 @@ class DriverCore:
             self._stamps[wheel] = t
             if stopping and not self.stopped:
                 self.write_commands(t)
-                self.stop_written = t
+                self.stops_written += 1
         return True
 
     def inhibit(self, reason, t):

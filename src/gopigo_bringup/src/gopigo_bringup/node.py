@@ -74,8 +74,8 @@ class DriverNode:
     def _on_cmd(self, msg, wheel):
         self._last_cmd_wall = time.monotonic()
         t = rospy.get_rostime().to_sec()
-        written = self.core.stop_written
-        if self.core.command(wheel, msg.data, t) and self.core.stop_written != written:
+        written = self.core.stops_written
+        if self.core.command(wheel, msg.data, t) and self.core.stops_written != written:
             self._publish_truth(rospy.Time.from_sec(t))  # a stop written on receipt
 
     # ---- watchdog thread (wall clock: it watches the network and the clock itself)

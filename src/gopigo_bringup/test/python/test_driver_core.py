@@ -76,11 +76,11 @@ def test_a_stop_is_written_on_receipt_other_commands_in_the_loop():
     core.command(RIGHT, 1.0, 1.02)
     assert b.writes == [(2.0, 2.0, 1.0)]         # so does slowing down
     core.command(LEFT, 0.0, 1.03)                # a wheel stopping is written at once
-    assert b.writes[-1] == (0.0, 1.0, 1.03) and core.stop_written == 1.03
-    core.command(RIGHT, 0.0, 1.04)
-    assert b.writes[-1] == (0.0, 0.0, 1.04) and core.stop_written == 1.04
+    assert b.writes[-1] == (0.0, 1.0, 1.03) and core.stops_written == 1
+    core.command(RIGHT, 0.0, 1.03)               # the other in the same instant (simulated time) too
+    assert b.writes[-1] == (0.0, 0.0, 1.03) and core.stops_written == 2
     core.command(RIGHT, 0.0, 1.05)               # already zero: nothing new to write
-    assert len(b.writes) == 3 and core.stop_written == 1.04
+    assert len(b.writes) == 3 and core.stops_written == 2
 
 
 def test_a_zero_while_stopped_or_stale_drives_nothing():
@@ -88,7 +88,7 @@ def test_a_zero_while_stopped_or_stale_drives_nothing():
     core = DriverCore(b, cmd_timeout=0.5)
     core.command(LEFT, 2.0, 1.0)
     core.command(LEFT, 0.0, 1.0)                 # never driven: stays stopped
-    assert b.writes == [] and core.stopped and core.stop_written is None
+    assert b.writes == [] and core.stopped and core.stops_written == 0
     core.command(RIGHT, 2.0, 1.0)
     core.command(LEFT, 2.0, 1.0)
     core.step(1.0)

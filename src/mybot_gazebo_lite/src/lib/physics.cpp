@@ -1145,6 +1145,14 @@ void PhysicsWorld::applyWrenches()
   }
 }
 
+// A name several models have: which, and how to name one of them.
+static std::string inSeveralModels(const std::string& kind, const std::string& name,
+                                   const std::vector<std::string>& models)
+{
+  return kind + " '" + name + "' is in " + std::to_string(models.size()) + " models (" + models[0] + ", " + models[1] +
+         (models.size() > 2 ? ", ..." : "") + "): name it model::" + kind;
+}
+
 std::string PhysicsWorld::resolveJoint(const std::string& joint, const Robot*& robot, std::string& name) const
 {
   robot = nullptr;
@@ -1165,10 +1173,7 @@ std::string PhysicsWorld::resolveJoint(const std::string& joint, const Robot*& r
     }
   if (owners.empty())
     return "no movable joint named '" + joint + "'";
-  if (owners.size() > 1)
-    return "joint '" + joint + "' is in " + std::to_string(owners.size()) + " models (" + owners[0] + ", " + owners[1] +
-           (owners.size() > 2 ? ", ..." : "") + "): name it model::joint";
-  return "";
+  return owners.size() > 1 ? inSeveralModels("joint", joint, owners) : "";
 }
 
 std::string PhysicsWorld::applyJointEffort(const std::string& joint, double effort, double start, double duration)
@@ -1238,8 +1243,12 @@ std::string PhysicsWorld::resolveBody(const std::string& link, BodyRef& out) con
       found.push_back(ref);
     }
   if (found.size() > 1)
-    return "link '" + link + "' is in " + std::to_string(found.size()) + " models (" + found[0].model + ", " +
-           found[1].model + (found.size() > 2 ? ", ..." : "") + "): name it model::link";
+  {
+    std::vector<std::string> models;
+    for (const auto& f : found)
+      models.push_back(f.model);
+    return inSeveralModels("link", link, models);
+  }
   if (found.empty())
     return !lumped.empty() ? lumped
                            : "no link named '" + link +
