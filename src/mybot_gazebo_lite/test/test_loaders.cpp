@@ -1,6 +1,7 @@
 // Loading URDF, SDF worlds, image worlds and model.config: errors name the element.
 #include "mybot_common/temp_dir.h"
 #include "mybot_gazebo_lite/parsing.h"
+#include "load_error.h"
 
 #include <gtest/gtest.h>
 
@@ -8,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <limits>
 
 using namespace mybot_gazebo_lite;
@@ -225,6 +227,153 @@ TEST(Loaders, SdfWorldModelsWithJointsAreRobots)
   ASSERT_EQ(w.models.size(), 2u);
   EXPECT_EQ(w.models[0].name, "frozen");
   EXPECT_EQ(w.models[1].name, "crate");
+}
+
+namespace
+{
+void expectSameTransform(const btTransform& a, const btTransform& b, const std::string& what)
+{
+  EXPECT_LT(a.getOrigin().distance(b.getOrigin()), 1e-12) << what;
+  EXPECT_LT(std::abs(a.getRotation().dot(b.getRotation())) - 1, 1e-12) << what;
+  EXPECT_GT(std::abs(a.getRotation().dot(b.getRotation())), 1 - 1e-12) << what;
+}
+
+// A door hinged to a post, with a sensor: SDF 1.6 places every link in the model's frame and
+// each joint in its child's. `body` is the model's content after the post.
+std::string door(const std::string& version, const std::string& body)
+{
+  return "<sdf version='" + version +
+         "'><model name='door'><pose>1 2 0 0 0 0</pose>"
+         "<link name='post'><pose>0 0 1 0 0 0</pose><collision name='c'><geometry><box><size>0.1 0.1 2</size></box>"
+         "</geometry></collision></link>"
+         "<joint name='anchor' type='fixed'><parent>world</parent><child>post</child></joint>" +
+         body + "</model></sdf>";
+}
+}  // namespace
+
+// SDF 1.7 writes a pose relative_to any frame of its model: here the door of SDF 1.6 (the leaf at
+// 0.55 m, hinged 0.5 m from its centre) written as a URDF would, each link placed from its joint
+// and the joint from its parent, the axis and the sensor in other frames, a rotation as a
+// quaternion and one in degrees. Both files make the same robot.
+TEST(Loaders, SdfPosesRelativeToOtherFramesMakeTheSameRobot)
+{
+  const std::string box = "<geometry><box><size>1 0.04 1.9</size></box></geometry>";
+  const std::string inertia = "<mass>10</mass><inertia><ixx>3.4</ixx><iyy>4.2</iyy><izz>0.85</izz></inertia>";
+  const std::string ray = "<sensor name='edge' type='ray'><update_rate>10</update_rate>";
+  const SdfSpawn sdf16 = parseSdfSpawn(
+      door("1.6", "<link name='leaf'><pose>0.55 0 1 0 0 0</pose><inertial><pose>0 0 0.1 0 0 0</pose>" + inertia +
+                      "</inertial><collision name='panel'><pose>0 0.01 0 0 0 0</pose>" + box + "</collision>" + ray +
+                      "<pose>0.1 0 0.2 0 0 0.3</pose></sensor></link>"
+                      "<joint name='hinge' type='revolute'><pose>-0.5 0 0 0 0 0</pose><parent>post</parent>"
+                      "<child>leaf</child><axis><xyz>0 0 1</xyz><limit><lower>-2</lower><upper>2</upper></limit>"
+                      "</axis></joint>"),
+      "door16.sdf", ".");
+  const SdfSpawn sdf17 = parseSdfSpawn(
+      door("1.7",
+           "<frame name='hinge_axis' attached_to='post'><pose relative_to='hinge' rotation_format='quat_xyzw'>"
+           "0 0 0 0.70710678118654757 0 0 0.70710678118654757</pose></frame>"
+           "<link name='leaf'><pose relative_to='hinge'>0.5 0 0 0 0 0</pose>"
+           "<inertial><pose relative_to='__model__'>0.55 0 1.1 0 0 0</pose>" +
+               inertia + "</inertial><collision name='panel'><pose relative_to='hinge'>0.5 0.01 0 0 0 0</pose>" + box +
+               "</collision>" + ray +
+               "<pose relative_to='post' degrees='true'>0.65 0 0.2 0 0 17.188733853924695</pose></sensor></link>"
+               "<joint name='hinge' type='revolute'><pose relative_to='post'>0.05 0 0 0 0 0</pose><parent>post</parent>"
+               "<child>leaf</child><axis><xyz expressed_in='hinge_axis'>0 1 0</xyz><limit><lower>-2</lower>"
+               "<upper>2</upper></limit></axis></joint>"),
+      "door17.sdf", ".");
+  ASSERT_TRUE(sdf16.robot && sdf17.robot);
+  expectSameTransform(sdf16.root_in_model, sdf17.root_in_model, "root");
+  const RobotSpec &a = *sdf16.robot, &b = *sdf17.robot;
+  ASSERT_EQ(a.links.size(), b.links.size());
+  for (size_t i = 0; i < a.links.size(); ++i)
+  {
+    const LinkSpec &la = a.links[i], &lb = b.links[i];
+    ASSERT_EQ(la.name, lb.name);
+    expectSameTransform(la.inertial.origin, lb.inertial.origin, la.name + " inertial");
+    ASSERT_EQ(la.collisions.size(), lb.collisions.size());
+    for (size_t k = 0; k < la.collisions.size(); ++k)
+      expectSameTransform(la.collisions[k].pose, lb.collisions[k].pose, la.name + " collision");
+    ASSERT_EQ(la.sensors.size(), lb.sensors.size());
+    for (size_t k = 0; k < la.sensors.size(); ++k)
+      expectSameTransform(parsePose6(la.sensors[k].child("pose")->text, "a"),
+                          parsePose6(lb.sensors[k].child("pose")->text, "b"), la.name + " sensor");
+  }
+  ASSERT_EQ(a.joints.size(), b.joints.size());
+  for (size_t i = 0; i < a.joints.size(); ++i)
+  {
+    const JointSpec &ja = a.joints[i], &jb = b.joints[i];
+    ASSERT_EQ(ja.name, jb.name);
+    expectSameTransform(ja.origin, jb.origin, ja.name + " origin");
+    expectSameTransform(ja.pivot, jb.pivot, ja.name + " pivot");
+    EXPECT_LT(ja.axis.distance(jb.axis), 1e-12) << ja.name << " axis";
+  }
+  EXPECT_NEAR(b.joints[1].pivot.getOrigin().x(), -0.5, 1e-12);  // the hinge, at the leaf's edge
+}
+
+// In a world, a model may be placed relative_to another model or a <frame> of the world, and in a
+// model a link relative_to a <frame> and a nested model relative_to a link.
+TEST(Loaders, SdfWorldModelsArePlacedRelativeToOtherModelsAndFrames)
+{
+  const std::string box = "<collision name='c'><geometry><box><size>0.1 0.1 0.1</size></box></geometry></collision>";
+  const WorldSpec w = parseSdfWorld(
+      "<sdf version='1.7'><world name='w'>"
+      "<model name='flap'><pose relative_to='crate'>0 2 0 0 0 0</pose><link name='post'>" +
+          box + "</link><link name='leaf'>" + box +
+          "</link><joint name='hinge' type='revolute'><parent>post</parent><child>leaf</child></joint></model>"
+          "<frame name='dock'><pose>10 0 0 0 0 1.5707963267948966</pose></frame>"
+          "<model name='crate'><static>true</static><pose relative_to='dock'>1 0 0 0 0 0</pose>"
+          "<frame name='corner'><pose>0.5 0.5 0 0 0 0</pose></frame>"
+          "<link name='l'><pose relative_to='corner'>0 0 0.1 0 0 0</pose>" +
+          box + "</link><model name='bin'><pose relative_to='l'>0 0 1 0 0 0</pose><link name='b'>" + box +
+          "</link></model></model></world></sdf>",
+      "w.world", ".");
+  ASSERT_EQ(w.models.size(), 1u);
+  const WorldModel& crate = w.models[0];
+  EXPECT_LT(crate.pose.getOrigin().distance(btVector3(10, 1, 0)), 1e-12);  // the dock's y is the world's -x
+  ASSERT_EQ(crate.links.size(), 2u);
+  EXPECT_LT(crate.links[0].pose.getOrigin().distance(btVector3(0.5, 0.5, 0.1)), 1e-12);
+  EXPECT_EQ(crate.links[1].name, "bin::b");
+  EXPECT_LT(crate.links[1].pose.getOrigin().distance(btVector3(0.5, 0.5, 1.1)), 1e-12);
+  ASSERT_EQ(w.robots.size(), 1u);
+  EXPECT_LT(w.robots[0].model_pose.getOrigin().distance(btVector3(8, 1, 0)), 1e-12);
+}
+
+TEST(Loaders, SdfFrameErrorsNameTheElement)
+{
+  const std::string joint =
+      "<link name='leaf'/><joint name='hinge' type='revolute'><parent>post</parent>"
+      "<child>leaf</child><axis><xyz expressed_in='nope'>0 0 1</xyz></axis></joint>";
+  for (const auto& [xml, says] : std::vector<std::pair<std::string, std::string>>{
+           {door("1.7", joint),
+            "d.sdf: <model name='door'> <joint name='hinge'> <axis> <xyz expressed_in>: 'nope': no frame of that name "
+            "in this model"},
+           {door("1.7",
+                 "<link name='leaf'><pose relative_to='hinge'/></link><joint name='hinge' type='revolute'>"
+                 "<parent>post</parent><child>leaf</child></joint>"),
+            "d.sdf: <model name='door'> <link name='leaf'>: relative_to makes a loop: leaf -> hinge -> leaf"},
+           {door("1.7", "<frame name='f' attached_to='nope'/>"),
+            "d.sdf: <model name='door'> <frame name='f'> attached_to: 'nope': no frame of that name in this model"},
+           {door("1.7", "<link name='l'><pose relative_to='world'>0 0 0 0 0 0</pose></link>"),
+            "'world': no frame of that name in this model"},
+           {"<sdf version='1.7'><model name='m'><pose relative_to='x'>0 0 0 0 0 0</pose><link name='l'/></model></sdf>",
+            "d.sdf: <model name='m'> <pose relative_to>: 'x': no frame of that name outside a world"},
+           {door("1.9", "<link name='l'><pose degrees='maybe'>0 0 0 0 0 0</pose></link>"),
+            "<link name='l'> <pose degrees>: expected true or false, got 'maybe'"},
+           {door("1.9", "<link name='l'><pose rotation_format='quat_wxyz'>0 0 0 1 0 0 0</pose></link>"),
+            "<link name='l'> <pose rotation_format>: 'quat_wxyz': euler_rpy or quat_xyzw"},
+           {door("1.9", "<link name='l'><pose rotation_format='quat_xyzw'>0 0 0 0 0 0 0</pose></link>"),
+            "<link name='l'> <pose>: a zero quaternion is no rotation"}})
+    EXPECT_NE(loadErrorOf([&] { parseSdfSpawn(xml, "d.sdf", "."); }).find(says), std::string::npos)
+        << loadErrorOf([&] { parseSdfSpawn(xml, "d.sdf", "."); });
+  EXPECT_EQ(loadErrorOf(
+                [&]
+                {
+                  parseSdfWorld(
+                      "<sdf version='1.7'><world name='w'><model name='m'><pose relative_to='ghost'>0 0 0 0 "
+                      "0 0</pose><link name='l'/></model></world></sdf>",
+                      "w.world", ".");
+                }),
+            "w.world: <world> <model name='m'> <pose relative_to>: 'ghost': no frame of that name in this world");
 }
 
 TEST(Loaders, WorldPhysicsBlockSetsStepIterationsAndRealTimeFactor)

@@ -1,6 +1,7 @@
 // World loaders: an SDF subset (Gazebo classic .world files) and a floor plan
 // made from an occupancy image with a map_server-style YAML.
 #include "mybot_gazebo_lite/parsing.h"
+#include "mybot_gazebo_lite/sdf_frames.h"
 
 #include <opencv2/imgcodecs.hpp>
 #include <tinyxml2.h>
@@ -43,7 +44,8 @@ struct SdfCtx
   const UriResolver* resolver;
   [[noreturn]] void fail(const std::string& where, const std::string& msg) const
   {
-    throw LoadError(source + ": " + where + ": " + msg);
+    // A model file's model is at the top: its `where` starts " <model".
+    throw LoadError(source + ": " + (where.rfind(' ', 0) == 0 ? where.substr(1) : where) + ": " + msg);
   }
   void parse(tinyxml2::XMLDocument& doc, const std::string& xml) const
   {
@@ -75,19 +77,56 @@ struct SdfCtx
       fail(where + " <" + child + ">", "not a number: '" + t + "'");
     return d;
   }
+  // An element's <pose>: "x y z roll pitch yaw" in radians, or as SDF 1.9 allows, in degrees
+  // (degrees="true") or with a quaternion (rotation_format="quat_xyzw": "x y z qx qy qz qw").
+  // Where it is relative to is relativeTo's business.
   btTransform pose(const XMLElement* e, const std::string& where) const
   {
     const XMLElement* p = e->FirstChildElement("pose");
     if (!p || !p->GetText())
       return btTransform::getIdentity();
+    const std::string format = p->Attribute("rotation_format") ? p->Attribute("rotation_format") : "euler_rpy";
+    bool degrees = false;
+    if (p->Attribute("degrees") && p->QueryBoolAttribute("degrees", &degrees) != tinyxml2::XML_SUCCESS)
+      fail(where + " <pose degrees>", std::string("expected true or false, got '") + p->Attribute("degrees") + "'");
+    if (format == "quat_xyzw")
+    {
+      std::istringstream is(p->GetText());
+      double v[7];
+      for (double& x : v)
+        if (!(is >> x) || !std::isfinite(x))
+          fail(where + " <pose>", std::string("expected 7 numbers 'x y z qx qy qz qw', got '") + p->GetText() + "'");
+      btQuaternion q(v[3], v[4], v[5], v[6]);
+      if (q.length() < 1e-9)
+        fail(where + " <pose>", "a zero quaternion is no rotation");
+      return btTransform(q.normalized(), btVector3(v[0], v[1], v[2]));
+    }
+    if (format != "euler_rpy")
+      fail(where + " <pose rotation_format>", "'" + format + "': euler_rpy or quat_xyzw");
+    btTransform t;
     try
     {
-      return parsePose6(p->GetText(), "<pose>");
+      t = parsePose6(p->GetText(), "<pose>");
     }
     catch (const LoadError& ex)
     {
       fail(where, ex.what());
     }
+    if (!degrees)
+      return t;
+    std::istringstream is(p->GetText());  // six numbers: parsePose6 checked them
+    double v[6];
+    for (double& x : v)
+      is >> x;
+    const double k = M_PI / 180.0;
+    return makeTransform(t.getOrigin(), btVector3(v[3] * k, v[4] * k, v[5] * k));
+  }
+  // The frame an element's <pose> is written in (SDF 1.7's relative_to), "" for its default.
+  static std::string relativeTo(const XMLElement* e)
+  {
+    const XMLElement* p = e->FirstChildElement("pose");
+    const char* r = p ? p->Attribute("relative_to") : nullptr;
+    return r ? r : "";
   }
 };
 
@@ -176,15 +215,80 @@ Shape parseSdfGeometry(const SdfCtx& c, const XMLElement* g, const std::string& 
   return shape;
 }
 
-// A link's <collision>s: shapes in the link's frame, with Gazebo's <ode> friction.
-std::vector<Shape> sdfCollisions(const SdfCtx& c, const XMLElement* l, const std::string& lw)
+std::string nameOf(const XMLElement* e)
 {
+  return e->Attribute("name") ? e->Attribute("name") : "";
+}
+
+// A model's frames (SDF 1.7, SdfFrames): its links, joints, nested models and <frame>s, in the
+// model's scope. SDF 1.6 files come out as before: links and nested models relative to the model,
+// joints to their child links.
+struct ModelFrames
+{
+  SdfFrames frames;
+  std::map<const XMLElement*, int> of;  // each link's, joint's, nested model's and <frame>'s frame
+  // An element's <pose> (written relative_to a frame of the model, or by default to frame
+  // `fallback`) in frame `in`.
+  btTransform poseIn(const SdfCtx& c, const XMLElement* e, int fallback, int in, const std::string& where) const
+  {
+    return frames.express(c.pose(e, where), SdfCtx::relativeTo(e), fallback, in, where + " <pose relative_to>");
+  }
+};
+
+ModelFrames modelFrames(const SdfCtx& c, const XMLElement* m, const std::string& where)
+{
+  ModelFrames mf{SdfFrames(c.source, "__model__"), {}};
+  std::map<std::string, int> links;
+  for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
+  {
+    const std::string lw = where + " <link name='" + nameOf(l) + "'>";
+    const int id = mf.frames.add(nameOf(l), SdfCtx::relativeTo(l), SdfFrames::kScope, c.pose(l, lw), lw);
+    mf.of[l] = id;
+    links.emplace(nameOf(l), id);
+  }
+  for (const XMLElement* n = m->FirstChildElement("model"); n; n = n->NextSiblingElement("model"))
+  {
+    const std::string nw = where + " <model name='" + nameOf(n) + "'>";
+    mf.of[n] = mf.frames.add(nameOf(n), SdfCtx::relativeTo(n), SdfFrames::kScope, c.pose(n, nw), nw);
+  }
+  std::vector<std::pair<std::string, std::string>> attached;  // (frame, where)
+  for (const XMLElement* f = m->FirstChildElement("frame"); f; f = f->NextSiblingElement("frame"))
+  {
+    const std::string fw = where + " <frame name='" + nameOf(f) + "'>";
+    if (nameOf(f).empty())
+      c.fail(fw, "missing attribute 'name'");
+    // Its pose is relative to what it is attached to unless it says otherwise.
+    const std::string to = f->Attribute("attached_to") ? f->Attribute("attached_to") : "";
+    const std::string rel = SdfCtx::relativeTo(f);
+    mf.of[f] = mf.frames.add(nameOf(f), rel.empty() ? to : rel, SdfFrames::kScope, c.pose(f, fw), fw);
+    if (!to.empty())
+      attached.emplace_back(to, fw + " attached_to");
+  }
+  for (const XMLElement* j = m->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+  {
+    const std::string jw = where + " <joint name='" + nameOf(j) + "'>";
+    const XMLElement* child = j->FirstChildElement("child");
+    auto it = links.find(child && child->GetText() ? child->GetText() : "");
+    // A joint's frame is its child link's by default (a missing child is refused by the robot).
+    mf.of[j] = mf.frames.add(nameOf(j), SdfCtx::relativeTo(j), it == links.end() ? SdfFrames::kScope : it->second,
+                             c.pose(j, jw), jw);
+  }
+  for (const auto& [to, fw] : attached)
+    mf.frames.find(to, fw);
+  return mf;
+}
+
+// A link's <collision>s: shapes in the link's frame (`link`, of the model's `mf`), with Gazebo's
+// <ode> friction.
+std::vector<Shape> sdfCollisions(const SdfCtx& c, const XMLElement* l, const std::string& lw, const ModelFrames& mf)
+{
+  const int link = mf.of.at(l);
   std::vector<Shape> out;
   for (const XMLElement* col = l->FirstChildElement("collision"); col; col = col->NextSiblingElement("collision"))
   {
     std::string cw = lw + " <collision name='" + (col->Attribute("name") ? col->Attribute("name") : "") + "'>";
     Shape s = parseSdfGeometry(c, col->FirstChildElement("geometry"), cw);
-    s.pose = c.pose(col, cw);
+    s.pose = mf.poseIn(c, col, link, link, cw);
     s.name = col->Attribute("name") ? col->Attribute("name") : "collision";
     if (const XMLElement* surf = col->FirstChildElement("surface"))
       if (const XMLElement* fr = surf->FirstChildElement("friction"))
@@ -231,6 +335,31 @@ bool sdfVisualColor(const SdfCtx& c, const XMLElement* l, const std::string& lw,
   return false;
 }
 
+// "x y z roll pitch yaw", to the last digit.
+std::string poseText(const btTransform& t)
+{
+  btScalar yaw, pitch, roll;
+  t.getBasis().getEulerZYX(yaw, pitch, roll);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g %.17g %.17g %.17g", t.getOrigin().x(), t.getOrigin().y(),
+                t.getOrigin().z(), roll, pitch, yaw);
+  return buf;
+}
+
+// A <sensor> as the plugins read it: its <pose> "x y z roll pitch yaw" in its link's frame,
+// however the file wrote it (relative_to another frame of the model, in degrees, a quaternion).
+XmlNode sdfSensor(const SdfCtx& c, const XMLElement* sn, int link, const ModelFrames& mf, const std::string& where)
+{
+  XmlNode n = toXmlNode(sn);
+  for (XmlNode& p : n.children)
+    if (p.name == "pose" && !p.attributes.empty())
+    {
+      p.text = poseText(mf.poseIn(c, sn, link, link, where));
+      p.attributes.clear();
+    }
+  return n;
+}
+
 // A model that is not static and has joints or plugins (its own or its sensors'), as Gazebo
 // simulates it: a robot (see parseSdfSpawn). Link poses are the model's (SDF 1.6: relative to the
 // model frame); a joint's <pose> is its frame in the child link's, its axis in that frame unless
@@ -252,6 +381,7 @@ bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& wher
     c.fail(where + " <model>", "a model nested in a model with joints or plugins is not simulated");
   rs.name = m->Attribute("name") ? m->Attribute("name") : "";
   rs.source = c.source;
+  const ModelFrames mf = modelFrames(c, m, where);
   std::map<std::string, btTransform> pose_of;  // each link's frame in the model's
   for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
   {
@@ -260,7 +390,8 @@ bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& wher
     const std::string lw = where + " <link name='" + ls.name + "'>";
     if (ls.name.empty() || ls.name == "world" || pose_of.count(ls.name))
       c.fail(lw, ls.name.empty() ? "missing attribute 'name'" : "a second link of this name (or 'world')");
-    pose_of[ls.name] = c.pose(l, lw);
+    const int link = mf.of.at(l);
+    pose_of[ls.name] = mf.frames.resolve(link);
     // SDF's defaults: 1 kg, unit moments.
     ls.has_inertial = true;
     ls.inertial.mass = 1.0;
@@ -271,7 +402,7 @@ bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& wher
       ls.inertial.mass = c.number(in, "mass", iw, false, 1.0);
       if (ls.inertial.mass <= 0)
         c.fail(iw + " <mass>", "mass must be positive");
-      ls.inertial.origin = c.pose(in, iw);
+      ls.inertial.origin = mf.poseIn(c, in, link, link, iw);
       if (const XMLElement* I = in->FirstChildElement("inertia"))
       {
         const std::string Iw = iw + " <inertia>";
@@ -283,10 +414,10 @@ bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& wher
         ls.inertial.iyz = c.number(I, "iyz", Iw, false, 0.0);
       }
     }
-    ls.collisions = sdfCollisions(c, l, lw);
+    ls.collisions = sdfCollisions(c, l, lw, mf);
     sdfVisualColor(c, l, lw, ls.color);
     for (const XMLElement* sn = l->FirstChildElement("sensor"); sn; sn = sn->NextSiblingElement("sensor"))
-      ls.sensors.push_back(toXmlNode(sn));
+      ls.sensors.push_back(sdfSensor(c, sn, link, mf, lw + " <sensor name='" + nameOf(sn) + "'>"));
     checkInertia(c.source, ls, lw, rs.warnings);
     rs.links.push_back(std::move(ls));
   }
@@ -326,7 +457,8 @@ bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& wher
     if (js.child == "world" || !children.insert(js.child).second)
       c.fail(jw, "link '" + js.child + "' is the child of a second joint (or the world)");
     js.origin = pose_of[js.parent].inverse() * pose_of[js.child];
-    js.pivot = c.pose(j, jw);
+    // The joint's frame in its child's (the default SDF 1.6 knows).
+    js.pivot = pose_of[js.child].inverse() * mf.frames.resolve(mf.of.at(j));
     js.axis = btVector3(0, 0, 1);
     if (const XMLElement* ax = j->FirstChildElement("axis"))
     {
@@ -341,9 +473,13 @@ bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& wher
         {
           c.fail(aw, e.what());
         }
+        // In the joint's frame unless expressed_in names another frame of the model (SDF 1.7),
+        // or use_parent_model_frame says the model's (SDF 1.5 and 1.6).
         const char* in = x->Attribute("expressed_in");
-        if ((in && std::string(in) == "__model__") || c.text(ax, "use_parent_model_frame", aw, false) == "true")
-          js.axis = (pose_of[js.child] * js.pivot).getBasis().transpose() * js.axis;
+        int frame = in && *in ? mf.frames.find(in, aw + " <xyz expressed_in>") : mf.of.at(j);
+        if (c.text(ax, "use_parent_model_frame", aw, false) == "true")
+          frame = SdfFrames::kScope;
+        js.axis = mf.frames.resolve(mf.of.at(j)).getBasis().transpose() * mf.frames.resolve(frame).getBasis() * js.axis;
       }
       if (js.axis.length() < 1e-9)
         c.fail(aw + " <xyz>", "zero axis");
@@ -421,19 +557,20 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
     if (parseSdfRobot(c, m, where, rs, spawn->root_in_model))
       spawn->robot = std::make_shared<RobotSpec>(std::move(rs));
   }
+  const ModelFrames mf = modelFrames(c, m, where);
   for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
   {
     WorldLink link;
     link.name = l->Attribute("name") ? l->Attribute("name") : "link";
     std::string lw = where + " <link name='" + link.name + "'>";
-    link.pose = c.pose(l, lw);
+    link.pose = mf.frames.resolve(mf.of.at(l));
     if (const XMLElement* in = l->FirstChildElement("inertial"))
     {
       link.mass = c.number(in, "mass", lw + " <inertial>", false, 1.0);
       if (link.mass <= 0)
         c.fail(lw + " <inertial> <mass>", "mass must be positive");
     }
-    link.shapes = sdfCollisions(c, l, lw);
+    link.shapes = sdfCollisions(c, l, lw, mf);
     link.has_color = sdfVisualColor(c, l, lw, link.color);
     model.links.push_back(std::move(link));
   }
@@ -441,6 +578,7 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
   for (const XMLElement* n = m->FirstChildElement("model"); n; n = n->NextSiblingElement("model"))
   {
     WorldModel sub = parseSdfModel(c, n, where);
+    sub.pose = mf.frames.resolve(mf.of.at(n));  // it may be written relative_to a frame of this model
     for (auto& l : sub.links)
     {
       l.pose = sub.pose * l.pose;
@@ -449,6 +587,16 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
     }
   }
   return model;
+}
+
+// A model file's own model has nothing to be placed relative to (SDF 1.7: its <pose>'s relative_to
+// is left empty); in a world of one model, only the world.
+void checkOutermostPose(const SdfCtx& c, const XMLElement* m, const std::string& where, bool in_world)
+{
+  const std::string rel = SdfCtx::relativeTo(m);
+  if (!rel.empty() && !(in_world && rel == "world"))
+    c.fail(where + " <model name='" + nameOf(m) + "'> <pose relative_to>",
+           "'" + rel + "': no frame of that name " + (in_world ? "in this world" : "outside a world"));
 }
 
 // Resolves <include><uri>model://X</uri></include>. Returns false for the
@@ -502,6 +650,7 @@ bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, Worl
   if (!m)
     throw LoadError(sdf_file + ": no <sdf><model>");
   SdfCtx sub{sdf_file, dir, c.resolver};
+  checkOutermostPose(sub, m, "", false);
   out = parseSdfModel(sub, m, "", spawn);
   if (const char* n = inc->FirstChildElement("name") ? inc->FirstChildElement("name")->GetText() : nullptr)
     out.name = n;
@@ -590,16 +739,30 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
   }
   if (const XMLElement* ph = w->FirstChildElement("physics"))
     world.physics = parsePhysics(c, ph);
-  // A model with joints or plugins is a robot, as Gazebo simulates it (and as spawn_sdf_model takes it).
-  const auto add = [&](WorldModel m, const SdfSpawn& spawn)
+  // The world's frames (SDF 1.7): a model's or an include's <pose> may be written relative_to
+  // another model or a <frame> of the world. Each model's frame, placed once all are read:
+  SdfFrames frames(source, "world");
+  struct Placed
   {
+    int frame;
+    bool robot;
+    size_t index;  // in world.robots or world.models
+  };
+  std::vector<Placed> placed;
+  std::vector<std::pair<std::string, std::string>> attached;  // (frame, where)
+  // A model with joints or plugins is a robot, as Gazebo simulates it (and as spawn_sdf_model takes it).
+  const auto add = [&](WorldModel m, const SdfSpawn& spawn, const XMLElement* pose_of, const std::string& where)
+  {
+    const int frame = frames.add(m.name, SdfCtx::relativeTo(pose_of), SdfFrames::kScope, m.pose, where);
     if (!spawn.robot)
     {
       world.models.push_back(std::move(m));
+      placed.push_back({frame, false, world.models.size() - 1});
       return;
     }
     spawn.robot->name = m.name;
     world.robots.push_back({m.name, spawn.robot, m.pose, spawn.root_in_model});
+    placed.push_back({frame, true, world.robots.size() - 1});
   };
   for (const XMLElement* e = w->FirstChildElement(); e; e = e->NextSiblingElement())
   {
@@ -609,13 +772,28 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
     {
       WorldModel m;
       if (parseInclude(c, e, world, m, &spawn))
-        add(std::move(m), spawn);
+        add(std::move(m), spawn, e, "<include> <uri>" + c.text(e, "uri", "<include>", true) + "</uri>");
     }
     else if (n == "model")
     {
-      add(parseSdfModel(c, e, "<world>", &spawn), spawn);
+      add(parseSdfModel(c, e, "<world>", &spawn), spawn, e, "<world> <model name='" + nameOf(e) + "'>");
+    }
+    else if (n == "frame")
+    {
+      const std::string fw = "<world> <frame name='" + nameOf(e) + "'>";
+      if (nameOf(e).empty())
+        c.fail(fw, "missing attribute 'name'");
+      const std::string to = e->Attribute("attached_to") ? e->Attribute("attached_to") : "";
+      const std::string rel = SdfCtx::relativeTo(e);
+      frames.add(nameOf(e), rel.empty() ? to : rel, SdfFrames::kScope, c.pose(e, fw), fw);
+      if (!to.empty())
+        attached.emplace_back(to, fw + " attached_to");
     }
   }
+  for (const auto& [to, fw] : attached)
+    frames.find(to, fw);
+  for (const Placed& p : placed)
+    (p.robot ? world.robots[p.index].model_pose : world.models[p.index].pose) = frames.resolve(p.frame);
   // Gazebo applies the poses saved in a <state> block on load.
   for (const XMLElement* st = w->FirstChildElement("state"); st; st = st->NextSiblingElement("state"))
   {
@@ -670,7 +848,10 @@ WorldModel parseSdfDocument(const SdfCtx& c, const std::string& xml, SdfSpawn* s
       if (items.size() != 1)
         c.fail("<sdf><world>", "holds " + std::to_string(items.size()) + " models; one model was expected");
       if (std::string(items[0]->Name()) == "model")
+      {
+        checkOutermostPose(c, items[0], "<world>", true);
         return parseSdfModel(c, items[0], "<world>", spawn);
+      }
       WorldSpec ignored;
       WorldModel out;
       if (!parseInclude(c, items[0], ignored, out, spawn))
@@ -685,6 +866,7 @@ WorldModel parseSdfDocument(const SdfCtx& c, const std::string& xml, SdfSpawn* s
     m = root;
   else
     c.fail("document", std::string("<") + (root ? root->Name() : "") + ">, where <sdf><model> was expected");
+  checkOutermostPose(c, m, "", false);
   return parseSdfModel(c, m, "", spawn);
 }
 }  // namespace
