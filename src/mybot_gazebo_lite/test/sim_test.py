@@ -1039,6 +1039,22 @@ class WorldRobotTests(unittest.TestCase):
         post = rospy.ServiceProxy('/gazebo/get_link_state', GetLinkState)(link_name='flap::post')
         self.assertAlmostEqual(post.link_state.pose.position.x, -2.0, delta=1e-6)  # anchored where the file put it
 
+    def test_a_laser_model_included_in_a_robot_rides_it_and_scans(self):
+        """my_robot includes model://tutorial_laser (test/fixtures/models) 0.2 m ahead of and above its
+        frame, fixed to its chassis by a joint to 'tutorial_laser::link', as Gazebo's tutorial robot
+        attaches its hokuyo; the laser's own plugin publishes what it sees of the wall 2 m ahead."""
+        scan = rospy.wait_for_message('/tutorial/scan', LaserScan, timeout=WALL_TIMEOUT)
+        self.assertEqual((scan.header.frame_id, len(scan.ranges)), ('laser_link', 90))
+        # The middle beams, 0.0176 rad either side of straight ahead, from the sensor 0.21 m ahead of
+        # the robot's frame to the wall's face at 1.9 m.
+        for r in scan.ranges[44:46]:
+            self.assertAlmostEqual(r, 1.69 / math.cos(1.57 / 89), delta=0.005)
+        laser = rospy.ServiceProxy('/gazebo/get_link_state', GetLinkState)(link_name='my_robot::tutorial_laser::link')
+        self.assertTrue(laser.success, laser.status_message)
+        p = laser.link_state.pose.position
+        self.assertAlmostEqual(p.x, 0.2, delta=1e-3)
+        self.assertAlmostEqual(p.z, 0.2, delta=2e-3)
+
 
 SUITES = {'bad_pose': BadPoseTests, 'drive': DriveTests, 'states': StatesTests, 'rest': RestTests, 'wall': WallTests, 'multi': MultiRobotTests, 'malformed': MalformedInputTests,
           'world_robots': WorldRobotTests}

@@ -338,6 +338,37 @@ TEST(Loaders, SdfWorldModelsArePlacedRelativeToOtherModelsAndFrames)
   EXPECT_LT(w.robots[0].model_pose.getOrigin().distance(btVector3(8, 1, 0)), 1e-12);
 }
 
+// A model's <include>s are part of it, as its nested <model>s are: before 2026-12-01 they were
+// left out without a word (a shelf's included crates missing from the world).
+TEST(Loaders, SdfIncludesInAModelAreFlattenedIntoIt)
+{
+  const WorldSpec w = parseSdfWorld(
+      "<sdf version='1.7'><world name='w'><model name='shelf'><static>true</static><pose>1 0 0 0 0 0</pose>"
+      "<link name='board'><pose>0 0 1 0 0 0</pose><collision name='c'><geometry><box><size>1 0.3 0.02</size></box>"
+      "</geometry></collision></link>"
+      "<include><uri>model://tutorial_laser</uri><name>scanner</name><pose relative_to='board'>0.2 0 0.1 0 0 0</pose>"
+      "</include><include><uri>model://tutorial_laser</uri><name>spare</name></include></model></world></sdf>",
+      "w.world", FIXTURE_DIR);
+  ASSERT_EQ(w.models.size(), 1u);
+  const WorldModel& shelf = w.models[0];
+  ASSERT_EQ(shelf.links.size(), 3u);
+  EXPECT_EQ(shelf.links[1].name, "scanner::link");
+  EXPECT_LT(shelf.links[1].pose.getOrigin().distance(btVector3(0.2, 0, 1.1)), 1e-12);
+  EXPECT_EQ(shelf.links[2].name, "spare::link");
+  EXPECT_LT(shelf.links[2].pose.getOrigin().distance(btVector3(0, 0, 0.5)), 1e-12);  // the model file's own pose
+  ASSERT_EQ(shelf.links[1].shapes.size(), 1u);
+  EXPECT_EQ(loadErrorOf(
+                []
+                {
+                  parseSdfWorld(
+                      "<sdf version='1.6'><world name='w'><model name='m'><link name='l'/><include><uri>"
+                      "model://sun</uri></include></model></world></sdf>",
+                      "w.world", ".");
+                }),
+            "w.world: <world> <model name='m'> <include> <uri>model://sun</uri>: the sun and the ground plane belong "
+            "in the world, not in a model");
+}
+
 TEST(Loaders, SdfFrameErrorsNameTheElement)
 {
   const std::string joint =

@@ -844,6 +844,72 @@ TEST(Physics, SdfModelWithJointsSwingsAboutItsHinge)
   }
 }
 
+// Gazebo's "Make a mobile robot" tutorial builds its robot in SDF and attaches a laser model
+// from the model path with <include> and a fixed joint to "hokuyo::link". Nested and included
+// models are flattened into the robot under their scoped names, their own joints too: the laser
+// rides the chassis where the include put it, and a nested mast pans on its own joint.
+TEST(Physics, AnSdfRobotWithAnIncludedLaserAndANestedMast)
+{
+  const std::string wheel = R"(<inertial><mass>0.5</mass><inertia><ixx>0.002</ixx><iyy>0.002</iyy><izz>0.002</izz>
+      </inertia></inertial><collision name="c"><pose>0 0 0 1.5707963267948966 0 0</pose><geometry><cylinder>
+      <radius>0.1</radius><length>0.05</length></cylinder></geometry></collision>)";
+  const std::string robot = R"(<sdf version="1.6"><model name="my_robot">
+      <link name="chassis"><pose>0 0 0.1 0 0 0</pose>
+        <inertial><mass>5</mass><inertia><ixx>0.02</ixx><iyy>0.07</iyy><izz>0.08</izz></inertia></inertial>
+        <collision name="box"><geometry><box><size>0.4 0.2 0.1</size></box></geometry></collision>
+        <collision name="caster"><pose>-0.15 0 -0.05 0 0 0</pose><geometry><sphere><radius>0.05</radius></sphere>
+        </geometry></collision></link>
+      <link name="left_wheel"><pose>0.1 0.13 0.1 0 0 0</pose>)" +
+                            wheel + R"(</link>
+      <link name="right_wheel"><pose>0.1 -0.13 0.1 0 0 0</pose>)" +
+                            wheel + R"(</link>
+      <joint name="left_wheel_hinge" type="revolute"><parent>chassis</parent><child>left_wheel</child>
+        <axis><xyz>0 1 0</xyz></axis></joint>
+      <joint name="right_wheel_hinge" type="revolute"><parent>chassis</parent><child>right_wheel</child>
+        <axis><xyz>0 1 0</xyz></axis></joint>
+      <include><uri>model://tutorial_laser</uri><pose>0.2 0 0.2 0 0 0</pose></include>
+      <joint name="laser_joint" type="fixed"><child>tutorial_laser::link</child><parent>chassis</parent></joint>
+      <model name="mast"><pose>-0.1 0 0.15 0 0 0</pose>
+        <link name="base"><inertial><mass>0.2</mass><inertia><ixx>0.001</ixx><iyy>0.001</iyy><izz>0.001</izz>
+          </inertia></inertial><collision name="c"><geometry><box><size>0.04 0.04 0.1</size></box></geometry>
+          </collision></link>
+        <link name="top"><pose>0 0 0.08 0 0 0</pose><inertial><mass>0.1</mass><inertia><ixx>0.0001</ixx>
+          <iyy>0.0001</iyy><izz>0.0001</izz></inertia></inertial><collision name="c"><geometry><box>
+          <size>0.1 0.02 0.02</size></box></geometry></collision></link>
+        <joint name="pan" type="revolute"><parent>base</parent><child>top</child><axis><xyz>0 0 1</xyz>
+          <dynamics><damping>0.001</damping></dynamics></axis></joint>
+      </model>
+      <joint name="mast_joint" type="fixed"><parent>chassis</parent><child>mast::base</child></joint>
+      </model></sdf>)";
+  const SdfSpawn sdf = parseSdfSpawn(robot, "my_robot.sdf", FIXTURE_DIR);
+  ASSERT_TRUE(sdf.robot);
+  std::vector<std::string> links, joints;
+  for (const LinkSpec& l : sdf.robot->links)
+    links.push_back(l.name);
+  for (const JointSpec& j : sdf.robot->joints)
+    joints.push_back(j.name + ": " + j.parent + " -> " + j.child);
+  EXPECT_EQ(links, (std::vector<std::string>{"chassis", "left_wheel", "right_wheel", "tutorial_laser::link",
+                                             "mast::base", "mast::top"}));
+  EXPECT_EQ(joints, (std::vector<std::string>{
+                        "left_wheel_hinge: chassis -> left_wheel", "right_wheel_hinge: chassis -> right_wheel",
+                        "laser_joint: chassis -> tutorial_laser::link", "mast_joint: chassis -> mast::base",
+                        "mast::pan: mast::base -> mast::top"}));
+  EXPECT_EQ(sdf.robot->links[3].sensors.size(), 1u);  // the included model's laser, on its link
+  EXPECT_EQ(sdf.model.links.size(), 6u);              // and the same links as rigid bodies
+
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(sdf.robot, "my_robot", "", sdf.model.pose * sdf.root_in_model);
+  run(w, 1.0);
+  // Where the <include> put it, 0.1 m above and 0.2 m ahead of the chassis' frame, at rest.
+  const btTransform chassis = r.linkPose("chassis");
+  EXPECT_LT((chassis.inverse() * r.linkPose("tutorial_laser::link")).getOrigin().distance(btVector3(0.2, 0, 0.1)),
+            1e-6);
+  EXPECT_LT((chassis.inverse() * r.linkPose("mast::top")).getOrigin().distance(btVector3(-0.1, 0, 0.13)), 1e-6);
+  EXPECT_EQ(w.applyJointEffort("my_robot::mast::pan", 0.01, w.time(), 0.2), "");
+  run(w, 0.5);
+  EXPECT_GT(r.jointPosition("mast::pan"), 0.1);  // its own joint turns it
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);

@@ -220,8 +220,125 @@ std::string nameOf(const XMLElement* e)
   return e->Attribute("name") ? e->Attribute("name") : "";
 }
 
-// A model's frames (SDF 1.7, SdfFrames): its links, joints, nested models and <frame>s, in the
-// model's scope. SDF 1.6 files come out as before: links and nested models relative to the model,
+// A model file's own model has nothing to be placed relative to (SDF 1.7: its <pose>'s relative_to
+// is left empty); in a world of one model, only the world.
+void checkOutermostPose(const SdfCtx& c, const XMLElement* m, const std::string& where, bool in_world)
+{
+  const std::string rel = SdfCtx::relativeTo(m);
+  if (!rel.empty() && !(in_world && rel == "world"))
+    c.fail(where + " <model name='" + nameOf(m) + "'> <pose relative_to>",
+           "'" + rel + "': no frame of that name " + (in_world ? "in this world" : "outside a world"));
+}
+
+// A model file found by <include><uri>: model://NAME from GAZEBO_MODEL_PATH and the package
+// model paths (its model.config's newest <sdf>), or a file.
+struct IncludedModel
+{
+  SdfCtx ctx;                                  // the included file's, for its errors
+  std::shared_ptr<tinyxml2::XMLDocument> doc;  // keeps `model` alive
+  const XMLElement* model = nullptr;
+};
+
+IncludedModel loadInclude(const SdfCtx& c, const std::string& uri, const std::string& where)
+{
+  std::string dir = (*c.resolver)(uri, c.base_dir);
+  if (dir.empty())
+    c.fail(where, "model not found in GAZEBO_MODEL_PATH or package model paths");
+  std::string sdf_file = dir + "/model.sdf";
+  std::ifstream cfg(dir + "/model.config");
+  if (cfg)
+  {
+    tinyxml2::XMLDocument doc;
+    std::stringstream ss;
+    ss << cfg.rdbuf();
+    // Several <sdf version="..."> files: the newest, as Gazebo picks.
+    std::pair<int, int> best{-1, -1};
+    if (doc.Parse(ss.str().c_str()) == tinyxml2::XML_SUCCESS)
+      if (const XMLElement* mdl = doc.FirstChildElement("model"))
+        for (const XMLElement* s = mdl->FirstChildElement("sdf"); s; s = s->NextSiblingElement("sdf"))
+        {
+          if (!s->GetText())
+            continue;
+          std::pair<int, int> v{0, 0};
+          if (const char* ver = s->Attribute("version"))
+            std::sscanf(ver, "%d.%d", &v.first, &v.second);
+          if (v > best)
+          {
+            best = v;
+            sdf_file = dir + "/" + s->GetText();
+          }
+        }
+  }
+  IncludedModel out{SdfCtx{sdf_file, dir, c.resolver}, std::make_shared<tinyxml2::XMLDocument>(), nullptr};
+  std::string xml = readFile(sdf_file, c.source + ": " + where);
+  if (out.doc->Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
+    throw LoadError(sdf_file + ": XML: " + (out.doc->ErrorStr() ? out.doc->ErrorStr() : "parse error"));
+  const XMLElement* sdf = out.doc->FirstChildElement("sdf");
+  out.model = sdf ? sdf->FirstChildElement("model") : nullptr;
+  if (!out.model)
+    throw LoadError(sdf_file + ": no <sdf><model>");
+  checkOutermostPose(out.ctx, out.model, "", false);
+  return out;
+}
+
+// A model in a model, written in it (<model>) or included (<include>): one more scope, its links,
+// joints and plugins named "nested::link" as Gazebo scopes them.
+struct NestedModel
+{
+  const XMLElement* element = nullptr;  // the <model> or <include> in the outer model
+  IncludedModel file;                   // the model itself, with the file it is in
+  std::string name;
+  std::string where_in;                           // the outer model's, for parseSdfModel ("" for an included file's)
+  std::string where;                              // the nested model's own
+  std::string pose_where;                         // where its <pose> in the outer model is written
+  btTransform pose = btTransform::getIdentity();  // as written in the outer model's scope
+  std::string relative_to;
+};
+
+std::vector<NestedModel> nestedModels(const SdfCtx& c, const XMLElement* m, const std::string& where)
+{
+  std::vector<NestedModel> out;
+  for (const XMLElement* e = m->FirstChildElement(); e; e = e->NextSiblingElement())
+  {
+    const std::string kind = e->Name();
+    NestedModel n;
+    n.element = e;
+    if (kind == "model")
+    {
+      n.file = {c, nullptr, e};
+      n.name = nameOf(e);
+      n.where_in = where;
+      n.where = n.pose_where = where + " <model name='" + n.name + "'>";
+      n.pose = c.pose(e, n.where);
+      n.relative_to = SdfCtx::relativeTo(e);
+    }
+    else if (kind == "include")
+    {
+      const std::string uri = c.text(e, "uri", where + " <include>", true);
+      n.pose_where = where + " <include> <uri>" + uri + "</uri>";
+      if (uri == "model://sun" || uri == "model://ground_plane")
+        c.fail(n.pose_where, "the sun and the ground plane belong in the world, not in a model");
+      n.file = loadInclude(c, uri, n.pose_where);
+      const XMLElement* nm = e->FirstChildElement("name");
+      n.name = nm && nm->GetText() ? nm->GetText() : nameOf(n.file.model);
+      n.where = " <model name='" + nameOf(n.file.model) + "'>";
+      // The <include>'s <pose> places it, else the model file's own.
+      n.pose = e->FirstChildElement("pose") ? c.pose(e, n.pose_where) : n.file.ctx.pose(n.file.model, n.where);
+      n.relative_to = SdfCtx::relativeTo(e);
+    }
+    else
+    {
+      continue;
+    }
+    if (n.name.empty())
+      c.fail(n.pose_where, "a nested model without a name");
+    out.push_back(std::move(n));
+  }
+  return out;
+}
+
+// A model's frames (SDF 1.7, SdfFrames): its links, joints, nested (and included) models and
+// <frame>s, in the model's scope. SDF 1.6 files come out as before: links and nested models relative to the model,
 // joints to their child links.
 struct ModelFrames
 {
@@ -235,7 +352,8 @@ struct ModelFrames
   }
 };
 
-ModelFrames modelFrames(const SdfCtx& c, const XMLElement* m, const std::string& where)
+ModelFrames modelFrames(const SdfCtx& c, const XMLElement* m, const std::string& where,
+                        const std::vector<NestedModel>& nested)
 {
   ModelFrames mf{SdfFrames(c.source, "__model__"), {}};
   std::map<std::string, int> links;
@@ -246,11 +364,8 @@ ModelFrames modelFrames(const SdfCtx& c, const XMLElement* m, const std::string&
     mf.of[l] = id;
     links.emplace(nameOf(l), id);
   }
-  for (const XMLElement* n = m->FirstChildElement("model"); n; n = n->NextSiblingElement("model"))
-  {
-    const std::string nw = where + " <model name='" + nameOf(n) + "'>";
-    mf.of[n] = mf.frames.add(nameOf(n), SdfCtx::relativeTo(n), SdfFrames::kScope, c.pose(n, nw), nw);
-  }
+  for (const NestedModel& n : nested)
+    mf.of[n.element] = mf.frames.add(n.name, n.relative_to, SdfFrames::kScope, n.pose, n.pose_where);
   std::vector<std::pair<std::string, std::string>> attached;  // (frame, where)
   for (const XMLElement* f = m->FirstChildElement("frame"); f; f = f->NextSiblingElement("frame"))
   {
@@ -360,160 +475,206 @@ XmlNode sdfSensor(const SdfCtx& c, const XMLElement* sn, int link, const ModelFr
   return n;
 }
 
-// A model that is not static and has joints or plugins (its own or its sensors'), as Gazebo
-// simulates it: a robot (see parseSdfSpawn). Link poses are the model's (SDF 1.6: relative to the
-// model frame); a joint's <pose> is its frame in the child link's, its axis in that frame unless
-// said to be in the model's. False for a rigid model.
+// One scope of an SDF robot: the model's own, or a nested or included model's, flattened into it.
+struct RobotScope
+{
+  SdfCtx ctx;
+  const XMLElement* model;
+  std::string prefix;  // "" for the robot's own, "nested::" (and "nested::inner::") for the others
+  std::string where;
+  btTransform in_root;  // the scope's frame in the robot model's
+  std::vector<NestedModel> nested;
+  ModelFrames mf;
+};
+
+void robotScopes(const SdfCtx& c, const XMLElement* m, const std::string& prefix, const btTransform& in_root,
+                 const std::string& where, std::vector<RobotScope>& out)
+{
+  std::vector<NestedModel> nested = nestedModels(c, m, where);
+  ModelFrames mf = modelFrames(c, m, where, nested);
+  out.push_back({c, m, prefix, where, in_root, std::move(nested), std::move(mf)});
+  const size_t at = out.size() - 1;
+  for (size_t i = 0; i < out[at].nested.size(); ++i)
+  {
+    const NestedModel n = out[at].nested[i];  // a copy: out grows below
+    const btTransform n_in_root = out[at].in_root * out[at].mf.frames.resolve(out[at].mf.of.at(n.element));
+    robotScopes(n.file.ctx, n.file.model, prefix + n.name + "::", n_in_root, n.where, out);
+  }
+}
+
+// A model that is not static and has joints or plugins (its own, its sensors' or its nested
+// models'), as Gazebo simulates it: a robot (see parseSdfSpawn), its nested and included models
+// flattened into it ("hokuyo::link", "hokuyo::joint"; a joint of the robot may name "hokuyo::link",
+// as Gazebo's tutorial robot fixes its included laser). Link poses are the model's (SDF 1.6:
+// relative to the model frame); a joint's <pose> is its frame in the child link's, its axis in that
+// frame unless said to be in another (SdfFrames). False for a rigid model.
 bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& where, RobotSpec& rs,
                    btTransform& root_in_model)
 {
   const std::string st = c.text(m, "static", where, false, "false");
   if (st == "true" || st == "1")
     return false;
-  bool articulated = m->FirstChildElement("joint") || m->FirstChildElement("plugin");
-  for (const XMLElement* l = m->FirstChildElement("link"); l && !articulated; l = l->NextSiblingElement("link"))
-    for (const XMLElement* sn = l->FirstChildElement("sensor"); sn && !articulated;
-         sn = sn->NextSiblingElement("sensor"))
-      articulated = sn->FirstChildElement("plugin") != nullptr;
+  std::vector<RobotScope> scopes;
+  robotScopes(c, m, "", btTransform::getIdentity(), where, scopes);
+  bool articulated = false;
+  for (const RobotScope& s : scopes)
+  {
+    articulated = articulated || s.model->FirstChildElement("joint") || s.model->FirstChildElement("plugin");
+    for (const XMLElement* l = s.model->FirstChildElement("link"); l && !articulated; l = l->NextSiblingElement("link"))
+      for (const XMLElement* sn = l->FirstChildElement("sensor"); sn && !articulated;
+           sn = sn->NextSiblingElement("sensor"))
+        articulated = sn->FirstChildElement("plugin") != nullptr;
+  }
   if (!articulated)
     return false;
-  if (m->FirstChildElement("model"))
-    c.fail(where + " <model>", "a model nested in a model with joints or plugins is not simulated");
   rs.name = m->Attribute("name") ? m->Attribute("name") : "";
   rs.source = c.source;
-  const ModelFrames mf = modelFrames(c, m, where);
   std::map<std::string, btTransform> pose_of;  // each link's frame in the model's
-  for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
-  {
-    LinkSpec ls;
-    ls.name = l->Attribute("name") ? l->Attribute("name") : "";
-    const std::string lw = where + " <link name='" + ls.name + "'>";
-    if (ls.name.empty() || ls.name == "world" || pose_of.count(ls.name))
-      c.fail(lw, ls.name.empty() ? "missing attribute 'name'" : "a second link of this name (or 'world')");
-    const int link = mf.of.at(l);
-    pose_of[ls.name] = mf.frames.resolve(link);
-    // SDF's defaults: 1 kg, unit moments.
-    ls.has_inertial = true;
-    ls.inertial.mass = 1.0;
-    ls.inertial.ixx = ls.inertial.iyy = ls.inertial.izz = 1.0;
-    if (const XMLElement* in = l->FirstChildElement("inertial"))
+  for (const RobotScope& s : scopes)
+    for (const XMLElement* l = s.model->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
     {
-      const std::string iw = lw + " <inertial>";
-      ls.inertial.mass = c.number(in, "mass", iw, false, 1.0);
-      if (ls.inertial.mass <= 0)
-        c.fail(iw + " <mass>", "mass must be positive");
-      ls.inertial.origin = mf.poseIn(c, in, link, link, iw);
-      if (const XMLElement* I = in->FirstChildElement("inertia"))
+      const SdfCtx& sc = s.ctx;
+      const ModelFrames& mf = s.mf;
+      LinkSpec ls;
+      ls.name = nameOf(l);
+      const std::string lw = s.where + " <link name='" + ls.name + "'>";
+      if (ls.name.empty() || ls.name == "world" || pose_of.count(s.prefix + ls.name))
+        sc.fail(lw, ls.name.empty() ? "missing attribute 'name'" : "a second link of this name (or 'world')");
+      ls.name = s.prefix + ls.name;
+      const int link = mf.of.at(l);
+      pose_of[ls.name] = s.in_root * mf.frames.resolve(link);
+      // SDF's defaults: 1 kg, unit moments.
+      ls.has_inertial = true;
+      ls.inertial.mass = 1.0;
+      ls.inertial.ixx = ls.inertial.iyy = ls.inertial.izz = 1.0;
+      if (const XMLElement* in = l->FirstChildElement("inertial"))
       {
-        const std::string Iw = iw + " <inertia>";
-        ls.inertial.ixx = c.number(I, "ixx", Iw, false, 1.0);
-        ls.inertial.iyy = c.number(I, "iyy", Iw, false, 1.0);
-        ls.inertial.izz = c.number(I, "izz", Iw, false, 1.0);
-        ls.inertial.ixy = c.number(I, "ixy", Iw, false, 0.0);
-        ls.inertial.ixz = c.number(I, "ixz", Iw, false, 0.0);
-        ls.inertial.iyz = c.number(I, "iyz", Iw, false, 0.0);
+        const std::string iw = lw + " <inertial>";
+        ls.inertial.mass = sc.number(in, "mass", iw, false, 1.0);
+        if (ls.inertial.mass <= 0)
+          sc.fail(iw + " <mass>", "mass must be positive");
+        ls.inertial.origin = mf.poseIn(sc, in, link, link, iw);
+        if (const XMLElement* I = in->FirstChildElement("inertia"))
+        {
+          const std::string Iw = iw + " <inertia>";
+          ls.inertial.ixx = sc.number(I, "ixx", Iw, false, 1.0);
+          ls.inertial.iyy = sc.number(I, "iyy", Iw, false, 1.0);
+          ls.inertial.izz = sc.number(I, "izz", Iw, false, 1.0);
+          ls.inertial.ixy = sc.number(I, "ixy", Iw, false, 0.0);
+          ls.inertial.ixz = sc.number(I, "ixz", Iw, false, 0.0);
+          ls.inertial.iyz = sc.number(I, "iyz", Iw, false, 0.0);
+        }
       }
+      ls.collisions = sdfCollisions(sc, l, lw, mf);
+      sdfVisualColor(sc, l, lw, ls.color);
+      for (const XMLElement* sn = l->FirstChildElement("sensor"); sn; sn = sn->NextSiblingElement("sensor"))
+        ls.sensors.push_back(sdfSensor(sc, sn, link, mf, lw + " <sensor name='" + nameOf(sn) + "'>"));
+      checkInertia(sc.source, ls, lw, rs.warnings);
+      rs.links.push_back(std::move(ls));
     }
-    ls.collisions = sdfCollisions(c, l, lw, mf);
-    sdfVisualColor(c, l, lw, ls.color);
-    for (const XMLElement* sn = l->FirstChildElement("sensor"); sn; sn = sn->NextSiblingElement("sensor"))
-      ls.sensors.push_back(sdfSensor(c, sn, link, mf, lw + " <sensor name='" + nameOf(sn) + "'>"));
-    checkInertia(c.source, ls, lw, rs.warnings);
-    rs.links.push_back(std::move(ls));
-  }
   if (rs.links.empty())
     c.fail(where, "no <link>");
   std::set<std::string> children, joint_names;
-  for (const XMLElement* j = m->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
-  {
-    JointSpec js;
-    js.name = j->Attribute("name") ? j->Attribute("name") : "";
-    const std::string type = j->Attribute("type") ? j->Attribute("type") : "";
-    const std::string jw = where + " <joint name='" + js.name + "'>";
-    if (js.name.empty() || !joint_names.insert(js.name).second)
-      c.fail(jw, js.name.empty() ? "missing attribute 'name'" : "a second joint of this name");
-    if (type == "revolute")
-      js.type = JointSpec::REVOLUTE;
-    else if (type == "continuous")
-      js.type = JointSpec::CONTINUOUS;
-    else if (type == "prismatic")
-      js.type = JointSpec::PRISMATIC;
-    else if (type == "fixed")
-      js.type = JointSpec::FIXED;
-    else
-      c.fail(jw, "type '" + type + "' is not simulated (revolute, continuous, prismatic, fixed)");
-    js.parent = c.text(j, "parent", jw, true);
-    js.child = c.text(j, "child", jw, true);
-    if (js.parent == "world" && !pose_of.count("world"))
+  for (const RobotScope& s : scopes)
+    for (const XMLElement* j = s.model->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
     {
-      LinkSpec world;  // the world itself, as a URDF's `world` link: what anchors the model
-      world.name = "world";
-      rs.links.push_back(world);
-      pose_of["world"] = btTransform::getIdentity();
-    }
-    for (const std::string* l : {&js.parent, &js.child})
-      if (!pose_of.count(*l))
-        c.fail(jw, "no link named '" + *l + "' in the model");
-    if (js.child == "world" || !children.insert(js.child).second)
-      c.fail(jw, "link '" + js.child + "' is the child of a second joint (or the world)");
-    js.origin = pose_of[js.parent].inverse() * pose_of[js.child];
-    // The joint's frame in its child's (the default SDF 1.6 knows).
-    js.pivot = pose_of[js.child].inverse() * mf.frames.resolve(mf.of.at(j));
-    js.axis = btVector3(0, 0, 1);
-    if (const XMLElement* ax = j->FirstChildElement("axis"))
-    {
-      const std::string aw = jw + " <axis>";
-      if (const XMLElement* x = ax->FirstChildElement("xyz"); x && x->GetText())
-      {
-        try
-        {
-          js.axis = parseVec3(x->GetText(), "<xyz>");
-        }
-        catch (const LoadError& e)
-        {
-          c.fail(aw, e.what());
-        }
-        // In the joint's frame unless expressed_in names another frame of the model (SDF 1.7),
-        // or use_parent_model_frame says the model's (SDF 1.5 and 1.6).
-        const char* in = x->Attribute("expressed_in");
-        int frame = in && *in ? mf.frames.find(in, aw + " <xyz expressed_in>") : mf.of.at(j);
-        if (c.text(ax, "use_parent_model_frame", aw, false) == "true")
-          frame = SdfFrames::kScope;
-        js.axis = mf.frames.resolve(mf.of.at(j)).getBasis().transpose() * mf.frames.resolve(frame).getBasis() * js.axis;
-      }
-      if (js.axis.length() < 1e-9)
-        c.fail(aw + " <xyz>", "zero axis");
-      js.axis.normalize();
-      if (const XMLElement* lim = ax->FirstChildElement("limit"))
-      {
-        // SDF's defaults: +-1e16 (no limits), -1 (no effort or velocity limit).
-        js.lower = c.number(lim, "lower", aw + " <limit>", false, -1e16);
-        js.upper = c.number(lim, "upper", aw + " <limit>", false, 1e16);
-        const double effort = c.number(lim, "effort", aw + " <limit>", false, -1);
-        const double velocity = c.number(lim, "velocity", aw + " <limit>", false, -1);
-        js.has_effort = effort >= 0;
-        js.effort = std::max(effort, 0.0);
-        js.has_velocity = velocity >= 0;
-        js.velocity = std::max(velocity, 0.0);
-      }
+      const SdfCtx& sc = s.ctx;
+      const ModelFrames& mf = s.mf;
+      JointSpec js;
+      js.name = s.prefix + nameOf(j);
+      const std::string type = j->Attribute("type") ? j->Attribute("type") : "";
+      const std::string jw = s.where + " <joint name='" + nameOf(j) + "'>";
+      if (nameOf(j).empty() || !joint_names.insert(js.name).second)
+        sc.fail(jw, nameOf(j).empty() ? "missing attribute 'name'" : "a second joint of this name");
+      if (type == "revolute")
+        js.type = JointSpec::REVOLUTE;
+      else if (type == "continuous")
+        js.type = JointSpec::CONTINUOUS;
+      else if (type == "prismatic")
+        js.type = JointSpec::PRISMATIC;
+      else if (type == "fixed")
+        js.type = JointSpec::FIXED;
       else
+        sc.fail(jw, "type '" + type + "' is not simulated (revolute, continuous, prismatic, fixed)");
+      // A nested model's joint names its own links; `world` is the world's.
+      const auto scoped = [&](const std::string& n) { return n == "world" ? n : s.prefix + n; };
+      js.parent = scoped(sc.text(j, "parent", jw, true));
+      js.child = scoped(sc.text(j, "child", jw, true));
+      if (js.parent == "world" && !pose_of.count("world"))
       {
-        js.lower = -1e16;
-        js.upper = 1e16;
+        LinkSpec world;  // the world itself, as a URDF's `world` link: what anchors the model
+        world.name = "world";
+        rs.links.push_back(world);
+        pose_of["world"] = btTransform::getIdentity();
       }
-      js.has_limits = js.type != JointSpec::CONTINUOUS && js.lower > -1e15 && js.upper < 1e15 && js.upper > js.lower;
-      if (js.type == JointSpec::REVOLUTE && !js.has_limits)
-        js.type = JointSpec::CONTINUOUS;  // unlimited, as URDF says it
-      if (const XMLElement* dyn = ax->FirstChildElement("dynamics"))
+      for (const std::string* l : {&js.parent, &js.child})
+        if (!pose_of.count(*l))
+          sc.fail(jw, "no link named '" + *l + "' in the model");
+      if (js.child == "world" || !children.insert(js.child).second)
+        sc.fail(jw, "link '" + js.child + "' is the child of a second joint (or the world)");
+      js.origin = pose_of[js.parent].inverse() * pose_of[js.child];
+      // The joint's frame: in its child link's by default (as SDF 1.6 knows it; the child may be
+      // in a nested model), else where its relative_to says.
+      const btTransform joint_in_root = SdfCtx::relativeTo(j).empty() ? pose_of[js.child] * sc.pose(j, jw)
+                                                                      : s.in_root * mf.frames.resolve(mf.of.at(j));
+      js.pivot = pose_of[js.child].inverse() * joint_in_root;
+      js.axis = btVector3(0, 0, 1);
+      if (const XMLElement* ax = j->FirstChildElement("axis"))
       {
-        js.damping = c.number(dyn, "damping", aw + " <dynamics>", false, 0.0);
-        js.friction = c.number(dyn, "friction", aw + " <dynamics>", false, 0.0);
-        if (js.damping < 0 || js.friction < 0)
-          c.fail(aw + " <dynamics>", "negative damping or friction");
+        const std::string aw = jw + " <axis>";
+        if (const XMLElement* x = ax->FirstChildElement("xyz"); x && x->GetText())
+        {
+          try
+          {
+            js.axis = parseVec3(x->GetText(), "<xyz>");
+          }
+          catch (const LoadError& e)
+          {
+            sc.fail(aw, e.what());
+          }
+          // In the joint's frame unless expressed_in names another frame of the model (SDF 1.7),
+          // or use_parent_model_frame says the model's (SDF 1.5 and 1.6).
+          const char* in = x->Attribute("expressed_in");
+          btTransform frame = joint_in_root;
+          if (in && *in)
+            frame = s.in_root * mf.frames.resolve(mf.frames.find(in, aw + " <xyz expressed_in>"));
+          if (sc.text(ax, "use_parent_model_frame", aw, false) == "true")
+            frame = s.in_root;
+          js.axis = joint_in_root.getBasis().transpose() * frame.getBasis() * js.axis;
+        }
+        if (js.axis.length() < 1e-9)
+          sc.fail(aw + " <xyz>", "zero axis");
+        js.axis.normalize();
+        if (const XMLElement* lim = ax->FirstChildElement("limit"))
+        {
+          // SDF's defaults: +-1e16 (no limits), -1 (no effort or velocity limit).
+          js.lower = sc.number(lim, "lower", aw + " <limit>", false, -1e16);
+          js.upper = sc.number(lim, "upper", aw + " <limit>", false, 1e16);
+          const double effort = sc.number(lim, "effort", aw + " <limit>", false, -1);
+          const double velocity = sc.number(lim, "velocity", aw + " <limit>", false, -1);
+          js.has_effort = effort >= 0;
+          js.effort = std::max(effort, 0.0);
+          js.has_velocity = velocity >= 0;
+          js.velocity = std::max(velocity, 0.0);
+        }
+        else
+        {
+          js.lower = -1e16;
+          js.upper = 1e16;
+        }
+        js.has_limits = js.type != JointSpec::CONTINUOUS && js.lower > -1e15 && js.upper < 1e15 && js.upper > js.lower;
+        if (js.type == JointSpec::REVOLUTE && !js.has_limits)
+          js.type = JointSpec::CONTINUOUS;  // unlimited, as URDF says it
+        if (const XMLElement* dyn = ax->FirstChildElement("dynamics"))
+        {
+          js.damping = sc.number(dyn, "damping", aw + " <dynamics>", false, 0.0);
+          js.friction = sc.number(dyn, "friction", aw + " <dynamics>", false, 0.0);
+          if (js.damping < 0 || js.friction < 0)
+            sc.fail(aw + " <dynamics>", "negative damping or friction");
+        }
       }
+      rs.joints.push_back(js);
     }
-    rs.joints.push_back(js);
-  }
   std::vector<std::string> roots;
   for (const auto& l : rs.links)
     if (!children.count(l.name))
@@ -525,22 +686,23 @@ bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& wher
                       "' are not joined: a model with joints is simulated as one tree of links");
   rs.root = roots[0];
   root_in_model = pose_of[rs.root];
-  for (const XMLElement* p = m->FirstChildElement("plugin"); p; p = p->NextSiblingElement("plugin"))
-  {
-    PluginSpec ps;
-    ps.xml = toXmlNode(p);
-    ps.name = ps.xml.attr("name");
-    ps.filename = ps.xml.attr("filename");
-    if (ps.filename.empty())
-      c.fail(where + " <plugin name='" + ps.name + "'>", "missing attribute 'filename'");
-    rs.plugins.push_back(std::move(ps));
-  }
+  for (const RobotScope& s : scopes)
+    for (const XMLElement* p = s.model->FirstChildElement("plugin"); p; p = p->NextSiblingElement("plugin"))
+    {
+      PluginSpec ps;
+      ps.xml = toXmlNode(p);
+      ps.name = ps.xml.attr("name");
+      ps.filename = ps.xml.attr("filename");
+      if (ps.filename.empty())
+        s.ctx.fail(s.where + " <plugin name='" + ps.name + "'>", "missing attribute 'filename'");
+      rs.plugins.push_back(std::move(ps));
+    }
   addSensorPlugins(rs, where + " <link name='");
   return true;
 }
 
-// A model's rigid links (nested models flattened into it); with `spawn`, also the robot it is when
-// it has joints or plugins (parseSdfRobot).
+// A model's rigid links (nested and included models flattened into it, "nested::link"); with
+// `spawn`, also the robot it is when it has joints or plugins (parseSdfRobot).
 WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string& where_in, SdfSpawn* spawn = nullptr)
 {
   WorldModel model;
@@ -557,7 +719,8 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
     if (parseSdfRobot(c, m, where, rs, spawn->root_in_model))
       spawn->robot = std::make_shared<RobotSpec>(std::move(rs));
   }
-  const ModelFrames mf = modelFrames(c, m, where);
+  const std::vector<NestedModel> nested = nestedModels(c, m, where);
+  const ModelFrames mf = modelFrames(c, m, where, nested);
   for (const XMLElement* l = m->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
   {
     WorldLink link;
@@ -574,29 +737,20 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
     link.has_color = sdfVisualColor(c, l, lw, link.color);
     model.links.push_back(std::move(link));
   }
-  // Nested models are flattened into this one.
-  for (const XMLElement* n = m->FirstChildElement("model"); n; n = n->NextSiblingElement("model"))
+  for (const NestedModel& n : nested)
   {
-    WorldModel sub = parseSdfModel(c, n, where);
-    sub.pose = mf.frames.resolve(mf.of.at(n));  // it may be written relative_to a frame of this model
+    WorldModel sub = parseSdfModel(n.file.ctx, n.file.model, n.where_in);
+    // Placed in this model's scope (its own <pose>, or the <include>'s, may be relative_to a
+    // frame of this model).
+    const btTransform pose = mf.frames.resolve(mf.of.at(n.element));
     for (auto& l : sub.links)
     {
-      l.pose = sub.pose * l.pose;
-      l.name = sub.name + "::" + l.name;
+      l.pose = pose * l.pose;
+      l.name = n.name + "::" + l.name;
       model.links.push_back(l);
     }
   }
   return model;
-}
-
-// A model file's own model has nothing to be placed relative to (SDF 1.7: its <pose>'s relative_to
-// is left empty); in a world of one model, only the world.
-void checkOutermostPose(const SdfCtx& c, const XMLElement* m, const std::string& where, bool in_world)
-{
-  const std::string rel = SdfCtx::relativeTo(m);
-  if (!rel.empty() && !(in_world && rel == "world"))
-    c.fail(where + " <model name='" + nameOf(m) + "'> <pose relative_to>",
-           "'" + rel + "': no frame of that name " + (in_world ? "in this world" : "outside a world"));
 }
 
 // Resolves <include><uri>model://X</uri></include>. Returns false for the
@@ -613,45 +767,8 @@ bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, Worl
     world.ground_plane = true;
     return false;
   }
-  std::string dir = (*c.resolver)(uri, c.base_dir);
-  if (dir.empty())
-    c.fail(where, "model not found in GAZEBO_MODEL_PATH or package model paths");
-  std::string sdf_file = dir + "/model.sdf";
-  std::ifstream cfg(dir + "/model.config");
-  if (cfg)
-  {
-    tinyxml2::XMLDocument doc;
-    std::stringstream ss;
-    ss << cfg.rdbuf();
-    // Several <sdf version="..."> files: the newest, as Gazebo picks.
-    std::pair<int, int> best{-1, -1};
-    if (doc.Parse(ss.str().c_str()) == tinyxml2::XML_SUCCESS)
-      if (const XMLElement* mdl = doc.FirstChildElement("model"))
-        for (const XMLElement* s = mdl->FirstChildElement("sdf"); s; s = s->NextSiblingElement("sdf"))
-        {
-          if (!s->GetText())
-            continue;
-          std::pair<int, int> v{0, 0};
-          if (const char* ver = s->Attribute("version"))
-            std::sscanf(ver, "%d.%d", &v.first, &v.second);
-          if (v > best)
-          {
-            best = v;
-            sdf_file = dir + "/" + s->GetText();
-          }
-        }
-  }
-  std::string xml = readFile(sdf_file, c.source + ": " + where);
-  tinyxml2::XMLDocument doc;
-  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
-    throw LoadError(sdf_file + ": XML: " + (doc.ErrorStr() ? doc.ErrorStr() : "parse error"));
-  const XMLElement* sdf = doc.FirstChildElement("sdf");
-  const XMLElement* m = sdf ? sdf->FirstChildElement("model") : nullptr;
-  if (!m)
-    throw LoadError(sdf_file + ": no <sdf><model>");
-  SdfCtx sub{sdf_file, dir, c.resolver};
-  checkOutermostPose(sub, m, "", false);
-  out = parseSdfModel(sub, m, "", spawn);
+  const IncludedModel file = loadInclude(c, uri, where);
+  out = parseSdfModel(file.ctx, file.model, "", spawn);
   if (const char* n = inc->FirstChildElement("name") ? inc->FirstChildElement("name")->GetText() : nullptr)
     out.name = n;
   if (inc->FirstChildElement("pose"))
