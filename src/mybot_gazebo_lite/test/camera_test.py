@@ -122,6 +122,24 @@ class CameraTests(unittest.TestCase):
         self.assertLess(abs(float(np.std(centre)) - 0.005), 0.002)  # the configured noise
         self.assertTrue(np.isnan(d[0:5, :]).all())  # sky: no reading
 
+    def test_gazebo_ros_depth_camera_publishes_under_its_own_default_names(self):
+        """The cube's second depth sensor, libgazebo_ros_depth_camera.so given no topic names: as
+        upstream, its colour image on ir/image_raw and ir/camera_info, its depth on depth/image_raw
+        and depth/camera_info, its cloud on points."""
+        depth = Collector('/ir_cam/depth/image_raw', Image)
+        ir = Collector('/ir_cam/ir/image_raw', Image)
+        info = Collector('/ir_cam/ir/camera_info', CameraInfo)
+        m = depth.wait(lambda m: len(m) > 0, 'ir_cam depth images')[-1]
+        self.assertEqual((m.width, m.height, m.encoding, m.header.frame_id), (32, 24, '32FC1', 'depth_camera'))
+        d = np.frombuffer(m.data, dtype=np.float32).reshape(24, 32)
+        truth = 5.0 - (self.spawned('depth_cam').pose.position.y + 0.05)  # the wall ahead, as above
+        self.assertAlmostEqual(float(np.median(d[6:12, 14:18])), truth, delta=0.005)
+        self.assertEqual(ir.wait(lambda m: len(m) > 0, 'ir_cam colour images')[-1].encoding, 'rgb8')
+        self.assertEqual(info.wait(lambda m: len(m) > 0, 'ir_cam camera_info')[-1].width, 32)
+        topics = dict(rospy.get_published_topics())
+        self.assertEqual((topics.get('/ir_cam/points'), topics.get('/ir_cam/depth/camera_info')),
+                         ('sensor_msgs/PointCloud2', 'sensor_msgs/CameraInfo'))
+
     def test_depth_camera_sees_another_robot_in_its_colour(self):
         # The crate (another robot, spawned by the launch file) 1.5 m ahead and 0.5 m to the
         # right: its near face, 0.2 m wide and high, covers columns 118-135 and rows 52-69.

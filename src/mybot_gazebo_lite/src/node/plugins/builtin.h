@@ -58,6 +58,7 @@ std::unique_ptr<SimPlugin> makeBumper(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeImuSensor(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeImu(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeCamera(const PluginContext& c);
-std::unique_ptr<SimPlugin> makeDepthCamera(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeDepthCamera(const PluginContext& c);     // gazebo_ros_openni_kinect
+std::unique_ptr<SimPlugin> makeRosDepthCamera(const PluginContext& c);  // gazebo_ros_depth_camera
 
 }  // namespace mybot_gazebo_lite

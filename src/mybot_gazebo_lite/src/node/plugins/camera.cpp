@@ -20,12 +20,21 @@ namespace
 class Camera : public SimPlugin
 {
 public:
-  Camera(const PluginContext& c, bool depth_sensor) : c_(c), depth_sensor_(depth_sensor), noise_(c.rng ? (*c.rng)() : 0)
+  // The plugin: gazebo_ros_camera, or for a <sensor type="depth"> gazebo_ros_openni_kinect or
+  // gazebo_ros_depth_camera (the same images; the latter's colour image defaults to ir/image_raw,
+  // and it cuts no depth off beyond the clip).
+  enum class Kind
+  {
+    Camera,
+    OpenniKinect,
+    DepthCamera
+  };
+  Camera(const PluginContext& c, Kind kind) : c_(c), depth_sensor_(kind != Kind::Camera), noise_(c.rng ? (*c.rng)() : 0)
   {
     PluginParams p(c, c.spec->xml);
     if (!c.spec->has_sensor)
       p.fail("sensor", "the camera plugin must sit inside a <sensor type=\"" +
-                           std::string(depth_sensor ? "depth" : "camera") + "\">");
+                           std::string(depth_sensor_ ? "depth" : "camera") + "\">");
     PluginParams s(c, c.spec->sensor);
     link_ = c.spec->reference;
     sensor_pose_ = s.pose("pose");
@@ -81,12 +90,14 @@ public:
     info_.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     info_.P = {k_.fx, 0, k_.cx, -k_.fx * p.num("hackBaseline", 0.0), 0, k_.fy, k_.cy, 0, 0, 0, 1, 0};
     ros::NodeHandle nh(ros::NodeHandle(c.ns), p.str("cameraName", ""));
-    image_pub_ = nh.advertise<sensor_msgs::Image>(p.str("imageTopicName", "image_raw"), 2);
-    info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(p.str("cameraInfoTopicName", "camera_info"), 2);
-    if (depth_sensor)
+    const bool ir = kind == Kind::DepthCamera;
+    image_pub_ = nh.advertise<sensor_msgs::Image>(p.str("imageTopicName", ir ? "ir/image_raw" : "image_raw"), 2);
+    info_pub_ =
+        nh.advertise<sensor_msgs::CameraInfo>(p.str("cameraInfoTopicName", ir ? "ir/camera_info" : "camera_info"), 2);
+    if (depth_sensor_)
     {
       cutoff_ = p.num("pointCloudCutoff", 0.4);
-      cutoff_max_ = p.num("pointCloudCutoffMax", 5.0);
+      cutoff_max_ = ir ? std::numeric_limits<double>::infinity() : p.num("pointCloudCutoffMax", 5.0);
       if (cutoff_ < 0 || cutoff_max_ <= cutoff_)
         p.fail("pointCloudCutoffMax", "need 0 <= pointCloudCutoff < pointCloudCutoffMax");
       depth_pub_ = nh.advertise<sensor_msgs::Image>(p.str("depthImageTopicName", "depth/image_raw"), 2);
@@ -241,11 +252,15 @@ private:
 
 std::unique_ptr<SimPlugin> makeCamera(const PluginContext& c)
 {
-  return std::make_unique<Camera>(c, false);
+  return std::make_unique<Camera>(c, Camera::Kind::Camera);
 }
 std::unique_ptr<SimPlugin> makeDepthCamera(const PluginContext& c)
 {
-  return std::make_unique<Camera>(c, true);
+  return std::make_unique<Camera>(c, Camera::Kind::OpenniKinect);
+}
+std::unique_ptr<SimPlugin> makeRosDepthCamera(const PluginContext& c)
+{
+  return std::make_unique<Camera>(c, Camera::Kind::DepthCamera);
 }
 
 }  // namespace mybot_gazebo_lite

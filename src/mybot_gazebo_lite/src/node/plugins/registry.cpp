@@ -83,6 +83,9 @@ const std::vector<Builtin>& builtins()
       {"libgazebo_ros_openni_kinect.so", makeDepthCamera,
        with(kCameraTags, {"baseline", "depthImageTopicName", "depthImageCameraInfoTopicName", "pointCloudTopicName",
                           "pointCloudCutoff", "pointCloudCutoffMax"})},
+      {"libgazebo_ros_depth_camera.so", makeRosDepthCamera,
+       with(kCameraTags,
+            {"depthImageTopicName", "depthImageCameraInfoTopicName", "pointCloudTopicName", "pointCloudCutoff"})},
   };
   return table;
 }
