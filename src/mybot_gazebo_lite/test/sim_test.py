@@ -1039,6 +1039,12 @@ class WorldRobotTests(unittest.TestCase):
         post = rospy.ServiceProxy('/gazebo/get_link_state', GetLinkState)(link_name='flap::post')
         self.assertAlmostEqual(post.link_state.pose.position.x, -2.0, delta=1e-6)  # anchored where the file put it
 
+    def test_model_states_list_the_world_files_models_in_its_order(self):
+        """As Gazebo lists them: the file's order, robots and rigid models alike (until 2026-12-01 its
+        robots came after its rigid models)."""
+        states = rospy.wait_for_message('/gazebo/model_states', ModelStates, timeout=WALL_TIMEOUT)
+        self.assertEqual(list(states.name), ['ground_plane', 'flap', 'my_robot', 'wall'])
+
     def test_a_laser_model_included_in_a_robot_rides_it_and_scans(self):
         """my_robot includes model://tutorial_laser (test/fixtures/models) 0.2 m ahead of and above its
         frame, fixed to its chassis by a joint to 'tutorial_laser::link', as Gazebo's tutorial robot

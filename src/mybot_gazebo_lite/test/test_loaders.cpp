@@ -227,6 +227,7 @@ TEST(Loaders, SdfWorldModelsWithJointsAreRobots)
   ASSERT_EQ(w.models.size(), 2u);
   EXPECT_EQ(w.models[0].name, "frozen");
   EXPECT_EQ(w.models[1].name, "crate");
+  EXPECT_EQ(w.file_order, (std::vector<std::string>{"flap", "frozen", "crate"}));  // model_states' order
 }
 
 namespace

@@ -220,6 +220,9 @@ struct WorldSpec
   bool ground_plane = false;
   std::vector<WorldModel> models;  // rigid: static, or without joints and plugins
   std::vector<WorldRobot> robots;
+  // Every model's name as the file lists them, rigid or robot ("ground_plane" where it is
+  // included): /gazebo/model_states' order, as Gazebo's.
+  std::vector<std::string> file_order;
 };
 
 }  // namespace mybot_gazebo_lite

@@ -397,7 +397,11 @@ private:
   static Pose linkFrameState(const WorldBody& wb);
   static Pose modelFrameState(const WorldBody& wb);
   std::vector<WorldBody> world_bodies_;
-  std::vector<std::string> model_order_;  // every model's name, in the order it came in
+  // Every model's name in /gazebo/model_states' order: a world file's as the file lists them
+  // (enterModelOrder: its robots are added after its rigid models), then in the order they came in.
+  std::vector<std::string> model_order_;
+  void enterModelOrder(const std::string& name);
+  void leaveModelOrder(const std::string& name);
   // When a wrench or an effort acts, as gazebo_ros times them: at every step from `start`; for
   // `duration` s (< 0: until cleared; shorter than a step: one step).
   struct JobTime

@@ -305,7 +305,7 @@ bool PhysicsWorld::removeModel(const std::string& name, bool* was_static)
     it = world_bodies_.erase(it);
     found = true;
   }
-  model_order_.erase(std::remove(model_order_.begin(), model_order_.end(), name), model_order_.end());
+  leaveModelOrder(name);
   // Its spec too: the static world's slices and the cameras' scene are built from it.
   spec_.models.erase(
       std::remove_if(spec_.models.begin(), spec_.models.end(), [&](const WorldModel& m) { return m.name == name; }),
@@ -370,9 +370,25 @@ btCollisionShape* PhysicsWorld::buildShape(const Shape& s, bool dynamic_body, st
   return shape;
 }
 
+void PhysicsWorld::enterModelOrder(const std::string& name)
+{
+  const std::vector<std::string>& file = spec_.file_order;
+  const auto rank = [&](const std::string& n) { return std::find(file.begin(), file.end(), n) - file.begin(); };
+  const auto r = rank(name);  // file.size() when the file does not list it: after the file's own
+  model_order_.insert(
+      std::find_if(model_order_.begin(), model_order_.end(), [&](const std::string& n) { return rank(n) > r; }), name);
+}
+
+void PhysicsWorld::leaveModelOrder(const std::string& name)
+{
+  model_order_.erase(std::remove(model_order_.begin(), model_order_.end(), name), model_order_.end());
+  // Spawned again, it comes after the file's models, as any spawned model.
+  spec_.file_order.erase(std::remove(spec_.file_order.begin(), spec_.file_order.end(), name), spec_.file_order.end());
+}
+
 void PhysicsWorld::addWorldModel(const WorldModel& m)
 {
-  model_order_.push_back(m.name);
+  enterModelOrder(m.name);
   for (const auto& l : m.links)
   {
     if (l.shapes.empty())
@@ -460,7 +476,7 @@ Robot& PhysicsWorld::addRobot(std::shared_ptr<const RobotSpec> spec, const std::
   addColliders(bodies, *r);
   addJointConstraints(bodies, *r);
   setRobotPose(*r, pose, btVector3(0, 0, 0), btVector3(0, 0, 0));
-  model_order_.push_back(r->name_);
+  enterModelOrder(r->name_);
   robots_.push_back(std::move(r));
   return *robots_.back();
 }
@@ -675,7 +691,7 @@ bool PhysicsWorld::removeRobot(const std::string& name)
     for (auto* s : r.shapes_)
       deleteShape(s);
     robots_.erase(it);
-    model_order_.erase(std::remove(model_order_.begin(), model_order_.end(), name), model_order_.end());
+    leaveModelOrder(name);
     return true;
   }
   return false;

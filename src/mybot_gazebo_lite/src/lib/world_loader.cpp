@@ -765,6 +765,7 @@ bool parseInclude(const SdfCtx& c, const XMLElement* inc, WorldSpec& world, Worl
   if (uri == "model://ground_plane")
   {
     world.ground_plane = true;
+    world.file_order.push_back("ground_plane");
     return false;
   }
   const IncludedModel file = loadInclude(c, uri, where);
@@ -871,6 +872,7 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
   const auto add = [&](WorldModel m, const SdfSpawn& spawn, const XMLElement* pose_of, const std::string& where)
   {
     const int frame = frames.add(m.name, SdfCtx::relativeTo(pose_of), SdfFrames::kScope, m.pose, where);
+    world.file_order.push_back(m.name);
     if (!spawn.robot)
     {
       world.models.push_back(std::move(m));
