@@ -1039,6 +1039,21 @@ class WorldRobotTests(unittest.TestCase):
         post = rospy.ServiceProxy('/gazebo/get_link_state', GetLinkState)(link_name='flap::post')
         self.assertAlmostEqual(post.link_state.pose.position.x, -2.0, delta=1e-6)  # anchored where the file put it
 
+    def test_a_nested_models_plugin_names_its_own_joints(self):
+        """my_robot's nested mast has its own joint_state_publisher naming its joint 'pan', as Gazebo
+        resolves names in the plugin's model; the robot's joint is 'mast::pan'."""
+        js = rospy.wait_for_message('/my_robot/joint_states', JointState, timeout=WALL_TIMEOUT)
+        self.assertEqual(list(js.name), ['pan'])
+        res = rospy.ServiceProxy('/gazebo/apply_joint_effort', ApplyJointEffort)(
+            joint_name='my_robot::mast::pan', effort=0.01, start_time=rospy.Time(0), duration=rospy.Duration(0.2))
+        self.assertTrue(res.success, res.status_message)
+        end = time.monotonic() + WALL_TIMEOUT
+        while time.monotonic() < end:  # the world runs on its own: nothing here takes part in lockstep
+            js = rospy.wait_for_message('/my_robot/joint_states', JointState, timeout=WALL_TIMEOUT)
+            if js.position[0] > 0.1:
+                break
+        self.assertGreater(js.position[0], 0.1)
+
     def test_model_states_list_the_world_files_models_in_its_order(self):
         """As Gazebo lists them: the file's order, robots and rigid models alike (until 2026-12-01 its
         robots came after its rigid models)."""

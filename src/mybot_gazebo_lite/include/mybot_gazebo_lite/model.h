@@ -132,7 +132,10 @@ struct PluginSpec
 {
   std::string name, filename;
   std::string reference;  // link for sensor plugins, empty for model plugins
-  XmlNode xml;            // the <plugin> element
+  // A nested model's plugin (SDF): "nested::", the prefix of its own model's joints and links,
+  // which it names as Gazebo resolves them, in its model ("pan" for "mast::pan").
+  std::string scope;
+  XmlNode xml;  // the <plugin> element
   bool has_sensor = false;
   XmlNode sensor;  // owning <sensor> element for sensor plugins
 };

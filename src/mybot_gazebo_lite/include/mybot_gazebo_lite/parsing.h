@@ -58,6 +58,9 @@ btVector3 parseVec3(const std::string& s, const std::string& what);
 btTransform parsePose6(const std::string& s, const std::string& what);  // "x y z r p y"
 btTransform makeTransform(const btVector3& xyz, const btVector3& rpy);
 XmlNode toXmlNode(const tinyxml2::XMLElement* e);
+std::string dirOf(const std::string& path);  // "." for a bare file name
+// A file's text; LoadError "<what>: cannot read '<path>'" when it cannot be read.
+std::string readFile(const std::string& path, const std::string& what);
 // The diffuse RGB of one of Gazebo's stock material scripts (media/materials/scripts/gazebo.material:
 // Gazebo/Grey, Gazebo/Orange, ...); false for any other name.
 bool gazeboMaterialColor(const std::string& name, float rgb[3]);

@@ -229,6 +229,22 @@ bool gazeboMaterialColor(const std::string& name, float rgb[3])
   return false;
 }
 
+std::string dirOf(const std::string& p)
+{
+  auto s = p.find_last_of('/');
+  return s == std::string::npos ? "." : p.substr(0, s);
+}
+
+std::string readFile(const std::string& path, const std::string& what)
+{
+  std::ifstream f(path);
+  if (!f)
+    throw LoadError(what + ": cannot read '" + path + "'");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
 XmlNode toXmlNode(const tinyxml2::XMLElement* e)
 {
   XmlNode n;

@@ -142,6 +142,10 @@ struct Rate
 
 // A frame name with the namespace's tf_prefix, leading slashes dropped (gazebo_ros's tf_prefix rule).
 std::string resolveFrame(const PluginContext& c, std::string f);
+// The robot's joint or link a plugin names: its own model's first, for a nested model's plugin
+// (PluginSpec::scope), else the name as given.
+std::string scopedJoint(const PluginContext& c, const std::string& name);
+std::string scopedLink(const PluginContext& c, const std::string& name);
 void toMsg(const btTransform& tf, geometry_msgs::Pose& p);
 geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std::string& parent,
                                      const std::string& child);

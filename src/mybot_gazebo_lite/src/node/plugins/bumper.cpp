@@ -28,7 +28,8 @@ public:
     collision_ = s.str("contact/collision", link_ + "_collision");
     rate_ = Rate(s.num("update_rate", 0.0));
     frame_ = p.str("frameName", "world");
-    in_link_frame_ = c.robot->hasLink(frame_);
+    frame_link_ = scopedLink(c, frame_);
+    in_link_frame_ = c.robot->hasLink(frame_link_);
     pub_ = ros::NodeHandle(c.ns).advertise<ContactsState>(p.str("bumperTopicName", "bumper_states"), 1);
     c.robot->recordContactPoints(true);
   }
@@ -39,7 +40,8 @@ public:
     ContactsState m;
     m.header.stamp = ros::Time(t);
     m.header.frame_id = in_link_frame_ ? resolveFrame(c_, frame_) : "world";
-    const btTransform to_frame = in_link_frame_ ? c_.robot->linkState(frame_).tf.inverse() : btTransform::getIdentity();
+    const btTransform to_frame =
+        in_link_frame_ ? c_.robot->linkState(frame_link_).tf.inverse() : btTransform::getIdentity();
     const double dt = c_.world->stepSize();
     for (const auto& pt : c_.robot->contacts().points)
     {
@@ -79,7 +81,7 @@ public:
 
 private:
   PluginContext c_;
-  std::string link_, collision_, frame_;
+  std::string link_, collision_, frame_, frame_link_;
   bool in_link_frame_;
   Rate rate_;
   ros::Publisher pub_;

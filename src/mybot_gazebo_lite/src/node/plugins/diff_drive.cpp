@@ -53,7 +53,7 @@ public:
     publish_wheel_js_ = p.boolean("publishWheelJointState", false);
     odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
     base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
-    base_link_ = p.str("robotBaseFrame", "base_footprint");
+    base_link_ = scopedLink(c, p.str("robotBaseFrame", "base_footprint"));
     if (!c.robot->hasLink(base_link_))
       base_link_ = c.robot->spec().root;
     cmd_ = std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), timeout_);

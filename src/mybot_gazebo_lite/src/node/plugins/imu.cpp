@@ -24,13 +24,13 @@ public:
       if (!c.spec->has_sensor)
         p.fail("sensor", "libgazebo_ros_imu_sensor.so must sit inside a <sensor type=\"imu\">");
       PluginParams s(c, c.spec->sensor);
-      body_ = p.str("bodyName", c.spec->reference);
+      body_ = scopedLink(c, p.str("bodyName", c.spec->reference));
       sensor_pose_ = s.pose("pose");
       rate_ = Rate(p.num("updateRateHZ", s.num("update_rate", 1.0)));
     }
     else
     {
-      body_ = p.requiredStr("bodyName");
+      body_ = scopedLink(c, p.requiredStr("bodyName"));
       rate_ = Rate(p.num("updateRate", 0.0));
     }
     if (!c.robot->hasLink(body_))

@@ -27,7 +27,7 @@ public:
     {
       PluginParams jp(c, *b);
       auto e = std::make_unique<Entry>();
-      e->name = jp.requiredStr("name");
+      e->name = scopedJoint(c, jp.requiredStr("name"));
       if (!c.robot->hasJoint(e->name))
         jp.fail("joint/name", "no movable joint named '" + e->name + "'");
       std::string type = jp.requiredStr("type");

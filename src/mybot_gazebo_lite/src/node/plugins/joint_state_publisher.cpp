@@ -28,14 +28,16 @@ public:
         j.erase(j.find_last_not_of(" \t\n") + 1);
         if (j.empty())
           continue;
-        if (!c.robot->hasJoint(j))
+        const std::string joint = scopedJoint(c, j);
+        if (!c.robot->hasJoint(joint))
           p.fail("jointName", "no movable joint named '" + j + "'");
-        joints_.push_back(j);
+        joints_.push_back(joint);
+        names_.push_back(j);  // as given: a nested model's plugin names its own joints so
       }
     }
     else
     {
-      joints_ = c.robot->movableJoints();
+      joints_ = names_ = c.robot->movableJoints();
     }
     rate_ = Rate(p.num("updateRate", 100.0));
     pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::JointState>("joint_states", 10);
@@ -46,7 +48,7 @@ public:
       return;
     sensor_msgs::JointState js;
     js.header.stamp = ros::Time(t);
-    js.name = joints_;
+    js.name = names_;
     for (const auto& j : joints_)
     {
       js.position.push_back(c_.robot->jointPosition(j));
@@ -57,7 +59,7 @@ public:
 
 private:
   PluginContext c_;
-  std::vector<std::string> joints_;
+  std::vector<std::string> joints_, names_;  // the robot's joints, and as the plugin names them
   Rate rate_;
   ros::Publisher pub_;
 };

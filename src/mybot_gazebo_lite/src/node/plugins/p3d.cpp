@@ -18,7 +18,7 @@ public:
   explicit P3D(const PluginContext& c) : c_(c), noise_(0, 1)
   {
     PluginParams p(c, c.spec->xml);
-    body_ = p.requiredStr("bodyName");
+    body_ = scopedLink(c, p.requiredStr("bodyName"));
     if (!c.robot->hasLink(body_))
       p.fail("bodyName", "no link named '" + body_ + "'");
     std::string topic = p.requiredStr("topicName");

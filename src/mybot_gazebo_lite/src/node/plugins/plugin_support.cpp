@@ -121,9 +121,21 @@ bool PluginParams::boolean(const std::string& tag, bool def) const
   fail(tag, "expected true/false, got '" + n->text + "'");
 }
 
+std::string scopedJoint(const PluginContext& c, const std::string& name)
+{
+  const std::string own = c.spec->scope + name;
+  return !c.spec->scope.empty() && c.robot->hasJoint(own) ? own : name;
+}
+
+std::string scopedLink(const PluginContext& c, const std::string& name)
+{
+  const std::string own = c.spec->scope + name;
+  return !c.spec->scope.empty() && c.robot->hasLink(own) ? own : name;
+}
+
 std::string PluginParams::joint(const std::string& tag, const std::string& def) const
 {
-  std::string j = str(tag, def);
+  std::string j = scopedJoint(c_, str(tag, def));
   if (!c_.robot->hasJoint(j))
     fail(tag, "no movable joint named '" + j + "'");
   return j;
