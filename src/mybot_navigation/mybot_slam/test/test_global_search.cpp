@@ -10,6 +10,10 @@
 
 using namespace mybot_navigation;
 
+// The drives below pass the same true poses whatever their noise: they share their noiseless scans
+// (DriveSimulator::shareScans; every sample is bit for bit what it was without sharing).
+static const bool kScansShared = (DriveSimulator::shareScans(true), true);
+
 namespace
 {
 // Twice round both rooms of the office world.

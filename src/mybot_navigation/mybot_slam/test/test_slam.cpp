@@ -15,6 +15,10 @@
 
 using namespace mybot_navigation;
 
+// The drives below pass the same true poses whatever their noise: they share their noiseless scans
+// (DriveSimulator::shareScans; every sample is bit for bit what it was without sharing).
+static const bool kScansShared = (DriveSimulator::shareScans(true), true);
+
 namespace
 {
 // A loop through both rooms of the office world, back to the start: round the east room's shelf,
