@@ -370,6 +370,36 @@ TEST(Loaders, SdfIncludesInAModelAreFlattenedIntoIt)
             "in the world, not in a model");
 }
 
+// Two model files that include each other, through a model nested in one of them: refused,
+// naming the loop, where it would have been read for ever.
+TEST(Loaders, SdfModelsThatIncludeEachOtherAreRefused)
+{
+  const mybot_common::TempDir dir("include_loop");
+  const std::string& d = dir.path();
+  ASSERT_EQ(std::system(("mkdir -p " + d + "/models/a " + d + "/models/b").c_str()), 0);
+  std::ofstream(d + "/models/a/model.sdf") << "<sdf version='1.6'><model name='a'><link name='l'/><model name='n'>"
+                                              "<include><uri>model://b</uri></include></model></model></sdf>";
+  std::ofstream(d + "/models/b/model.sdf")
+      << "<sdf version='1.6'><model name='b'><link name='l'/><include><uri>model://a</uri></include></model></sdf>";
+  const char* old = std::getenv("GAZEBO_MODEL_PATH");  // where one model finds the other, as in Gazebo
+  const std::string saved = old ? old : "";
+  setenv("GAZEBO_MODEL_PATH", (d + "/models").c_str(), 1);
+  const std::string error = loadErrorOf(
+      [&]
+      {
+        parseSdfWorld("<sdf version='1.6'><world name='w'><include><uri>model://a</uri></include></world></sdf>",
+                      d + "/w.world", d);
+      });
+  if (old)
+    setenv("GAZEBO_MODEL_PATH", saved.c_str(), 1);
+  else
+    unsetenv("GAZEBO_MODEL_PATH");
+  EXPECT_EQ(error, d +
+                       "/models/b/model.sdf: <model name='b'> <include> <uri>model://a</uri>: the model includes "
+                       "itself: " +
+                       d + "/models/a/model.sdf -> " + d + "/models/b/model.sdf -> " + d + "/models/a/model.sdf");
+}
+
 TEST(Loaders, SdfFrameErrorsNameTheElement)
 {
   const std::string joint =

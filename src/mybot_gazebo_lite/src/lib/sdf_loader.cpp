@@ -25,6 +25,7 @@ struct SdfCtx
 {
   std::string source, base_dir;
   const UriResolver* resolver;
+  std::vector<std::string> included_from;  // the model files that included this one, outermost first
   [[noreturn]] void fail(const std::string& where, const std::string& msg) const
   {
     // A model file's model is at the top: its `where` starts " <model".
@@ -252,7 +253,17 @@ IncludedModel loadInclude(const SdfCtx& c, const std::string& uri, const std::st
           }
         }
   }
-  IncludedModel out{SdfCtx{sdf_file, dir, c.resolver}, std::make_shared<tinyxml2::XMLDocument>(), nullptr};
+  // A model that includes itself, however far down, would be read for ever.
+  std::vector<std::string> chain = c.included_from;
+  chain.push_back(c.source);
+  if (std::find(chain.begin(), chain.end(), sdf_file) != chain.end())
+  {
+    std::string loop;
+    for (auto it = std::find(chain.begin(), chain.end(), sdf_file); it != chain.end(); ++it)
+      loop += *it + " -> ";
+    c.fail(where, "the model includes itself: " + loop + sdf_file);
+  }
+  IncludedModel out{SdfCtx{sdf_file, dir, c.resolver, chain}, std::make_shared<tinyxml2::XMLDocument>(), nullptr};
   std::string xml = readFile(sdf_file, c.source + ": " + where);
   if (out.doc->Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
     throw LoadError(sdf_file + ": XML: " + (out.doc->ErrorStr() ? out.doc->ErrorStr() : "parse error"));
@@ -815,7 +826,7 @@ PhysicsSpec parsePhysics(const SdfCtx& c, const XMLElement* ph)
 WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const std::string& base_dir,
                         const UriResolver& resolver)
 {
-  SdfCtx c{source, base_dir, &resolver};
+  SdfCtx c{source, base_dir, &resolver, {}};
   tinyxml2::XMLDocument doc;
   c.parse(doc, xml);
   const XMLElement* sdf = doc.FirstChildElement("sdf");
@@ -977,14 +988,14 @@ WorldModel parseSdfDocument(const SdfCtx& c, const std::string& xml, SdfSpawn* s
 WorldModel parseSdfModel(const std::string& xml, const std::string& source, const std::string& base_dir,
                          const UriResolver& resolver)
 {
-  return parseSdfDocument(SdfCtx{source, base_dir, &resolver}, xml, nullptr);
+  return parseSdfDocument(SdfCtx{source, base_dir, &resolver, {}}, xml, nullptr);
 }
 
 SdfSpawn parseSdfSpawn(const std::string& xml, const std::string& source, const std::string& base_dir,
                        const UriResolver& resolver)
 {
   SdfSpawn out;
-  out.model = parseSdfDocument(SdfCtx{source, base_dir, &resolver}, xml, &out);
+  out.model = parseSdfDocument(SdfCtx{source, base_dir, &resolver, {}}, xml, &out);
   if (out.robot)
     out.robot->name = out.model.name;
   return out;
