@@ -390,10 +390,25 @@ TEST(Loaders, SdfModelsThatIncludeEachOtherAreRefused)
         parseSdfWorld("<sdf version='1.6'><world name='w'><include><uri>model://a</uri></include></world></sdf>",
                       d + "/w.world", d);
       });
+  // A model folder linked under a second name is the same model.
+  ASSERT_EQ(
+      std::system(("mkdir -p " + d + "/models/self && ln -s " + d + "/models/self " + d + "/models/alias").c_str()), 0);
+  std::ofstream(d + "/models/self/model.sdf")
+      << "<sdf version='1.6'><model name='s'><link name='l'/><include><uri>model://alias</uri></include></model></sdf>";
+  const std::string aliased = loadErrorOf(
+      [&]
+      {
+        parseSdfWorld("<sdf version='1.6'><world name='w'><include><uri>model://self</uri></include></world></sdf>",
+                      d + "/w.world", d);
+      });
   if (old)
     setenv("GAZEBO_MODEL_PATH", saved.c_str(), 1);
   else
     unsetenv("GAZEBO_MODEL_PATH");
+  EXPECT_EQ(aliased, d +
+                         "/models/self/model.sdf: <model name='s'> <include> <uri>model://alias</uri>: the model "
+                         "includes itself: " +
+                         d + "/models/self/model.sdf -> " + d + "/models/alias/model.sdf");
   EXPECT_EQ(error, d +
                        "/models/b/model.sdf: <model name='b'> <include> <uri>model://a</uri>: the model includes "
                        "itself: " +

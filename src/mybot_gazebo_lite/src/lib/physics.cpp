@@ -372,11 +372,15 @@ btCollisionShape* PhysicsWorld::buildShape(const Shape& s, bool dynamic_body, st
 
 void PhysicsWorld::enterModelOrder(const std::string& name)
 {
+  // model_order_ stays sorted by rank (the file's models in its order, then the others as they
+  // came), so the place is found by bisection: a world of 1000 models loads in O(n^2 log n)
+  // string comparisons at worst.
   const std::vector<std::string>& file = spec_.file_order;
   const auto rank = [&](const std::string& n) { return std::find(file.begin(), file.end(), n) - file.begin(); };
   const auto r = rank(name);  // file.size() when the file does not list it: after the file's own
-  model_order_.insert(
-      std::find_if(model_order_.begin(), model_order_.end(), [&](const std::string& n) { return rank(n) > r; }), name);
+  model_order_.insert(std::upper_bound(model_order_.begin(), model_order_.end(), r,
+                                       [&](auto rank_of_new, const std::string& n) { return rank_of_new < rank(n); }),
+                      name);
 }
 
 void PhysicsWorld::leaveModelOrder(const std::string& name)

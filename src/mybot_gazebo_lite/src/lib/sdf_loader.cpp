@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -253,16 +254,24 @@ IncludedModel loadInclude(const SdfCtx& c, const std::string& uri, const std::st
           }
         }
   }
-  // A model that includes itself, however far down, would be read for ever.
+  // A model that includes itself, however far down, would be read for ever: the same file (by its
+  // canonical path: a symlinked model folder is the same model) met twice on the way down, or a
+  // chain of includes deeper than any model nests.
   std::vector<std::string> chain = c.included_from;
   chain.push_back(c.source);
-  if (std::find(chain.begin(), chain.end(), sdf_file) != chain.end())
+  std::error_code ec;
+  const auto same = [&](const std::string& a)
+  { return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(sdf_file, ec); };
+  if (const auto first = std::find_if(chain.begin(), chain.end(), same); first != chain.end())
   {
     std::string loop;
-    for (auto it = std::find(chain.begin(), chain.end(), sdf_file); it != chain.end(); ++it)
+    for (auto it = first; it != chain.end(); ++it)
       loop += *it + " -> ";
     c.fail(where, "the model includes itself: " + loop + sdf_file);
   }
+  constexpr size_t kMaxIncludeDepth = 64;
+  if (chain.size() > kMaxIncludeDepth)
+    c.fail(where, "includes nest more than " + std::to_string(kMaxIncludeDepth) + " deep");
   IncludedModel out{SdfCtx{sdf_file, dir, c.resolver, chain}, std::make_shared<tinyxml2::XMLDocument>(), nullptr};
   std::string xml = readFile(sdf_file, c.source + ": " + where);
   if (out.doc->Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
