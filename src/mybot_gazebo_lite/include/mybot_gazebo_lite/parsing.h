@@ -65,6 +65,10 @@ std::string readFile(const std::string& path, const std::string& what);
 // Gazebo/Grey, Gazebo/Orange, ...); false for any other name.
 bool gazeboMaterialColor(const std::string& name, float rgb[3]);
 std::shared_ptr<const std::vector<Triangle>> loadMesh(const std::string& path, const btVector3& scale);
+// A <mesh> shape's file, resolved from `uri` (URDF's filename, SDF's <uri>), and its triangles at
+// shape.mesh_scale: "" when loaded, else what went wrong, for the loader to report with its element.
+std::string loadMeshShape(Shape& shape, const std::string& uri, const std::string& base_dir,
+                          const UriResolver& resolver);
 // A link's inertia as a physics engine can invert it: a negative moment is refused (LoadError naming
 // `source` and `where`); a zero or impossible tensor is replaced by its first collision's, with a
 // warning naming the link.

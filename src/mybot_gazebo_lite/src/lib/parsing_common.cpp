@@ -262,6 +262,23 @@ XmlNode toXmlNode(const tinyxml2::XMLElement* e)
   return n;
 }
 
+std::string loadMeshShape(Shape& shape, const std::string& uri, const std::string& base_dir,
+                          const UriResolver& resolver)
+{
+  shape.mesh_path = resolver(uri, base_dir);
+  if (shape.mesh_path.empty())
+    return "mesh file '" + uri + "' not found";
+  try
+  {
+    shape.triangles = loadMesh(shape.mesh_path, shape.mesh_scale);
+  }
+  catch (const LoadError& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+
 std::shared_ptr<const std::vector<Triangle>> loadMesh(const std::string& path, const btVector3& scale)
 {
   static std::mutex mtx;

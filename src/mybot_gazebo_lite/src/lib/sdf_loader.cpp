@@ -181,17 +181,8 @@ Shape parseSdfGeometry(const SdfCtx& c, const XMLElement* g, const std::string& 
     {
       c.fail(w, e.what());
     }
-    shape.mesh_path = (*c.resolver)(uri, c.base_dir);
-    if (shape.mesh_path.empty())
-      c.fail(w, "mesh '" + uri + "' not found");
-    try
-    {
-      shape.triangles = loadMesh(shape.mesh_path, shape.mesh_scale);
-    }
-    catch (const LoadError& e)
-    {
-      c.fail(w, e.what());
-    }
+    if (const std::string error = loadMeshShape(shape, uri, c.base_dir, *c.resolver); !error.empty())
+      c.fail(w, error);
   }
   else
   {

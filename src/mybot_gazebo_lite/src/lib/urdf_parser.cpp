@@ -119,17 +119,8 @@ Shape parseGeometry(const Ctx& c, const XMLElement* coll, const std::string& whe
         c.fail(w, e.what());
       }
     }
-    shape.mesh_path = (*c.resolver)(fn, "");
-    if (shape.mesh_path.empty())
-      c.fail(w, std::string("mesh file '") + fn + "' not found");
-    try
-    {
-      shape.triangles = loadMesh(shape.mesh_path, shape.mesh_scale);
-    }
-    catch (const LoadError& e)
-    {
-      c.fail(w, e.what());
-    }
+    if (const std::string error = loadMeshShape(shape, fn, "", *c.resolver); !error.empty())
+      c.fail(w, error);
   }
   else
   {
