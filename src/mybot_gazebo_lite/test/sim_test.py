@@ -921,13 +921,18 @@ class MalformedInputTests(unittest.TestCase):
                           # does not know: each warned once, naming it.
                           '<gazebo><plugin name="imu" filename="libgazebo_ros_imu.so"><bodyName>base</bodyName>'
                           '<serviceName>imu_service</serviceName><rpyOffset>0 0 0.1</rpyOffset></plugin></gazebo>'
-                          '<gazebo reference="base"><fooBar>1</fooBar></gazebo></robot>')
+                          '<gazebo reference="base"><fooBar>1</fooBar></gazebo>'
+                          # Jackal's and Husky's descriptions give hector's IMU a heading error it
+                          # does not read (its tags are yaw*): warned, as Gazebo would ignore it.
+                          '<gazebo><plugin name="himu" filename="libhector_gazebo_ros_imu.so">'
+                          '<headingDrift>0.005</headingDrift></plugin></gazebo></robot>')
         rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'typo', '-timeout', '30'])
         self.assertEqual(rc, 0, out)
         wants = [("plugin 'dd'", 'unknown parameter <wheelSeperation> ignored (did you mean <wheelSeparation>?)'),
                  ("plugin 'imu'", 'parameter <serviceName> is not simulated by gazebo_lite; ignored'),
                  ("plugin 'imu' on link 'base'", '<rpyOffset> 0 0 0.1 is not simulated by gazebo_lite; ignored'),
-                 ("model 'typo'", "<gazebo reference='base'> <fooBar>: unknown tag ignored")]
+                 ("model 'typo'", "<gazebo reference='base'> <fooBar>: unknown tag ignored"),
+                 ("plugin 'himu'", 'unknown parameter <headingDrift> ignored')]
         warned = lambda: all(any(a in m and b in m for m in logs) for a, b in wants)  # noqa: E731
         deadline = time.monotonic() + WALL_TIMEOUT
         while not warned() and time.monotonic() < deadline:
@@ -945,6 +950,21 @@ class MalformedInputTests(unittest.TestCase):
         self.assertNotEqual(rc, 0)
         self.assertIn('<updateRate>', out)
         self.assertIn('libgazebo_ros_p3d.so', out)
+
+    def test_bad_hector_error_model_is_named(self):
+        """hector's per-axis errors are three numbers: two are refused naming the tag; a negative
+        spread too."""
+        for tag, value, message in (('accelDrift', '0.1 0.1', 'expected 3 numbers'),
+                                    ('rateGaussianNoise', '0 0 -0.1', 'must be >= 0')):
+            path = self.write('bad_%s.urdf' % tag, '<robot name="r"><link name="a"><inertial><mass value="1"/>'
+                              '<inertia ixx="1" iyy="1" izz="1"/></inertial></link>'
+                              '<gazebo><plugin name="imu" filename="libhector_gazebo_ros_imu.so">'
+                              '<%s>%s</%s></plugin></gazebo></robot>' % (tag, value, tag))
+            rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'bad_' + tag, '-timeout', '30'])
+            self.assertNotEqual(rc, 0, tag)
+            self.assertIn('<%s>' % tag, out)
+            self.assertIn(message, out)
+            self.assertIn('libhector_gazebo_ros_imu.so', out)
 
 
 class BadPoseTests(unittest.TestCase):

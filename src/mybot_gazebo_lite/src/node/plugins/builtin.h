@@ -2,9 +2,11 @@
 #pragma once
 
 #include "mybot_gazebo_lite/ros/sim_plugin.h"
+#include "mybot_gazebo_lite/sensor_error_model.h"
 
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
+#include <sensor_msgs/Imu.h>
 
 namespace mybot_gazebo_lite
 {
@@ -45,6 +47,32 @@ struct SensorRays
   std::vector<double> cast(const PhysicsWorld& world, const btTransform& sensor, const Robot* self) const;
 };
 
+// An IMU message's orientation, angular velocity and linear acceleration (imu.cpp).
+void setImu(sensor_msgs::Imu& m, const btQuaternion& q, const btVector3& w, const btVector3& a);
+
+// What hector_gazebo_plugins' sensors read alike (hector_support.cpp).
+// The error model's tags: <offset>, <drift>, <driftFrequency>, <gaussianNoise>, <scaleError>, or with
+// a prefix <accelOffset>, <accelDrift>, ...; three axes ("x y z") or one. Negative spreads refused.
+std::set<std::string> hectorErrorTags(const std::string& prefix);
+SensorErrorParams hectorError(const PluginParams& p, const std::string& prefix);
+std::array<SensorErrorParams, 3> hectorError3(const PluginParams& p, const std::string& prefix);
+// hector's UpdateTimer: <updateRate> (Hz) or <updatePeriod> (s), 0 = every step.
+Rate hectorUpdateRate(const PluginParams& p, double default_hz);
+// <bodyName>, the model's first link without it; must be a link of the robot.
+std::string hectorBody(const PluginContext& c, const PluginParams& p);
+// <frameId> (default `def`) without leading slashes.
+std::string hectorFrame(const PluginParams& p, const std::string& def);
+// Sim time since the last update (the error models' dt): 0 at the first one and after time went back.
+class SinceLast
+{
+public:
+  double step(double t);
+  void reset() { last_ = -1; }
+
+private:
+  double last_ = -1;
+};
+
 std::unique_ptr<SimPlugin> makeDiffDrive(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeSkidSteerDrive(const PluginContext& c);
 std::unique_ptr<SimPlugin> makePlanarMove(const PluginContext& c);
@@ -60,5 +88,9 @@ std::unique_ptr<SimPlugin> makeImu(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeCamera(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeDepthCamera(const PluginContext& c);     // gazebo_ros_openni_kinect
 std::unique_ptr<SimPlugin> makeRosDepthCamera(const PluginContext& c);  // gazebo_ros_depth_camera
+std::unique_ptr<SimPlugin> makeHectorGps(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeHectorImu(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeHectorMagnetic(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeHectorSonar(const PluginContext& c);
 
 }  // namespace mybot_gazebo_lite

@@ -74,17 +74,13 @@ public:
     sensor_msgs::Imu m;
     m.header.stamp = ros::Time(t);
     m.header.frame_id = frame_;
-    const btQuaternion& q = r.orientation;
-    m.orientation.x = q.x();
-    m.orientation.y = q.y();
-    m.orientation.z = q.z();
-    m.orientation.w = q.w();
-    m.angular_velocity.x = w.x() + n();
-    m.angular_velocity.y = w.y() + n();
-    m.angular_velocity.z = w.z() + n();
-    m.linear_acceleration.x = a.x() + n();
-    m.linear_acceleration.y = a.y() + n();
-    m.linear_acceleration.z = a.z() + n();
+    // One draw after another, in this order (a constructor's arguments are evaluated in any order).
+    btVector3 noisy_w = w, noisy_a = a;
+    for (int i = 0; i < 3; ++i)
+      noisy_w[i] += n();
+    for (int i = 0; i < 3; ++i)
+      noisy_a[i] += n();
+    setImu(m, r.orientation, noisy_w, noisy_a);
     double var = gn_ * gn_;
     for (int i = 0; i < 3; ++i)
       m.orientation_covariance[i * 4] = m.angular_velocity_covariance[i * 4] = m.linear_acceleration_covariance[i * 4] =
@@ -105,6 +101,20 @@ private:
   ros::Publisher pub_;
 };
 }  // namespace
+
+void setImu(sensor_msgs::Imu& m, const btQuaternion& q, const btVector3& w, const btVector3& a)
+{
+  m.orientation.x = q.x();
+  m.orientation.y = q.y();
+  m.orientation.z = q.z();
+  m.orientation.w = q.w();
+  m.angular_velocity.x = w.x();
+  m.angular_velocity.y = w.y();
+  m.angular_velocity.z = w.z();
+  m.linear_acceleration.x = a.x();
+  m.linear_acceleration.y = a.y();
+  m.linear_acceleration.z = a.z();
+}
 
 std::unique_ptr<SimPlugin> makeImuSensor(const PluginContext& c)
 {

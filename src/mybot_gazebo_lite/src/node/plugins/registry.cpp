@@ -39,6 +39,15 @@ std::set<std::string> with(std::set<std::string> a, const std::set<std::string>&
   return a;
 }
 
+// hector_gazebo_plugins' update timer and error model tags (hector_support.cpp).
+std::set<std::string> hectorTags(std::set<std::string> own, const std::vector<std::string>& error_prefixes)
+{
+  own.insert({"updateRate", "updatePeriod", "updateOffset"});
+  for (const std::string& prefix : error_prefixes)
+    own = with(own, hectorErrorTags(prefix));
+  return own;
+}
+
 const std::vector<Builtin>& builtins()
 {
   static const std::vector<Builtin> table = {
@@ -86,6 +95,20 @@ const std::vector<Builtin>& builtins()
       {"libgazebo_ros_depth_camera.so", makeRosDepthCamera,
        with(kCameraTags,
             {"depthImageTopicName", "depthImageCameraInfoTopicName", "pointCloudTopicName", "pointCloudCutoff"})},
+      // hector_gazebo_plugins (Noetic): the outdoor robots' GNSS, IMU, compass and sonar.
+      {"libhector_gazebo_ros_gps.so", makeHectorGps,
+       hectorTags({"bodyName", "frameId", "topicName", "velocityTopicName", "referenceLatitude", "referenceLongitude",
+                   "referenceHeading", "referenceAltitude", "status", "service"},
+                  {"", "velocity"})},
+      {"libhector_gazebo_ros_imu.so", makeHectorImu,
+       hectorTags({"bodyName", "frameId", "topicName", "biasTopicName", "serviceName", "gaussianNoise", "xyzOffset",
+                   "rpyOffset"},
+                  {"accel", "rate", "yaw"})},
+      {"libhector_gazebo_ros_magnetic.so", makeHectorMagnetic,
+       hectorTags({"bodyName", "frameId", "topicName", "magnitude", "referenceHeading", "declination", "inclination",
+                   "useMagneticFieldMsgs"},
+                  {""})},
+      {"libhector_gazebo_ros_sonar.so", makeHectorSonar, hectorTags({"frameId", "topicName"}, {""})},
   };
   return table;
 }
