@@ -162,6 +162,48 @@ class CameraTests(unittest.TestCase):
             return r > 150 and 0.4 < g / r < 0.6 and b < 25
         self.rgb.wait(lambda m: len(m) > 0 and orange(m), 'the orange crate in the colour image')
 
+    def test_stereo_pair_sees_the_crate_with_the_disparity_of_its_depth(self):
+        """gazebo_ros_multicamera: left and right under stereo/, the right camera 7 cm to the right,
+        so the crate's face shifts left in its image by fx * 0.07 / depth pixels."""
+        left = Collector('/stereo/left/image_raw', Image)
+        right = Collector('/stereo/right/image_raw', Image)
+        left_info = Collector('/stereo/left/camera_info', CameraInfo)
+        right_info = Collector('/stereo/right/camera_info', CameraInfo)
+        crate = self.spawned('crate').pose.position
+        cam = self.spawned('depth_cam').pose.position
+        depth = (crate.y - 0.1) - (cam.y + 0.05)
+
+        def orange_columns(msg):
+            img = np.frombuffer(msg.data, dtype=np.uint8).reshape(120, 160, 3)[56:66].astype(int)
+            r, g, b = img[..., 0], img[..., 1], img[..., 2]
+            mask = (r > 150) & (g > 0.4 * r) & (g < 0.6 * r) & (b < 25)
+            return np.nonzero(mask.any(axis=0))[0]
+
+        def pair(lefts):
+            # A left and a right image of one instant, both showing the crate (wait() holds left's lock).
+            with right.lock:
+                stamps = {m.header.stamp: m for m in right.msgs}
+                for m in reversed(lefts):
+                    if m.header.stamp in stamps and len(orange_columns(m)) and len(orange_columns(stamps[m.header.stamp])):
+                        self.pair = (m, stamps[m.header.stamp])
+                        return True
+            return False
+        left.wait(pair, 'a left and a right image of one instant showing the crate')
+        l, r = self.pair
+        info_l = left_info.wait(lambda m: len(m) > 0, 'left camera_info')[-1]
+        info_r = right_info.wait(lambda m: len(m) > 0, 'right camera_info')[-1]
+        self.assertEqual(l.header.frame_id, 'stereo_optical')
+        self.assertEqual(r.header.frame_id, 'stereo_optical')
+        fx = info_l.K[0]
+        self.assertEqual(info_l.P[3], 0.0)
+        self.assertAlmostEqual(info_r.P[3], -fx * 0.07, places=6)
+        # The face's columns (edges included) in each: their centres differ by the disparity.
+        cl, cr = orange_columns(l), orange_columns(r)
+        disparity = (cl.min() + cl.max()) / 2.0 - (cr.min() + cr.max()) / 2.0
+        self.assertAlmostEqual(disparity, fx * 0.07 / depth, delta=1.0)
+        for c in (left, right, left_info, right_info):
+            c.sub.unregister()
+
 
 if __name__ == '__main__':
     rostest.rosrun('mybot_gazebo_lite', 'sim_camera', CameraTests)

@@ -1,4 +1,5 @@
-// libgazebo_ros_camera.so / libgazebo_ros_openni_kinect.so
+// libgazebo_ros_camera.so, libgazebo_ros_openni_kinect.so, libgazebo_ros_depth_camera.so and
+// libgazebo_ros_multicamera.so (a stereo pair: two cameras of one sensor)
 #include "builtin.h"
 
 #include <sensor_msgs/CameraInfo.h>
@@ -17,6 +18,17 @@ namespace
 {
 // Renders only when someone subscribes, at the sensor's <update_rate> (and the
 // plugin's <updateRate> if lower), both in sim time.
+// One camera of a <sensor type="multicamera">: the sensor with only that <camera> in it, the
+// camera's <pose> in the sensor, its namespace under <cameraName> ("/left") and the baseline its
+// projection matrix carries (gazebo_ros_multicamera: <hackBaseline> for the right one, 0 for the left).
+struct CameraMount
+{
+  XmlNode sensor;
+  btTransform in_sensor = btTransform::getIdentity();
+  std::string suffix;
+  double baseline = 0;
+};
+
 class Camera : public SimPlugin
 {
 public:
@@ -29,15 +41,16 @@ public:
     OpenniKinect,
     DepthCamera
   };
-  Camera(const PluginContext& c, Kind kind) : c_(c), depth_sensor_(kind != Kind::Camera), noise_(c.rng ? (*c.rng)() : 0)
+  Camera(const PluginContext& c, Kind kind, const CameraMount* mount = nullptr)
+      : c_(c), depth_sensor_(kind != Kind::Camera), noise_(c.rng ? (*c.rng)() : 0)
   {
     PluginParams p(c, c.spec->xml);
     if (!c.spec->has_sensor)
       p.fail("sensor", "the camera plugin must sit inside a <sensor type=\"" +
                            std::string(depth_sensor_ ? "depth" : "camera") + "\">");
-    PluginParams s(c, c.spec->sensor);
+    PluginParams s(c, mount ? mount->sensor : c.spec->sensor);
     link_ = c.spec->reference;
-    sensor_pose_ = s.pose("pose");
+    sensor_pose_ = s.pose("pose") * (mount ? mount->in_sensor : btTransform::getIdentity());
     double sensor_hz = s.num("update_rate", 0.0), plugin_hz = p.num("updateRate", 0.0);
     if (sensor_hz < 0)
       s.fail("update_rate", "must be >= 0");
@@ -88,8 +101,9 @@ public:
                p.num("distortionT2", 0.0), p.num("distortionK3", 0.0)};
     info_.K = {k_.fx, 0, k_.cx, 0, k_.fy, k_.cy, 0, 0, 1};
     info_.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    info_.P = {k_.fx, 0, k_.cx, -k_.fx * p.num("hackBaseline", 0.0), 0, k_.fy, k_.cy, 0, 0, 0, 1, 0};
-    ros::NodeHandle nh(ros::NodeHandle(c.ns), p.str("cameraName", ""));
+    const double baseline = mount ? mount->baseline : p.num("hackBaseline", 0.0);
+    info_.P = {k_.fx, 0, k_.cx, -k_.fx * baseline, 0, k_.fy, k_.cy, 0, 0, 0, 1, 0};
+    ros::NodeHandle nh(ros::NodeHandle(c.ns), p.str("cameraName", "") + (mount ? mount->suffix : ""));
     const bool ir = kind == Kind::DepthCamera;
     image_pub_ = nh.advertise<sensor_msgs::Image>(p.str("imageTopicName", ir ? "ir/image_raw" : "image_raw"), 2);
     info_pub_ =
@@ -248,7 +262,69 @@ private:
   std::vector<float> depth_;
   ros::Publisher image_pub_, info_pub_, depth_pub_, depth_info_pub_, points_pub_;
 };
+
+// gazebo_ros_multicamera: a <sensor type="multicamera"> of two <camera name="...">, one whose name
+// has "left" in it, published under <cameraName>/left, the other's "right", under
+// <cameraName>/right; both in <frameName>, the right one's P carrying -fx * <hackBaseline>. Each
+// camera is placed by its own <pose> in the sensor and renders on the sensor's period, as upstream
+// shutters them together.
+class MultiCamera : public SimPlugin
+{
+public:
+  explicit MultiCamera(const PluginContext& c)
+  {
+    PluginParams p(c, c.spec->xml);
+    if (!c.spec->has_sensor)
+      p.fail("sensor", "libgazebo_ros_multicamera.so must sit inside a <sensor type=\"multicamera\">");
+    PluginParams s(c, c.spec->sensor);
+    const std::vector<const XmlNode*> cameras = s.all("camera");
+    if (cameras.size() != 2)
+      s.fail("camera",
+             "libgazebo_ros_multicamera.so publishes two cameras (a 'left' and a 'right' one); the sensor has " +
+                 std::to_string(cameras.size()));
+    for (const XmlNode* cam : cameras)
+    {
+      const std::string name = cam->attr("name");
+      const bool left = name.find("left") != std::string::npos, right = name.find("right") != std::string::npos;
+      if (left == right)
+        s.fail("camera name='" + name + "'",
+               "libgazebo_ros_multicamera.so tells its cameras by 'left' or 'right' in their names (one of the two)");
+      auto m = std::make_unique<CameraMount>();
+      m->suffix = left ? "/left" : "/right";
+      for (const auto& mine : mounts_)
+        if (mine->suffix == m->suffix)
+          s.fail("camera name='" + name + "'", "two cameras are named '" + m->suffix.substr(1) + "'");
+      m->baseline = left ? 0.0 : p.num("hackBaseline", 0.0);
+      m->in_sensor = PluginParams(c, *cam).pose("pose");
+      m->sensor = c.spec->sensor;
+      m->sensor.children.clear();
+      for (const XmlNode& child : c.spec->sensor.children)
+        if (child.name != "camera")
+          m->sensor.children.push_back(child);
+      m->sensor.children.push_back(*cam);
+      mounts_.push_back(std::move(m));
+    }
+    for (const auto& m : mounts_)
+      cameras_.push_back(std::make_unique<Camera>(c, Camera::Kind::Camera, m.get()));
+  }
+  void update(double t) override
+  {
+    for (auto& cam : cameras_)
+      cam->update(t);
+  }
+  // The first camera's updates and frames (Gazebo's metrics report the sensor as one).
+  SensorUpdates sensorUpdates() const override { return cameras_.front()->sensorUpdates(); }
+
+private:
+  std::vector<std::unique_ptr<CameraMount>> mounts_;
+  std::vector<std::unique_ptr<Camera>> cameras_;
+};
 }  // namespace
+
+std::unique_ptr<SimPlugin> makeMultiCamera(const PluginContext& c)
+{
+  return std::make_unique<MultiCamera>(c);
+}
 
 std::unique_ptr<SimPlugin> makeCamera(const PluginContext& c)
 {

@@ -89,6 +89,7 @@ const std::vector<Builtin>& builtins()
        makeImu,
        {"bodyName", "topicName", "serviceName", "gaussianNoise", "updateRate", "frameName", "xyzOffset", "rpyOffset"}},
       {"libgazebo_ros_camera.so", makeCamera, kCameraTags},
+      {"libgazebo_ros_multicamera.so", makeMultiCamera, kCameraTags},
       {"libgazebo_ros_openni_kinect.so", makeDepthCamera,
        with(kCameraTags, {"baseline", "depthImageTopicName", "depthImageCameraInfoTopicName", "pointCloudTopicName",
                           "pointCloudCutoff", "pointCloudCutoffMax"})},
