@@ -111,6 +111,12 @@ public:
   void commandEffort(const std::string& joint, double effort);
   // The commanded effort of an effort-driven joint (N m or N); 0 for velocity and position servos.
   double jointEffort(const std::string& joint) const;
+  // A world-frame force at the centre of mass of `link`'s body and a world-frame torque, for the
+  // next step only (gazebo_ros_force every step; apply_body_wrench's jobs come through here too).
+  void addWrench(const std::string& link, const btVector3& force, const btVector3& torque);
+  // The external wrench addWrench put on `link`'s body over the last step, summed (world frame,
+  // about its centre of mass): what gazebo_ros_f3d reports. Contact and joint forces are not in it.
+  std::pair<btVector3, btVector3> externalWrench(const std::string& link) const;
   // Contact friction of every collision of the robot (planar_move: the base slides as commanded).
   void setContactFriction(double mu);
 
@@ -161,6 +167,8 @@ private:
   std::vector<btMultiBodyConstraint*> constraints_;
   std::vector<std::unique_ptr<std::vector<Surface>>> child_mu_;
   std::vector<char> gravity_off_;  // by body (index body + 1): set_link_properties' gravity_mode false
+  // addWrench's sums by body (index body + 1): for the coming step, and over the last one.
+  std::vector<std::pair<btVector3, btVector3>> pending_wrench_, last_wrench_;
 };
 
 // A collision object that may intersect a sensor ray (robots and dynamic world bodies).

@@ -124,6 +124,30 @@ btTransform Robot::linkPose(const std::string& link) const
   return bodyWorld(ref) * ref.in_body_inertial;
 }
 
+void Robot::addWrench(const std::string& link, const btVector3& force, const btVector3& torque)
+{
+  const int body = links_.at(link).body;
+  if (body < 0)
+  {
+    mb_->addBaseForce(force);
+    mb_->addBaseTorque(torque);
+  }
+  else
+  {
+    mb_->addLinkForce(body, force);
+    mb_->addLinkTorque(body, torque);
+  }
+  mb_->wakeUp();
+  auto& sum = pending_wrench_[static_cast<size_t>(body + 1)];
+  sum.first += force;
+  sum.second += torque;
+}
+
+std::pair<btVector3, btVector3> Robot::externalWrench(const std::string& link) const
+{
+  return last_wrench_[static_cast<size_t>(links_.at(link).body + 1)];
+}
+
 Pose Robot::linkState(const std::string& link) const
 {
   const LinkRef& ref = links_.at(link);
@@ -579,6 +603,8 @@ void PhysicsWorld::buildMultiBody(const std::vector<LumpedBody>& bodies, Robot& 
   world_->addMultiBody(mb);
   r.mb_ = mb;
   r.gravity_off_.assign(bodies.size(), 0);
+  r.pending_wrench_.assign(bodies.size(), {btVector3(0, 0, 0), btVector3(0, 0, 0)});
+  r.last_wrench_ = r.pending_wrench_;
 }
 
 // Colliders: one compound per body in its inertial frame, each child shape with its own friction.
@@ -760,6 +786,12 @@ void PhysicsWorld::step()
   applyEfforts();
   cancelGravity();
   world_->stepSimulation(dt, 0, dt);
+  for (auto& rp : robots_)
+  {
+    std::swap(rp->last_wrench_, rp->pending_wrench_);
+    for (auto& w : rp->pending_wrench_)
+      w = {btVector3(0, 0, 0), btVector3(0, 0, 0)};
+  }
   // The links' world transforms at the new joint positions: Bullet leaves the cached ones where
   // the step began (a link on a turning joint was reported a step behind its joint's position).
   for (auto& rp : robots_)
@@ -1133,18 +1165,7 @@ void PhysicsWorld::applyWrenches()
       exists = true;
       if (j.time.due(time_))
       {
-        const int body = r->links_.at(j.link).body;
-        if (body < 0)
-        {
-          r->mb_->addBaseForce(j.force);
-          r->mb_->addBaseTorque(j.torque);
-        }
-        else
-        {
-          r->mb_->addLinkForce(body, j.force);
-          r->mb_->addLinkTorque(body, j.torque);
-        }
-        r->mb_->wakeUp();
+        r->addWrench(j.link, j.force, j.torque);
       }
     }
     for (auto& wb : world_bodies_)

@@ -105,7 +105,9 @@ public:
   double requiredNum(const std::string& tag) const;
   bool boolean(const std::string& tag, bool def) const;
   std::string joint(const std::string& tag, const std::string& def) const;  // must be a movable joint
-  btTransform pose(const std::string& tag) const;                           // "x y z r p y"
+  // A link of the robot, as the plugin's own model scopes it; required when `def` is empty.
+  std::string link(const std::string& tag, const std::string& def = "") const;
+  btTransform pose(const std::string& tag) const;  // "x y z r p y"
   // Whether any plugin looked this child of a <plugin> block up (warnUnknownTags uses it).
   static bool wasRead(const XmlNode& child);
   // Clears the record for `parent`'s children (before and after a plugin is made: a later spec

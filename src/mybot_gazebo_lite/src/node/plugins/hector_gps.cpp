@@ -48,8 +48,9 @@ public:
     }
     rate_ = hectorUpdateRate(p, 4.0);
     ros::NodeHandle nh(c.ns);
-    fix_pub_ = nh.advertise<sensor_msgs::NavSatFix>(p.str("topicName", "fix"), 10);
-    velocity_pub_ = nh.advertise<geometry_msgs::Vector3Stamped>(p.str("velocityTopicName", "fix_velocity"), 10);
+    fix_pub_ = nh.advertise<sensor_msgs::NavSatFix>(p.str("topicName", "fix"), kEveryStepQueue);
+    velocity_pub_ =
+        nh.advertise<geometry_msgs::Vector3Stamped>(p.str("velocityTopicName", "fix_velocity"), kEveryStepQueue);
     reset();
   }
   void reset() override

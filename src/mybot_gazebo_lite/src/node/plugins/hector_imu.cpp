@@ -67,10 +67,10 @@ public:
     ros::NodeHandle nh(c.ns);
     // An empty <topicName> publishes nothing (upstream's); an empty <biasTopicName> no biases.
     if (!topic.empty())
-      pub_ = nh.advertise<sensor_msgs::Imu>(topic, 10);
+      pub_ = nh.advertise<sensor_msgs::Imu>(topic, kEveryStepQueue);
     const std::string bias_topic = p.str("biasTopicName", topic.empty() ? "" : topic + "/bias");
     if (!bias_topic.empty())
-      bias_pub_ = nh.advertise<sensor_msgs::Imu>(bias_topic, 10);
+      bias_pub_ = nh.advertise<sensor_msgs::Imu>(bias_topic, kEveryStepQueue);
     const std::string service = p.str("serviceName", topic + "/calibrate");
     if (!service.empty())
       calibrate_ = nh.advertiseService(service, &HectorImu::calibrate, this);

@@ -35,8 +35,8 @@ public:
     field_msgs_ = p.boolean("useMagneticFieldMsgs", false);
     const std::string topic = p.str("topicName", "magnetic");
     ros::NodeHandle nh(c.ns);
-    pub_ = field_msgs_ ? nh.advertise<sensor_msgs::MagneticField>(topic, 1)
-                       : nh.advertise<geometry_msgs::Vector3Stamped>(topic, 1);
+    pub_ = field_msgs_ ? nh.advertise<sensor_msgs::MagneticField>(topic, kEveryStepQueue)
+                       : nh.advertise<geometry_msgs::Vector3Stamped>(topic, kEveryStepQueue);
     reset();
   }
   void reset() override

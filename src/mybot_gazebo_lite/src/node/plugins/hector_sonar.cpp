@@ -33,7 +33,7 @@ public:
     msg_.header.frame_id = hectorFrame(p, "sonar_link");
     error_ = SensorError(hectorError(p, ""));
     rate_ = hectorUpdateRate(p, 10.0);
-    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Range>(p.str("topicName", "sonar"), 1);
+    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Range>(p.str("topicName", "sonar"), kEveryStepQueue);
     reset();
   }
   void reset() override

@@ -100,10 +100,7 @@ Rate hectorUpdateRate(const PluginParams& p, double default_hz)
 std::string hectorBody(const PluginContext& c, const PluginParams& p)
 {
   // Without <bodyName>: the model's first link, as Model::GetLink() gives it.
-  const std::string body = p.has("bodyName") ? scopedLink(c, p.str("bodyName", "")) : c.robot->spec().root;
-  if (!c.robot->hasLink(body))
-    p.fail("bodyName", "no link named '" + body + "'");
-  return body;
+  return p.link("bodyName", c.robot->spec().root);
 }
 
 std::string hectorFrame(const PluginParams& p, const std::string& def)

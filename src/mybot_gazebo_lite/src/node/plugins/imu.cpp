@@ -24,17 +24,15 @@ public:
       if (!c.spec->has_sensor)
         p.fail("sensor", "libgazebo_ros_imu_sensor.so must sit inside a <sensor type=\"imu\">");
       PluginParams s(c, c.spec->sensor);
-      body_ = scopedLink(c, p.str("bodyName", c.spec->reference));
+      body_ = p.link("bodyName", c.spec->reference);
       sensor_pose_ = s.pose("pose");
       rate_ = Rate(p.num("updateRateHZ", s.num("update_rate", 1.0)));
     }
     else
     {
-      body_ = scopedLink(c, p.requiredStr("bodyName"));
+      body_ = p.link("bodyName");
       rate_ = Rate(p.num("updateRate", 0.0));
     }
-    if (!c.robot->hasLink(body_))
-      p.fail("bodyName", "no link named '" + body_ + "'");
     frame_ = resolveFrame(c, p.str("frameName", body_));
     gn_ = p.num("gaussianNoise", 0.0);
     // Offsets of the reported frame: zero ones (as most URDFs write them) change nothing; others
@@ -57,7 +55,7 @@ public:
       }
     if (gn_ < 0)
       p.fail("gaussianNoise", "must be >= 0");
-    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Imu>(p.str("topicName", "imu"), 10);
+    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Imu>(p.str("topicName", "imu"), kEveryStepQueue);
     model_ = ImuModel(sensor_pose_);
   }
   void reset() override { model_.reset(); }

@@ -18,9 +18,7 @@ public:
   explicit P3D(const PluginContext& c) : c_(c), noise_(0, 1)
   {
     PluginParams p(c, c.spec->xml);
-    body_ = scopedLink(c, p.requiredStr("bodyName"));
-    if (!c.robot->hasLink(body_))
-      p.fail("bodyName", "no link named '" + body_ + "'");
+    body_ = p.link("bodyName");
     std::string topic = p.requiredStr("topicName");
     frame_ = p.str("frameName", "world");
     if (frame_ != "world" && frame_ != "/world" && frame_ != "map" && frame_ != "/map")
@@ -42,7 +40,7 @@ public:
       p.fail("xyzOffsets/rpyOffsets", e.what());
     }
     offset_ = makeTransform(xyz, rpy);
-    pub_ = ros::NodeHandle(c.ns).advertise<nav_msgs::Odometry>(topic, 10);
+    pub_ = ros::NodeHandle(c.ns).advertise<nav_msgs::Odometry>(topic, kEveryStepQueue);
   }
   void update(double t) override
   {

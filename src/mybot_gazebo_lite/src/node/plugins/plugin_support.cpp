@@ -141,6 +141,14 @@ std::string PluginParams::joint(const std::string& tag, const std::string& def) 
   return j;
 }
 
+std::string PluginParams::link(const std::string& tag, const std::string& def) const
+{
+  const std::string l = scopedLink(c_, def.empty() ? requiredStr(tag) : str(tag, def));
+  if (!c_.robot->hasLink(l))
+    fail(tag, "no link named '" + l + "'");
+  return l;
+}
+
 btTransform PluginParams::pose(const std::string& tag) const
 {
   const XmlNode* n = node(tag);

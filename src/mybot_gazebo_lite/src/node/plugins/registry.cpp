@@ -70,6 +70,8 @@ const std::vector<Builtin>& builtins()
        makeP3D,
        {"bodyName", "topicName", "frameName", "xyzOffsets", "rpyOffsets", "xyzOffset", "rpyOffset", "gaussianNoise",
         "updateRate"}},
+      {"libgazebo_ros_force.so", makeForce, {"bodyName", "topicName"}},
+      {"libgazebo_ros_f3d.so", makeF3D, {"bodyName", "topicName", "frameName"}},
       {"libgazebo_ros_joint_state_publisher.so", makeJointStatePublisher, {"jointName", "updateRate"}},
       {"libmybot_joint_command.so", makeJointCommand, {"commandTimeout", "joint"}},
       {"libgazebo_ros_laser.so", makeLaser, kLaserTags},

@@ -1,0 +1,53 @@
+// libgazebo_ros_f3d.so: the external wrench on <bodyName> (geometry_msgs/WrenchStamped on
+// <topicName>), as upstream reads it from the body's force accumulator: what gazebo_ros_force and
+// apply_body_wrench put on it over the last step, in the world's axes about its centre of mass;
+// not the contact or joint forces. Every step while someone subscribes. Stamped with <frameName>
+// (world; upstream too writes it in the header and gives the values in the world's axes).
+#include "builtin.h"
+
+#include <geometry_msgs/WrenchStamped.h>
+
+namespace mybot_gazebo_lite
+{
+
+namespace
+{
+class F3D : public SimPlugin
+{
+public:
+  explicit F3D(const PluginContext& c) : c_(c)
+  {
+    PluginParams p(c, c.spec->xml);
+    body_ = p.link("bodyName");
+    msg_.header.frame_id = resolveFrame(c, p.str("frameName", "world"));
+    pub_ = ros::NodeHandle(c.ns).advertise<geometry_msgs::WrenchStamped>(p.requiredStr("topicName"), kEveryStepQueue);
+  }
+  void update(double t) override
+  {
+    if (pub_.getNumSubscribers() == 0)
+      return;
+    const auto w = c_.robot->externalWrench(body_);
+    msg_.header.stamp = ros::Time(t);
+    msg_.wrench.force.x = w.first.x();
+    msg_.wrench.force.y = w.first.y();
+    msg_.wrench.force.z = w.first.z();
+    msg_.wrench.torque.x = w.second.x();
+    msg_.wrench.torque.y = w.second.y();
+    msg_.wrench.torque.z = w.second.z();
+    pub_.publish(msg_);
+  }
+
+private:
+  PluginContext c_;
+  std::string body_;
+  geometry_msgs::WrenchStamped msg_;
+  ros::Publisher pub_;
+};
+}  // namespace
+
+std::unique_ptr<SimPlugin> makeF3D(const PluginContext& c)
+{
+  return std::make_unique<F3D>(c);
+}
+
+}  // namespace mybot_gazebo_lite

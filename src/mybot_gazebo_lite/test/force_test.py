@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""gazebo_ros_force pushes a 2 kg crate as Newton says; gazebo_ros_f3d reports the external
+wrench on it (force.test), in lockstep."""
+import math
+import threading
+import unittest
+
+import rospy
+import rostest
+from geometry_msgs.msg import Wrench, WrenchStamped
+from std_srvs.srv import Empty
+
+from gazebo_msgs.srv import ApplyBodyWrench, BodyRequest, GetModelState
+from mybot_lockstep import participant
+from mybot_lockstep.start_paused import unpause_when
+
+MASS, G = 2.0, 9.8
+
+
+def wrench(fx=0.0, fz=0.0, tz=0.0):
+    w = Wrench()
+    w.force.x, w.force.z, w.torque.z = fx, fz, tz
+    return w
+
+
+class ForceTests(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("force_test")
+        cls.ls = participant(defer_join=True)
+        cls.lock = threading.Lock()
+        cls.f3d = None
+        cls.ls.Subscriber("/crate/wrench", WrenchStamped, cls._f3d)
+        cls.push = cls.ls.Publisher("/crate/push", Wrench, queue_size=1)
+        rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
+        cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
+        cls.apply = rospy.ServiceProxy("/gazebo/apply_body_wrench", ApplyBodyWrench)
+        cls.reset = rospy.ServiceProxy("/gazebo/reset_world", Empty)
+        unpause_when(cls.ls, lambda: cls.model(model_name="crate").success, "the crate was not spawned")
+        cls.ls.sleep(0.5)  # settle on the ground
+
+    @classmethod
+    def _f3d(cls, m):
+        with cls.lock:
+            cls.f3d = m
+
+    def reported(self):
+        with self.lock:
+            return self.f3d
+
+    def z(self):
+        return self.model(model_name="crate").pose.position.z
+
+    def setUp(self):
+        self.push.publish(wrench())
+        self.reset()
+        self.ls.sleep(0.5)
+
+    def test_an_upward_push_above_its_weight_lifts_it_as_newton_says(self):
+        z0, t0 = self.z(), rospy.get_time()
+        self.push.publish(wrench(fz=1.5 * MASS * G))
+        self.ls.sleep(0.5)
+        dz, t = self.z() - z0, rospy.get_time() - t0
+        # a = F/m - g = 4.9 m/s^2 from the period the push arrives in (lockstep: within 10 ms of
+        # t0); 5 mm for the contact's give at the start.
+        a = 1.5 * G - G
+        self.assertGreater(dz, 0.5 * a * (t - 0.01) ** 2 - 0.005)
+        self.assertLess(dz, 0.5 * a * t ** 2 + 0.005)
+        w = self.reported()
+        self.assertEqual(w.header.frame_id, "world")
+        self.assertAlmostEqual(w.wrench.force.z, 1.5 * MASS * G, places=6)
+        self.assertAlmostEqual(w.wrench.force.x, 0.0, places=9)
+
+    def test_f3d_adds_apply_body_wrench_and_a_nan_push_is_ignored(self):
+        self.push.publish(wrench(tz=0.5))
+        self.push.publish(wrench(fx=float("nan")))  # ignored: the torque stays
+        res = self.apply(body_name="crate::box", wrench=wrench(fx=3.0), duration=rospy.Duration(-1))
+        self.assertTrue(res.success, res.status_message)
+        self.ls.sleep(0.1)
+        w = self.reported().wrench
+        self.assertAlmostEqual(w.force.x, 3.0, places=6)
+        self.assertAlmostEqual(w.torque.z, 0.5, places=6)
+        rospy.ServiceProxy("/gazebo/clear_body_wrenches", BodyRequest)(body_name="crate::box")
+
+    def test_a_reset_lets_go_of_the_push(self):
+        self.push.publish(wrench(fz=1.5 * MASS * G))
+        self.ls.sleep(0.2)
+        self.assertGreater(self.z(), 0.05)
+        self.reset()
+        self.ls.sleep(0.5)
+        self.assertLess(self.z(), 0.01)  # back on the ground, and staying there
+        self.assertAlmostEqual(self.reported().wrench.force.z, 0.0, places=9)
+
+
+if __name__ == "__main__":
+    rostest.rosrun("mybot_gazebo_lite", "force_test", ForceTests)
