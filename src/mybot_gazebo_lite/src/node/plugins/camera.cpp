@@ -18,13 +18,12 @@ namespace
 {
 // Renders only when someone subscribes, at the sensor's <update_rate> (and the
 // plugin's <updateRate> if lower), both in sim time.
-// One camera of a <sensor type="multicamera">: the sensor with only that <camera> in it, the
-// camera's <pose> in the sensor, its namespace under <cameraName> ("/left") and the baseline its
-// projection matrix carries (gazebo_ros_multicamera: <hackBaseline> for the right one, 0 for the left).
+// One camera of a <sensor type="multicamera">: the sensor with only that <camera> in it, its
+// namespace under <cameraName> ("/left") and the baseline its projection matrix carries
+// (gazebo_ros_multicamera: <hackBaseline> for the right one, 0 for the left).
 struct CameraMount
 {
   XmlNode sensor;
-  btTransform in_sensor = btTransform::getIdentity();
   std::string suffix;
   double baseline = 0;
 };
@@ -50,7 +49,8 @@ public:
                            std::string(depth_sensor_ ? "depth" : "camera") + "\">");
     PluginParams s(c, mount ? mount->sensor : c.spec->sensor);
     link_ = c.spec->reference;
-    sensor_pose_ = s.pose("pose") * (mount ? mount->in_sensor : btTransform::getIdentity());
+    // The <camera>'s own <pose> places it in the sensor, as Gazebo's CameraSensor composes them.
+    sensor_pose_ = s.pose("pose") * s.pose("camera/pose");
     double sensor_hz = s.num("update_rate", 0.0), plugin_hz = p.num("updateRate", 0.0);
     if (sensor_hz < 0)
       s.fail("update_rate", "must be >= 0");
@@ -295,7 +295,6 @@ public:
         if (mine->suffix == m->suffix)
           s.fail("camera name='" + name + "'", "two cameras are named '" + m->suffix.substr(1) + "'");
       m->baseline = left ? 0.0 : p.num("hackBaseline", 0.0);
-      m->in_sensor = PluginParams(c, *cam).pose("pose");
       m->sensor = c.spec->sensor;
       m->sensor.children.clear();
       for (const XmlNode& child : c.spec->sensor.children)
