@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""gazebo_ros_force pushes a 2 kg crate as Newton says; gazebo_ros_f3d reports the external
-wrench on it (force.test), in lockstep."""
+"""Model plugins in lockstep (model_plugins.test): gazebo_ros_force pushes a 2 kg crate as Newton
+says; gazebo_ros_f3d reports the external wrench on it; gazebo_ros_joint_pose_trajectory poses a
+turntable's joint point by point, as upstream times the points."""
 import math
 import threading
 import unittest
@@ -8,9 +9,10 @@ import unittest
 import rospy
 import rostest
 from geometry_msgs.msg import Wrench, WrenchStamped
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from std_srvs.srv import Empty
 
-from gazebo_msgs.srv import ApplyBodyWrench, BodyRequest, GetModelState
+from gazebo_msgs.srv import ApplyBodyWrench, BodyRequest, GetJointProperties, GetModelState
 from mybot_lockstep import participant
 from mybot_lockstep.start_paused import unpause_when
 
@@ -23,10 +25,10 @@ def wrench(fx=0.0, fz=0.0, tz=0.0):
     return w
 
 
-class ForceTests(unittest.TestCase):
+class ModelPluginTests(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("force_test")
+        rospy.init_node("model_plugins_test")
         cls.ls = participant(defer_join=True)
         cls.lock = threading.Lock()
         cls.f3d = None
@@ -36,7 +38,10 @@ class ForceTests(unittest.TestCase):
         cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
         cls.apply = rospy.ServiceProxy("/gazebo/apply_body_wrench", ApplyBodyWrench)
         cls.reset = rospy.ServiceProxy("/gazebo/reset_world", Empty)
-        unpause_when(cls.ls, lambda: cls.model(model_name="crate").success, "the crate was not spawned")
+        cls.joint = rospy.ServiceProxy("/gazebo/get_joint_properties", GetJointProperties)
+        cls.trajectory = cls.ls.Publisher("/table/set_joint_trajectory", JointTrajectory, queue_size=10)
+        unpause_when(cls.ls, lambda: all(cls.model(model_name=m).success for m in ("crate", "table")),
+                     "the crate and the table were not spawned")
         cls.ls.sleep(0.5)  # settle on the ground
 
     @classmethod
@@ -91,6 +96,37 @@ class ForceTests(unittest.TestCase):
         self.assertLess(self.z(), 0.01)  # back on the ground, and staying there
         self.assertAlmostEqual(self.reported().wrench.force.z, 0.0, places=9)
 
+    def turn(self):
+        return self.joint(joint_name="table::turn").position[0]
+
+    def send(self, joints, points, frame="world"):
+        m = JointTrajectory()
+        m.header.frame_id = frame
+        m.joint_names = joints
+        for positions, after in points:
+            m.points.append(JointTrajectoryPoint(positions=positions, time_from_start=rospy.Duration(after)))
+        self.trajectory.publish(m)
+
+    def test_a_joint_trajectory_poses_the_joint_point_by_point(self):
+        # Upstream's timing: each point's time_from_start is the wait before the next one.
+        self.send(["turn"], [([0.5], 1.0), ([1.0], 0.5), ([-0.5], 0.0)])
+        for wait, expected in ((0.5, 0.5), (0.75, 1.0), (0.75, -0.5)):  # at 0.5, 1.25 and 2.0 s
+            self.ls.sleep(wait)
+            self.assertAlmostEqual(self.turn(), expected, delta=1e-3)
+
+    def test_a_bad_trajectory_moves_nothing(self):
+        self.send(["turn"], [([0.8], 0.0)])
+        self.ls.sleep(0.2)
+        self.assertAlmostEqual(self.turn(), 0.8, delta=1e-3)
+        for joints, points, frame in ((["turn", "no_such_joint"], [([0.1, 0.1], 0.0)], "world"),
+                                      (["turn"], [([float("nan")], 0.0)], "world"),
+                                      (["turn"], [([5.0], 0.0)], "world"),  # beyond its limits (-3, 3)
+                                      (["turn"], [([0.1, 0.2], 0.0)], "world"),
+                                      (["turn"], [([0.1], 0.0)], "plate")):  # keeping another link still
+            self.send(joints, points, frame)
+            self.ls.sleep(0.2)
+            self.assertAlmostEqual(self.turn(), 0.8, delta=1e-3, msg=str((joints, points, frame)))
+
 
 if __name__ == "__main__":
-    rostest.rosrun("mybot_gazebo_lite", "force_test", ForceTests)
+    rostest.rosrun("mybot_gazebo_lite", "model_plugins_test", ModelPluginTests)
