@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """hector_gazebo_plugins' GNSS, IMU, compass and sonar on an outdoor base (hector_sensors.test),
 against ground truth: where the antenna is on the WGS84 ellipsoid, the IMU's configured biases,
-the compass's heading, the sonar's range to the ground."""
+the compass's heading, the sonar's range to the ground; and a holonomic base pushed by hector's
+force-based drive going where it is commanded."""
 import math
 import threading
 import unittest
@@ -9,6 +10,7 @@ import unittest
 import rospy
 import rostest
 from geometry_msgs.msg import Twist, Vector3Stamped
+from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, MagneticField, NavSatFix, NavSatStatus, Range
 from std_srvs.srv import Empty
 
@@ -61,10 +63,13 @@ class HectorSensors(unittest.TestCase):
                             ("/outdoor/sonar_down", Range)):
             cls.ls.Subscriber(topic, cls_, cls._store(topic))
         cls.ls.Subscriber("/outdoor/imu/data", Imu, cls._imu)
+        cls.ls.Subscriber("/omni/odom", Odometry, cls._store("/omni/odom"))
         cls.cmd = cls.ls.Publisher("/outdoor/cmd_vel", Twist, queue_size=1)
+        cls.omni_cmd = cls.ls.Publisher("/omni/cmd_vel", Twist, queue_size=1)
         rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
         cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
-        unpause_when(cls.ls, lambda: cls.model(model_name="outdoor").success, "the robot was not spawned")
+        unpause_when(cls.ls, lambda: all(cls.model(model_name=m).success for m in ("outdoor", "omni")),
+                     "the robots were not spawned")
         cls.ls.sleep(0.5)
 
     @classmethod
@@ -96,9 +101,47 @@ class HectorSensors(unittest.TestCase):
         """Stops, and waits until every sensor has reported at rest (the GNSS's 10 Hz the slowest)."""
         self.drive(twist(), 0.5)
 
-    def truth(self):
-        p = self.model(model_name="outdoor").pose
+    def truth(self, model="outdoor"):
+        p = self.model(model_name=model).pose
         return p.position.x, p.position.y, p.position.z, yaw_of(p.orientation)
+
+    def drive_omni(self, vx=0.0, vy=0.0, wz=0.0, seconds=3.0, settle=0.5):
+        """Commands the omni base; its poses (x, y, yaw) past `settle` and at the end, and the time between."""
+        cmd = Twist()
+        cmd.linear.x, cmd.linear.y, cmd.angular.z = vx, vy, wz
+        rate = self.ls.Rate(50)
+        t0 = rospy.get_time()
+        start = None
+        while rospy.get_time() - t0 < seconds:
+            self.omni_cmd.publish(cmd)
+            if start is None and rospy.get_time() - t0 >= settle:
+                start = (rospy.get_time(), self.truth("omni"))
+            rate.sleep()
+        end = (rospy.get_time(), self.truth("omni"))
+        for _ in range(25):
+            self.omni_cmd.publish(Twist())
+            rate.sleep()
+        return start[1], end[1], end[0] - start[0]
+
+    def test_force_based_move_goes_where_commanded(self):
+        # 0.36 m/s towards (0.3, -0.2) in its own axes: within 2 % and 2 degrees, as planar_move.
+        a, b, dt = self.drive_omni(vx=0.3, vy=-0.2)
+        dx, dy = b[0] - a[0], b[1] - a[1]
+        expected = math.hypot(0.3, 0.2) * dt
+        self.assertLess(abs(math.hypot(dx, dy) - expected) / expected, 0.02, "moved %.4f m of %.4f" % (
+            math.hypot(dx, dy), expected))
+        self.assertLess(abs(math.degrees(wrap(math.atan2(dy, dx) - a[3] - math.atan2(-0.2, 0.3)))), 2.0)
+        a, b, dt = self.drive_omni(wz=0.5, seconds=2.0)
+        self.assertLess(abs(math.degrees(wrap(b[3] - a[3]) - 0.5 * dt)), 2.0, "turned %.2f deg of %.2f" % (
+            math.degrees(wrap(b[3] - a[3])), math.degrees(0.5 * dt)))
+        # Its odometry is the world pose (upstream's), stamped in odom -> base_footprint.
+        self.drive_omni(seconds=0.2, settle=0.0)
+        odom = self.latest("/omni/odom")
+        x, y, _, yaw = self.truth("omni")
+        self.assertEqual((odom.header.frame_id, odom.child_frame_id), ("odom", "base_footprint"))
+        self.assertAlmostEqual(odom.pose.pose.position.x, x, delta=1e-3)
+        self.assertAlmostEqual(odom.pose.pose.position.y, y, delta=1e-3)
+        self.assertAlmostEqual(wrap(yaw_of(odom.pose.pose.orientation) - yaw), 0.0, delta=1e-3)
 
     def test_gnss_fix_is_where_the_antenna_is_on_the_ellipsoid(self):
         self.drive(twist(vx=0.5, wz=0.3), 4.0)

@@ -101,5 +101,6 @@ std::unique_ptr<SimPlugin> makeHectorGps(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeHectorImu(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeHectorMagnetic(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeHectorSonar(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeHectorForceBasedMove(const PluginContext& c);
 
 }  // namespace mybot_gazebo_lite

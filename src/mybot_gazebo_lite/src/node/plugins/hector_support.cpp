@@ -4,6 +4,8 @@
 
 #include "mybot_gazebo_lite/parsing.h"
 
+#include <cctype>
+
 namespace mybot_gazebo_lite
 {
 
@@ -19,7 +21,7 @@ std::string errorTag(const std::string& prefix, const std::string& name)
 
 const char* const kErrorNames[] = {"offset", "drift", "driftFrequency", "gaussianNoise", "scaleError"};
 
-// The five values of one axis from per-tag values (one of three axes, or the only one).
+// A spread or a frequency below zero is refused, naming its tag.
 void checkError(const PluginParams& p, const std::string& prefix, const SensorErrorParams& e)
 {
   if (e.drift < 0)

@@ -113,6 +113,10 @@ const std::vector<Builtin>& builtins()
                    "useMagneticFieldMsgs"},
                   {""})},
       {"libhector_gazebo_ros_sonar.so", makeHectorSonar, hectorTags({"frameId", "topicName"}, {""})},
+      {"libhector_gazebo_ros_force_based_move.so",
+       makeHectorForceBasedMove,
+       {"commandTopic", "odometryTopic", "odometryFrame", "odometryRate", "robotBaseFrame", "publishOdometryTf",
+        "x_velocity_p_gain", "y_velocity_p_gain", "yaw_velocity_p_gain"}},
   };
   return table;
 }
