@@ -822,9 +822,9 @@ TEST(Physics, SdfModelWithJointsSwingsAboutItsHinge)
                    .robot);
   // What it cannot simulate, named.
   for (const auto& [xml, says] : std::vector<std::pair<std::string, std::string>>{
-           {R"(<model name="m"><link name="a"/><link name="b"/><joint name="j" type="ball"><parent>a</parent>
+           {R"(<model name="m"><link name="a"/><link name="b"/><joint name="j" type="universal"><parent>a</parent>
                <child>b</child></joint></model>)",
-            "<joint name='j'>: type 'ball' is not simulated"},
+            "<joint name='j'>: type 'universal' is not simulated"},
            {R"(<model name="m"><link name="a"/><link name="b"/><link name="c"/><joint name="j" type="revolute">
                <parent>a</parent><child>b</child></joint></model>)",
             "links 'a' and 'c' are not joined"},
@@ -842,6 +842,38 @@ TEST(Physics, SdfModelWithJointsSwingsAboutItsHinge)
       EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
     }
   }
+}
+
+// An SDF ball joint (how SDF robots often mount a caster) leaves its link free to turn every
+// way about the pivot: a bob let go level with its pivot swings down on a rod of constant length,
+// its damping brings it to rest hanging below, and a world reset puts it back where it started.
+TEST(Physics, ABallJointSwingsFreelyAboutItsPivot)
+{
+  const std::string pendulum = R"(<sdf version="1.6"><model name="pendulum">
+      <link name="post"><pose>0 0 1 0 0 0</pose>
+        <collision name="c"><geometry><box><size>0.05 0.05 0.05</size></box></geometry></collision></link>
+      <link name="bob"><pose>0.3 0.4 1 0 0 0</pose>
+        <inertial><mass>1</mass><inertia><ixx>0.001</ixx><iyy>0.001</iyy><izz>0.001</izz></inertia></inertial>
+        <collision name="c"><geometry><sphere><radius>0.05</radius></sphere></geometry></collision></link>
+      <joint name="anchor" type="fixed"><parent>world</parent><child>post</child></joint>
+      <joint name="swivel" type="ball"><pose>-0.3 -0.4 0 0 0 0</pose><parent>post</parent><child>bob</child>
+        <axis><xyz>0 0 1</xyz><dynamics><damping>0.1</damping></dynamics></axis></joint></model></sdf>)";
+  SdfSpawn sdf = parseSdfSpawn(pendulum, "pendulum.sdf", ".");
+  ASSERT_TRUE(sdf.robot);
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(sdf.robot, "pendulum", "", sdf.model.pose * sdf.root_in_model);
+  EXPECT_TRUE(r.movableJoints().empty());  // nothing to command or report
+  const btVector3 pivot(0, 0, 1);
+  run(w, 0.3);
+  btVector3 bob = r.linkPose("bob").getOrigin();
+  EXPECT_NEAR(bob.distance(pivot), 0.5, 1e-6);
+  EXPECT_LT(bob.z(), 0.8);                                                // falling
+  EXPECT_NEAR(std::atan2(bob.y(), bob.x()), std::atan2(0.4, 0.3), 1e-6);  // in its plane: nothing pushes it out
+  run(w, 60.0);
+  bob = r.linkPose("bob").getOrigin();
+  EXPECT_NEAR(bob.distance(btVector3(0, 0, 0.5)), 0, 0.005);  // at rest below the pivot
+  EXPECT_FALSE(w.resetWorld());  // no static model moved
+  EXPECT_NEAR(r.linkPose("bob").getOrigin().distance(btVector3(0.3, 0.4, 1)), 0, 1e-9);
 }
 
 // Gazebo's "Make a mobile robot" tutorial builds its robot in SDF and attaches a laser model

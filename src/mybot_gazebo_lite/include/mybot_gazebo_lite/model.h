@@ -105,7 +105,8 @@ struct JointSpec
     CONTINUOUS,
     PRISMATIC,
     FLOATING,
-    PLANAR
+    PLANAR,
+    BALL  // SDF's: three rotations about its pivot, free (a caster's)
   } type = FIXED;
   std::string name, parent, child;
   btTransform origin = btTransform::getIdentity();  // child frame in parent frame

@@ -592,7 +592,10 @@ void PhysicsWorld::buildMultiBody(const std::vector<LumpedBody>& bodies, Robot& 
     btQuaternion rotParentToThis = offB.getRotation() * offA.getRotation().inverse();
     btVector3 axis = quatRotate(offB.getRotation(), b.joint->axis);
     int parent_link = b.parent - 1;
-    if (b.joint->type == JointSpec::PRISMATIC)
+    if (b.joint->type == JointSpec::BALL)
+      mb->setupSpherical(i - 1, b.mp.mass, b.mp.diag, parent_link, rotParentToThis, offA.getOrigin(), -offB.getOrigin(),
+                         true);
+    else if (b.joint->type == JointSpec::PRISMATIC)
       mb->setupPrismatic(i - 1, b.mp.mass, b.mp.diag, parent_link, rotParentToThis, axis, offA.getOrigin(),
                          -offB.getOrigin(), true);
     else
@@ -651,6 +654,11 @@ void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Ro
   for (int i = 1; i < static_cast<int>(bodies.size()); ++i)
   {
     const JointSpec* js = bodies[i].joint;
+    if (js->type == JointSpec::BALL)
+    {
+      r.ball_joints_.emplace_back(i - 1, js->damping);
+      continue;
+    }
     Robot::Joint j;
     j.spec = js;
     j.link = i - 1;
@@ -782,6 +790,14 @@ void PhysicsWorld::step()
       }
     }
   }
+  for (auto& rp : robots_)
+    for (const auto& [link, damping] : rp->ball_joints_)
+      if (damping > 0)
+      {
+        const btScalar* w = rp->mb_->getJointVelMultiDof(link);
+        const btScalar torque[3] = {-damping * w[0], -damping * w[1], -damping * w[2]};
+        rp->mb_->addJointTorqueMultiDof(link, torque);
+      }
   applyWrenches();
   applyEfforts();
   cancelGravity();
@@ -918,10 +934,17 @@ bool PhysicsWorld::resetWorld()
     Robot& r = *rp;
     r.contacts_ = Robot::Contacts();
     for (int i = 0; i < r.mb_->getNumLinks(); ++i)
-    {
-      r.mb_->setJointPos(i, 0);
-      r.mb_->setJointVel(i, 0);
-    }
+      if (r.mb_->getLink(i).m_jointType == btMultibodyLink::eSpherical)
+      {
+        const btScalar identity[4] = {0, 0, 0, 1}, rest[3] = {0, 0, 0};  // the quaternion x y z w
+        r.mb_->setJointPosMultiDof(i, identity);
+        r.mb_->setJointVelMultiDof(i, rest);
+      }
+      else
+      {
+        r.mb_->setJointPos(i, 0);
+        r.mb_->setJointVel(i, 0);
+      }
     for (auto& j : r.joints_)
     {
       if (j.mode == Robot::Mode::VELOCITY)

@@ -588,8 +588,10 @@ bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& wher
         js.type = JointSpec::PRISMATIC;
       else if (type == "fixed")
         js.type = JointSpec::FIXED;
+      else if (type == "ball")
+        js.type = JointSpec::BALL;
       else
-        sc.fail(jw, "type '" + type + "' is not simulated (revolute, continuous, prismatic, fixed)");
+        sc.fail(jw, "type '" + type + "' is not simulated (revolute, continuous, prismatic, ball, fixed)");
       // A nested model's joint names its own links; `world` is the world's.
       const auto scoped = [&](const std::string& n) { return n == "world" ? n : s.prefix + n; };
       js.parent = scoped(sc.text(j, "parent", jw, true));
