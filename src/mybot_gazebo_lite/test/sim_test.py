@@ -25,6 +25,7 @@ from std_srvs.srv import Empty
 
 from gazebo_msgs.msg import (LinkState, LinkStates, ModelState, ModelStates, ODEJointProperties, ODEPhysics,
                              PerformanceMetrics)
+from gazebo_msgs.srv import GetJointPropertiesResponse
 from gazebo_msgs.srv import (ApplyBodyWrench, ApplyJointEffort, BodyRequest, DeleteModel, GetJointProperties,
                               GetLinkProperties, GetLinkState, GetModelProperties, GetModelState, GetPhysicsProperties,
                               GetWorldProperties, SetJointProperties, SetLinkProperties, SetLinkState, SetModelState,
@@ -579,7 +580,8 @@ class StatesTests(unittest.TestCase):
         self.assertTrue(res.success, res.status_message)
         try:
             props = rospy.ServiceProxy('/gazebo/get_model_properties', GetModelProperties)(model_name='flap')
-            self.assertEqual((props.body_names, props.joint_names), (['post', 'leaf'], ['hinge']))
+            # Gazebo keeps an SDF model's fixed joint (a URDF's it lumps away).
+            self.assertEqual((props.body_names, props.joint_names), (['post', 'leaf'], ['anchor', 'hinge']))
             self.assertEqual(props.geom_names, ['c', 'c'])  # the SDF's own collision names
             res = rospy.ServiceProxy('/gazebo/apply_joint_effort', ApplyJointEffort)(
                 joint_name='flap::hinge', effort=2.0, start_time=rospy.Time(0), duration=rospy.Duration(0.5))
@@ -1044,7 +1046,10 @@ class WorldRobotTests(unittest.TestCase):
         rospy.wait_for_service('/gazebo/get_model_properties', timeout=WALL_TIMEOUT)
         props = rospy.ServiceProxy('/gazebo/get_model_properties', GetModelProperties)(model_name='flap')
         self.assertTrue(props.success, props.status_message)
-        self.assertEqual((props.body_names, props.joint_names), (['post', 'leaf'], ['hinge']))
+        self.assertEqual((props.body_names, props.joint_names), (['post', 'leaf'], ['anchor', 'hinge']))
+        anchor = rospy.ServiceProxy('/gazebo/get_joint_properties', GetJointProperties)(joint_name='flap::anchor')
+        self.assertTrue(anchor.success, anchor.status_message)
+        self.assertEqual((anchor.type, list(anchor.position)), (GetJointPropertiesResponse.FIXED, [0.0]))
         js = rospy.wait_for_message('/flap/joint_states', JointState, timeout=WALL_TIMEOUT)
         self.assertEqual(list(js.name), ['hinge'])
         res = rospy.ServiceProxy('/gazebo/apply_joint_effort', ApplyJointEffort)(
@@ -1095,6 +1100,16 @@ class WorldRobotTests(unittest.TestCase):
         p = laser.link_state.pose.position
         self.assertAlmostEqual(p.x, 0.2, delta=1e-3)
         self.assertAlmostEqual(p.z, 0.2, delta=2e-3)
+        # As Gazebo lists an SDF model: its own links and joints (the fixed ones too), its included
+        # and nested models as child models; a link fixed to another is still its own.
+        props = rospy.ServiceProxy('/gazebo/get_model_properties', GetModelProperties)(model_name='my_robot')
+        self.assertEqual((props.body_names, props.joint_names, props.child_model_names),
+                         (['chassis'], ['laser_joint', 'mast_joint'], ['tutorial_laser', 'mast']))
+        link = rospy.ServiceProxy('/gazebo/get_link_properties', GetLinkProperties)(
+            link_name='my_robot::tutorial_laser::link')
+        self.assertTrue(link.success, link.status_message)
+        self.assertAlmostEqual(link.mass, 0.1, places=9)
+        self.assertAlmostEqual(link.ixx, 0.0001, places=12)
 
 
 SUITES = {'bad_pose': BadPoseTests, 'drive': DriveTests, 'states': StatesTests, 'rest': RestTests, 'wall': WallTests, 'multi': MultiRobotTests, 'malformed': MalformedInputTests,

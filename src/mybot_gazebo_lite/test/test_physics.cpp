@@ -872,7 +872,7 @@ TEST(Physics, ABallJointSwingsFreelyAboutItsPivot)
   run(w, 60.0);
   bob = r.linkPose("bob").getOrigin();
   EXPECT_NEAR(bob.distance(btVector3(0, 0, 0.5)), 0, 0.005);  // at rest below the pivot
-  EXPECT_FALSE(w.resetWorld());  // no static model moved
+  EXPECT_FALSE(w.resetWorld());                               // no static model moved
   EXPECT_NEAR(r.linkPose("bob").getOrigin().distance(btVector3(0.3, 0.4, 1)), 0, 1e-9);
 }
 

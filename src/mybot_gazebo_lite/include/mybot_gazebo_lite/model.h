@@ -150,6 +150,9 @@ struct RobotSpec
   std::vector<PluginSpec> plugins;  // model plugins + sensor plugins
   std::vector<TransmissionSpec> transmissions;
   std::string root;
+  // Read from SDF: Gazebo keeps such a model's fixed joints and their child links (a URDF's it
+  // lumps into their parents when it converts the URDF), and its model properties list them.
+  bool from_sdf = false;
   std::vector<std::string> warnings;  // what the loader corrected, each naming its element; for the log
   const LinkSpec* link(const std::string& n) const
   {

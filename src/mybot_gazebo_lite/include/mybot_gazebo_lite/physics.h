@@ -186,12 +186,14 @@ struct DynamicObstacle
 // What gazebo_ros's get_model_properties tells of a model, as Gazebo builds it from a URDF: one
 // link per moving body (a fixed joint's child is lumped into its parent), the movable joints, and
 // the collisions named as Gazebo's URDF conversion names them ("<link>_collision", the body's
-// n-th from the second on "_<n>", a lumped child's "<link>_fixed_joint_lump__<child>_collision";
-// an SDF model's keep their own names).
+// n-th from the second on "_<n>", a lumped child's "<link>_fixed_joint_lump__<child>_collision").
+// An SDF model's, as Gazebo keeps it: its own links and joints (fixed and ball ones too, in the
+// file's order), the collisions by their own names, and its nested and included models as child
+// models (their links and joints are theirs, not listed here).
 struct ModelProperties
 {
   std::string canonical_link;  // the root link (a "world" root: its first child body)
-  std::vector<std::string> links, collisions, joints;
+  std::vector<std::string> links, collisions, joints, child_models;
   bool is_static = false;
 };
 
@@ -215,6 +217,7 @@ struct JointSettings
 // gazebo_ros's get_joint_properties of one movable joint.
 struct JointProperties
 {
+  // An SDF model's fixed or ball joint is reported too (Gazebo keeps them), at position 0.
   JointSpec::Type type = JointSpec::REVOLUTE;
   double damping = 0, position = 0, rate = 0;
 };

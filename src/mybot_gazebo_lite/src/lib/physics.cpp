@@ -1257,7 +1257,30 @@ std::string PhysicsWorld::jointProperties(const std::string& joint, JointPropert
   std::string name;
   const std::string why = resolveJoint(joint, r, name);
   if (!why.empty())
-    return why;
+  {
+    // An SDF model's fixed or ball joint: Gazebo keeps it; it does not move on its own axis.
+    const size_t sep = joint.find("::");
+    const std::string model = sep == std::string::npos ? "" : joint.substr(0, sep);
+    const std::string jname = sep == std::string::npos ? joint : joint.substr(sep + 2);
+    std::vector<std::string> owners;
+    const JointSpec* found = nullptr;
+    for (const auto& rp : robots_)
+      if (rp->spec_->from_sdf && (model.empty() || rp->name_ == model))
+        if (const JointSpec* js = rp->spec_->joint(jname);
+            js && (js->type == JointSpec::FIXED || js->type == JointSpec::BALL))
+        {
+          owners.push_back(rp->name_);
+          found = js;
+        }
+    if (!found)
+      return why;
+    if (owners.size() > 1)
+      return inSeveralModels("joint", joint, owners);
+    out = JointProperties();
+    out.type = found->type;
+    out.damping = found->damping;
+    return "";
+  }
   const Robot::Joint& j = r->joint(name);
   out.type = j.spec->type;
   out.damping = j.damping;
@@ -1338,7 +1361,33 @@ std::string PhysicsWorld::linkProperties(const std::string& link, LinkProperties
   BodyRef b;
   const std::string why = resolveBody(link, b);
   if (!why.empty())
-    return why;
+  {
+    // A link an SDF model fixes to another is its own link in Gazebo: its own inertial, as its
+    // file gives it (its centre of mass in the link frame, its inertia turned into the link's axes).
+    const size_t sep = link.find("::");
+    const std::string model = sep == std::string::npos ? "" : link.substr(0, sep);
+    const std::string name = sep == std::string::npos ? link : link.substr(sep + 2);
+    const LinkSpec* found = nullptr;
+    const Robot* owner = nullptr;
+    for (const auto& rp : robots_)
+      if (rp->spec_->from_sdf && (model.empty() || rp->name_ == model) && rp->hasLink(name) && name != "world")
+      {
+        if (found)
+          return why;  // in several models: the message names them
+        found = rp->spec_->link(name);
+        owner = rp.get();
+      }
+    if (!found)
+      return why;
+    out = LinkProperties();
+    const Inertial& in = found->inertial;
+    out.mass = in.mass;
+    out.com = in.origin.getOrigin();
+    const btMatrix3x3 I(in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz);
+    out.inertia = in.origin.getBasis() * I * in.origin.getBasis().transpose();
+    out.gravity_mode = !owner->gravity_off_[owner->links_.at(name).body + 1];
+    return "";
+  }
   out = LinkProperties();
   const btTransform frame = bodyInLink(b);
   btVector3 moments(0, 0, 0);
@@ -1588,6 +1637,32 @@ std::string PhysicsWorld::bodyLinkOf(const std::string& model, const std::string
 bool PhysicsWorld::modelProperties(const std::string& model, ModelProperties& out) const
 {
   out = ModelProperties();
+  if (const Robot* r = robotNamed(model); r && r->spec_->from_sdf)
+  {
+    // A nested or included model's links and joints are scoped ("mast::pan"): its own.
+    for (const auto& l : r->spec_->links)
+    {
+      if (!r->hasLink(l.name) || l.name == "world")
+        continue;
+      const size_t sep = l.name.find("::");
+      if (sep != std::string::npos)
+      {
+        const std::string child = l.name.substr(0, sep);
+        if (std::find(out.child_models.begin(), out.child_models.end(), child) == out.child_models.end())
+          out.child_models.push_back(child);
+        continue;
+      }
+      out.links.push_back(l.name);
+      for (const auto& c : l.collisions)
+        out.collisions.push_back(c.name);
+    }
+    for (const auto& j : r->spec_->joints)
+      if (j.name.find("::") == std::string::npos)
+        out.joints.push_back(j.name);
+    if (!out.links.empty())
+      out.canonical_link = out.links.front();
+    return true;
+  }
   if (const Robot* r = robotNamed(model))
   {
     const RobotSpec& rs = *r->spec_;

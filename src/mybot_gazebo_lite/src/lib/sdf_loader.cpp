@@ -713,6 +713,7 @@ WorldModel parseSdfModel(const SdfCtx& c, const XMLElement* m, const std::string
   if (spawn)
   {
     RobotSpec rs;
+    rs.from_sdf = true;
     if (parseSdfRobot(c, m, where, rs, spawn->root_in_model))
       spawn->robot = std::make_shared<RobotSpec>(std::move(rs));
   }

@@ -865,6 +865,7 @@ private:
     res.body_names = p.links;
     res.geom_names = p.collisions;
     res.joint_names = p.joints;
+    res.child_model_names = p.child_models;
     res.is_static = p.is_static;
     res.status_message = "GetModelProperties: got properties";
     return true;
@@ -888,6 +889,12 @@ private:
         break;
       case JointSpec::PRISMATIC:
         res.type = GetJointProperties::Response::PRISMATIC;
+        break;
+      case JointSpec::FIXED:  // an SDF model's (a URDF's are lumped away)
+        res.type = GetJointProperties::Response::FIXED;
+        break;
+      case JointSpec::BALL:
+        res.type = GetJointProperties::Response::BALL;
         break;
       default:
         res.type = GetJointProperties::Response::REVOLUTE;
