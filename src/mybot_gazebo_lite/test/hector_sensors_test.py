@@ -220,9 +220,10 @@ class HectorSensors(unittest.TestCase):
         self.stop()
         f = self.latest("/outdoor/magnetic").magnetic_field
         yaw = self.truth()[3]
-        # World field (0, cos 60, -sin 60): north is +y. In the body, its horizontal part points
-        # 90 degrees - yaw from the robot's x axis.
-        self.assertAlmostEqual(wrap(math.pi / 2 - math.atan2(f.y, f.x) - yaw), 0.0, delta=1e-4)
+        # The world's x axis points 30 degrees north of east (outdoor.world's spherical
+        # coordinates): north is 60 degrees anticlockwise of it, and the field's horizontal part
+        # points 60 degrees - yaw from the robot's x axis (inclination 60: half the field).
+        self.assertAlmostEqual(wrap(math.radians(60) - math.atan2(f.y, f.x) - yaw), 0.0, delta=1e-4)
         self.assertAlmostEqual(math.hypot(f.x, f.y), 0.5, delta=1e-4)
         self.assertAlmostEqual(f.z, -math.sqrt(3) / 2, delta=1e-4)
 

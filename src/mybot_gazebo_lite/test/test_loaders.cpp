@@ -480,6 +480,37 @@ TEST(Loaders, WorldPhysicsBlockSetsStepIterationsAndRealTimeFactor)
       LoadError);
 }
 
+// Where the world lies on the Earth, for the compass (hector's magnetometer takes its heading).
+TEST(Loaders, WorldSphericalCoordinates)
+{
+  WorldSpec w = parseSdfWorld(
+      "<sdf version='1.6'><world name='w'><spherical_coordinates><surface_model>EARTH_WGS84</surface_model>"
+      "<latitude_deg>49.9</latitude_deg><longitude_deg>8.9</longitude_deg><elevation>100</elevation>"
+      "<heading_deg>30</heading_deg></spherical_coordinates></world></sdf>",
+      "w.world", ".");
+  EXPECT_DOUBLE_EQ(w.spherical.latitude_deg, 49.9);
+  EXPECT_DOUBLE_EQ(w.spherical.longitude_deg, 8.9);
+  EXPECT_DOUBLE_EQ(w.spherical.elevation, 100);
+  EXPECT_DOUBLE_EQ(w.spherical.heading_deg, 30);
+  EXPECT_DOUBLE_EQ(parseSdfWorld("<sdf version='1.6'><world name='w'/></sdf>", "w", ".").spherical.heading_deg, 0);
+  for (const auto& [body, says] : std::vector<std::pair<std::string, std::string>>{
+           {"<surface_model>MOON_SCS</surface_model>", "<spherical_coordinates> <surface_model>: 'MOON_SCS'"},
+           {"<latitude_deg>91</latitude_deg>", "<latitude_deg>: must be within [-90, 90]"},
+           {"<heading_deg>north</heading_deg>", "heading_deg"}})
+  {
+    try
+    {
+      parseSdfWorld("<sdf><world><spherical_coordinates>" + body + "</spherical_coordinates></world></sdf>",
+                    "bad.world", ".");
+      ADD_FAILURE() << "accepted " << body;
+    }
+    catch (const LoadError& e)
+    {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Loaders, ModelConfigPicksTheNewestSdf)
 {
   const mybot_common::TempDir dir("model_config");

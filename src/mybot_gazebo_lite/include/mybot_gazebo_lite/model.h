@@ -218,12 +218,20 @@ struct WorldRobot
   btTransform root_in_model = btTransform::getIdentity();
 };
 
+// A world's <spherical_coordinates>: where its origin is on the Earth (WGS84), and its heading
+// offset (degrees, anticlockwise from east to the world's x axis; 0: x east, y north).
+struct SphericalCoordinates
+{
+  double latitude_deg = 0, longitude_deg = 0, elevation = 0, heading_deg = 0;
+};
+
 struct WorldSpec
 {
   std::string name = "default";
   PhysicsSpec physics;
   std::string source;
   btVector3 gravity{0, 0, -9.8};
+  SphericalCoordinates spherical;
   bool ground_plane = false;
   std::vector<WorldModel> models;  // rigid: static, or without joints and plugins
   std::vector<WorldRobot> robots;

@@ -855,6 +855,20 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
   }
   if (const XMLElement* ph = w->FirstChildElement("physics"))
     world.physics = parsePhysics(c, ph);
+  if (const XMLElement* sc = w->FirstChildElement("spherical_coordinates"))
+  {
+    const std::string where = "<world> <spherical_coordinates>";
+    const std::string surface = c.text(sc, "surface_model", where, false, "EARTH_WGS84");
+    if (surface != "EARTH_WGS84")
+      c.fail(where + " <surface_model>", "'" + surface + "': only EARTH_WGS84 is known (Gazebo's)");
+    SphericalCoordinates& s = world.spherical;
+    s.latitude_deg = c.number(sc, "latitude_deg", where, false, 0.0);
+    s.longitude_deg = c.number(sc, "longitude_deg", where, false, 0.0);
+    s.elevation = c.number(sc, "elevation", where, false, 0.0);
+    s.heading_deg = c.number(sc, "heading_deg", where, false, 0.0);
+    if (std::abs(s.latitude_deg) > 90)
+      c.fail(where + " <latitude_deg>", "must be within [-90, 90]");
+  }
   // The world's frames (SDF 1.7): a model's or an include's <pose> may be written relative_to
   // another model or a <frame> of the world. Each model's frame, placed once all are read:
   SdfFrames frames(source, "world");

@@ -1,5 +1,6 @@
 // libhector_gazebo_ros_magnetic.so: a magnetometer on a link. The Earth's field (earth_model.h:
-// <magnitude>, <declination>, <inclination>, <referenceHeading>, degrees) seen in the link's axes,
+// <magnitude>, <declination>, <inclination>, <referenceHeading>, degrees, by default the world's
+// <spherical_coordinates>') seen in the link's axes,
 // with hector's error model, as geometry_msgs/Vector3Stamped on `magnetic`, or as
 // sensor_msgs/MagneticField with <useMagneticFieldMsgs>.
 #include "builtin.h"
@@ -24,10 +25,11 @@ public:
     PluginParams p(c, c.spec->xml);
     body_ = hectorBody(c, p);
     frame_ = hectorFrame(p, body_);
-    // Upstream's default heading comes from the world's <spherical_coordinates> (x east: 90
-    // degrees), which gazebo_lite does not read: 90 degrees, as for a world without them.
+    // Upstream's default heading is the world's <spherical_coordinates>' (its heading_deg is
+    // anticlockwise from east; 0, x east, is a compass heading of 90 degrees).
+    const double world_heading = 90.0 - c.world->worldSpec().spherical.heading_deg;
     const std::array<double, 3> f =
-        magneticFieldInWorld(p.num("magnitude", 1.0), p.num("referenceHeading", 90.0) * kDeg,
+        magneticFieldInWorld(p.num("magnitude", 1.0), p.num("referenceHeading", world_heading) * kDeg,
                              p.num("declination", 0.0) * kDeg, p.num("inclination", 60.0) * kDeg);
     field_ = btVector3(f[0], f[1], f[2]);
     error_ = SensorError3(hectorError3(p, ""));
