@@ -29,14 +29,19 @@ def test_waits_for_a_slow_writer_to_empty_its_queue():
     slow = Connection(["stop"])
     manager = TopicManager(cmd_vel=Publication(Connection([]), slow), status=Publication())
 
+    emptied = []
+
     def writer():  # a writer thread starved for 0.5 s, longer than the old fixed 0.3 s sleep
         time.sleep(0.5)
+        emptied.append(time.monotonic())  # before the queue empties: linger cannot see it empty earlier
         slow._queue = []
     threading.Thread(target=writer).start()
-    start = time.monotonic()
     shutdown.linger(timeout=5.0, settle=0.0, topic_manager=manager)
+    returned = time.monotonic()
+    # linger returned once the writer had emptied the queue, not after a fixed time. (Measured from
+    # a start taken after the writer's, 0.5 s could come out 0.4996 s: a failed gate at 77b6026.)
     assert slow._queue == []
-    assert time.monotonic() - start >= 0.5
+    assert emptied and returned >= emptied[0]
 
 
 def test_a_queue_that_never_empties_is_left_at_the_timeout():
