@@ -50,6 +50,8 @@ struct SensorRays
   static SensorRays fromSensor(const PluginParams& s);
   // Range along each ray from `sensor` (world frame), `max` where nothing is hit.
   std::vector<double> cast(const PhysicsWorld& world, const btTransform& sensor, const Robot* self) const;
+  // The nearest of them (a sonar's reading), `max` where nothing is hit.
+  double nearest(const PhysicsWorld& world, const btTransform& sensor, const Robot* self) const;
 };
 
 // An IMU message's orientation, angular velocity and linear acceleration (imu.cpp).
@@ -67,14 +69,19 @@ Rate hectorUpdateRate(const PluginParams& p, double default_hz);
 std::string hectorBody(const PluginContext& c, const PluginParams& p);
 // <frameId> (default `def`) without leading slashes.
 std::string hectorFrame(const PluginParams& p, const std::string& def);
-// Sim time since the last update (the error models' dt): 0 at the first one and after time went back.
-class SinceLast
+// hector's UpdateTimer: fires at hectorUpdateRate's period and gives the sim time since it last
+// fired (the error models' dt): 0 at the first firing, after a reset, and after time went back.
+class HectorTimer
 {
 public:
-  double step(double t);
+  HectorTimer() = default;
+  HectorTimer(const PluginParams& p, double default_hz) : rate_(hectorUpdateRate(p, default_hz)) {}
+  bool due(double t, double& dt);
   void reset() { last_ = -1; }
+  const uint64_t* fired() const { return &rate_.fired; }  // for sensorUpdates()
 
 private:
+  Rate rate_;
   double last_ = -1;
 };
 

@@ -46,7 +46,7 @@ public:
       const SensorErrorParams& e = position_[a].params();
       fix_.position_covariance[a * 4] = e.drift * e.drift + e.gaussian_noise * e.gaussian_noise;
     }
-    rate_ = hectorUpdateRate(p, 4.0);
+    timer_ = HectorTimer(p, 4.0);
     ros::NodeHandle nh(c.ns);
     fix_pub_ = nh.advertise<sensor_msgs::NavSatFix>(p.str("topicName", "fix"), kEveryStepQueue);
     velocity_pub_ =
@@ -57,13 +57,13 @@ public:
   {
     position_.reset(*c_.rng);
     velocity_error_.reset(*c_.rng);
-    since_.reset();
+    timer_.reset();
   }
   void update(double t) override
   {
-    if (!rate_.due(t))
+    double dt;
+    if (!timer_.due(t, dt))
       return;
-    const double dt = since_.step(t);
     const Pose s = c_.robot->linkState(body_);
     double pos[3], vel[3];
     for (int a = 0; a < 3; ++a)
@@ -86,15 +86,14 @@ public:
     velocity_pub_.publish(velocity_);
   }
 
-  SensorUpdates sensorUpdates() const override { return {&rate_.fired, nullptr}; }
+  SensorUpdates sensorUpdates() const override { return {timer_.fired(), nullptr}; }
 
 private:
   PluginContext c_;
   std::string body_;
   LocalTangentPlane earth_;
   SensorError3 position_, velocity_error_;
-  Rate rate_;
-  SinceLast since_;
+  HectorTimer timer_;
   sensor_msgs::NavSatFix fix_;
   geometry_msgs::Vector3Stamped velocity_;
   ros::Publisher fix_pub_, velocity_pub_;

@@ -63,7 +63,7 @@ public:
     msg_.orientation_covariance[0] = g > 0 ? std::pow(accel[0].gaussian_noise / g, 2) : -1;
     msg_.orientation_covariance[4] = g > 0 ? std::pow(accel[1].gaussian_noise / g, 2) : -1;
     msg_.orientation_covariance[8] = std::pow(yaw_.params().gaussian_noise, 2);
-    rate_ = hectorUpdateRate(p, 0.0);
+    timer_ = HectorTimer(p, 0.0);
     ros::NodeHandle nh(c.ns);
     // An empty <topicName> publishes nothing (upstream's); an empty <biasTopicName> no biases.
     if (!topic.empty())
@@ -82,15 +82,15 @@ public:
     accel_.reset(*c_.rng);
     rate_error_.reset(*c_.rng);
     yaw_.reset(*c_.rng);
-    since_.reset();
+    timer_.reset();
   }
   void update(double t) override
   {
     const Pose s = c_.robot->linkState(body_);
     model_.step(s, c_.world->stepSize());
-    if (!rate_.due(t))
+    double dt;
+    if (!timer_.due(t, dt))
       return;
-    const double dt = since_.step(t);
     const btVector3& gravity = c_.world->worldSpec().gravity;
     const ImuModel::Reading r = model_.read(s, gravity);
     btVector3 accel, rate, accel_bias, rate_bias;
@@ -126,7 +126,7 @@ public:
     }
   }
 
-  SensorUpdates sensorUpdates() const override { return {&rate_.fired, nullptr}; }
+  SensorUpdates sensorUpdates() const override { return {timer_.fired(), nullptr}; }
 
 private:
   // As upstream: the gyro's wandering bias to zero (its constant <rateOffset> stays).
@@ -142,8 +142,7 @@ private:
   SensorError3 accel_, rate_error_;
   SensorError yaw_;
   ImuModel model_;
-  Rate rate_;
-  SinceLast since_;
+  HectorTimer timer_;
   sensor_msgs::Imu msg_;
   ros::Publisher pub_, bias_pub_;
   ros::ServiceServer calibrate_;

@@ -33,7 +33,7 @@ public:
                              p.num("declination", 0.0) * kDeg, p.num("inclination", 60.0) * kDeg);
     field_ = btVector3(f[0], f[1], f[2]);
     error_ = SensorError3(hectorError3(p, ""));
-    rate_ = hectorUpdateRate(p, 0.0);
+    timer_ = HectorTimer(p, 0.0);
     field_msgs_ = p.boolean("useMagneticFieldMsgs", false);
     const std::string topic = p.str("topicName", "magnetic");
     ros::NodeHandle nh(c.ns);
@@ -44,13 +44,13 @@ public:
   void reset() override
   {
     error_.reset(*c_.rng);
-    since_.reset();
+    timer_.reset();
   }
   void update(double t) override
   {
-    if (!rate_.due(t))
+    double dt;
+    if (!timer_.due(t, dt))
       return;
-    const double dt = since_.step(t);
     const btVector3 in_body = c_.robot->linkPose(body_).getBasis().transpose() * field_;
     geometry_msgs::Vector3 v;
     v.x = error_[0].measure(in_body.x(), dt, *c_.rng);
@@ -75,15 +75,14 @@ public:
     }
   }
 
-  SensorUpdates sensorUpdates() const override { return {&rate_.fired, nullptr}; }
+  SensorUpdates sensorUpdates() const override { return {timer_.fired(), nullptr}; }
 
 private:
   PluginContext c_;
   std::string body_, frame_;
   btVector3 field_;
   SensorError3 error_;
-  Rate rate_;
-  SinceLast since_;
+  HectorTimer timer_;
   bool field_msgs_;
   ros::Publisher pub_;
 };

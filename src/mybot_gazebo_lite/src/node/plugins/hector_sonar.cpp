@@ -32,33 +32,31 @@ public:
     msg_.field_of_view = std::min(std::abs(h), std::abs(v));
     msg_.header.frame_id = hectorFrame(p, "sonar_link");
     error_ = SensorError(hectorError(p, ""));
-    rate_ = hectorUpdateRate(p, 10.0);
+    timer_ = HectorTimer(p, 10.0);
     pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Range>(p.str("topicName", "sonar"), kEveryStepQueue);
     reset();
   }
   void reset() override
   {
     error_.reset(*c_.rng);
-    since_.reset();
+    timer_.reset();
   }
   void update(double t) override
   {
-    if (!rate_.due(t))
+    double dt;
+    if (!timer_.due(t, dt))
       return;
-    const double dt = since_.step(t);
     const btTransform tf = c_.robot->linkPose(link_) * sensor_pose_;
-    double nearest = msg_.max_range;
-    for (double d : rays_.cast(*c_.world, tf, c_.robot))
-      nearest = std::min(nearest, d);
+    const double nearest = rays_.nearest(*c_.world, tf, c_.robot);
     msg_.header.stamp = ros::Time(t);
     msg_.range = nearest;
-    if (nearest < msg_.max_range)
+    if (nearest < rays_.max)  // the double the rays were cast to, not the message's float
       msg_.range =
           std::max<double>(msg_.min_range, std::min<double>(msg_.max_range, error_.measure(nearest, dt, *c_.rng)));
     pub_.publish(msg_);
   }
 
-  SensorUpdates sensorUpdates() const override { return {&rate_.fired, nullptr}; }
+  SensorUpdates sensorUpdates() const override { return {timer_.fired(), nullptr}; }
 
 private:
   PluginContext c_;
@@ -66,8 +64,7 @@ private:
   btTransform sensor_pose_;
   SensorRays rays_;
   SensorError error_;
-  Rate rate_;
-  SinceLast since_;
+  HectorTimer timer_;
   sensor_msgs::Range msg_;
   ros::Publisher pub_;
 };

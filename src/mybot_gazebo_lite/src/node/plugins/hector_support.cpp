@@ -114,12 +114,13 @@ std::string hectorFrame(const PluginParams& p, const std::string& def)
   return f;
 }
 
-double SinceLast::step(double t)
+bool HectorTimer::due(double t, double& dt)
 {
-  // hector's UpdateTimer: 0 at the first update after load or a reset.
-  const double dt = last_ >= 0 && t >= last_ ? t - last_ : 0.0;
+  if (!rate_.due(t))
+    return false;
+  dt = last_ >= 0 && t >= last_ ? t - last_ : 0.0;
   last_ = t;
-  return dt;
+  return true;
 }
 
 }  // namespace mybot_gazebo_lite

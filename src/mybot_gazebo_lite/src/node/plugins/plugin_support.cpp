@@ -235,6 +235,14 @@ SensorRays SensorRays::fromSensor(const PluginParams& s)
   return r;
 }
 
+double SensorRays::nearest(const PhysicsWorld& world, const btTransform& sensor, const Robot* self) const
+{
+  double out = max;
+  for (double d : cast(world, sensor, self))
+    out = std::min(out, d);
+  return out;
+}
+
 std::vector<double> SensorRays::cast(const PhysicsWorld& world, const btTransform& sensor, const Robot* self) const
 {
   std::vector<double> out;

@@ -48,12 +48,10 @@ public:
     if (!rate_.due(t))
       return;
     const btTransform tf = c_.robot->linkState(link_).tf * sensor_pose_;
-    double nearest = msg_.max_range;
-    for (double d : rays_.cast(*c_.world, tf, c_.robot))
-      nearest = std::min(nearest, d);
+    const double nearest = rays_.nearest(*c_.world, tf, c_.robot);
     msg_.header.stamp = ros::Time(t);
     msg_.range =
-        nearest < msg_.max_range
+        nearest < rays_.max  // the double the rays were cast to, not the message's float
             ? std::max<double>(msg_.min_range, std::min<double>(msg_.max_range, nearest + gn_ * noise_(*c_.rng)))
             : msg_.max_range;
     pub_.publish(msg_);
