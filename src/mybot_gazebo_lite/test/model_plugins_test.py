@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Model plugins in lockstep (model_plugins.test): gazebo_ros_force pushes a 2 kg crate as Newton
 says; gazebo_ros_f3d reports the external wrench on it; gazebo_ros_joint_pose_trajectory poses a
-turntable's joint point by point, as upstream times the points."""
+turntable's joint point by point, as upstream times the points; gazebo_ros_ft_sensor reads what
+that joint carries."""
 import math
 import threading
 import unittest
@@ -32,7 +33,9 @@ class ModelPluginTests(unittest.TestCase):
         cls.ls = participant(defer_join=True)
         cls.lock = threading.Lock()
         cls.f3d = None
+        cls.ft = []
         cls.ls.Subscriber("/crate/wrench", WrenchStamped, cls._f3d)
+        cls.ls.Subscriber("/table/turn_wrench", WrenchStamped, cls._ft)
         cls.push = cls.ls.Publisher("/crate/push", Wrench, queue_size=1)
         rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
         cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
@@ -48,6 +51,11 @@ class ModelPluginTests(unittest.TestCase):
     def _f3d(cls, m):
         with cls.lock:
             cls.f3d = m
+
+    @classmethod
+    def _ft(cls, m):
+        with cls.lock:
+            cls.ft.append(m)
 
     def reported(self):
         with self.lock:
@@ -127,6 +135,25 @@ class ModelPluginTests(unittest.TestCase):
             self.ls.sleep(0.2)
             self.assertAlmostEqual(self.turn(), 0.8, delta=1e-3, msg=str((joints, points, frame)))
 
+    def test_the_turntables_joint_carries_the_plates_weight_in_the_plates_axes(self):
+        """The 0.5 kg plate's centre of mass is 0.1 m out along its x: whatever way the plate
+        points, the joint holds up its weight, (0, 0, m g) in the plate's axes, and the torque
+        that keeps it level, (0, -m g 0.1, 0), at the sensor's 50 Hz."""
+        for angle in (0.8, -2.0):
+            self.send(["turn"], [([angle], 0.0)])
+            self.ls.sleep(0.2)
+            with self.lock:
+                del self.ft[:]
+            self.ls.sleep(0.2)
+            with self.lock:
+                got = list(self.ft)
+            self.assertEqual(len(got), 10)  # 0.2 s at 50 Hz
+            for m in got:
+                self.assertEqual(m.header.frame_id, "plate")
+                w = m.wrench
+                for value, expected in ((w.force.x, 0.0), (w.force.y, 0.0), (w.force.z, 0.5 * G),
+                                        (w.torque.x, 0.0), (w.torque.y, -0.5 * G * 0.1), (w.torque.z, 0.0)):
+                    self.assertAlmostEqual(value, expected, delta=1e-6, msg=(angle, str(w)))
 
 if __name__ == "__main__":
     rostest.rosrun("mybot_gazebo_lite", "model_plugins_test", ModelPluginTests)

@@ -969,6 +969,22 @@ class MalformedInputTests(unittest.TestCase):
             self.assertIn('libhector_gazebo_ros_imu.so', out)
 
 
+    def test_a_plugin_on_a_fixed_joint_is_told_it_is_lumped(self):
+        """A force-torque sensor on a fixed joint: Gazebo lumps the joint away, and so does
+        gazebo_lite; the error says so rather than that no such joint exists."""
+        path = self.write('ft_fixed.urdf', '<robot name="r"><link name="a"><inertial><mass value="1"/>'
+                          '<inertia ixx="1" iyy="1" izz="1"/></inertial></link><link name="b"><inertial>'
+                          '<mass value="1"/><inertia ixx="1" iyy="1" izz="1"/></inertial></link>'
+                          '<joint name="wrist" type="fixed"><parent link="a"/><child link="b"/></joint>'
+                          '<gazebo><plugin name="ft" filename="libgazebo_ros_ft_sensor.so">'
+                          '<jointName>wrist</jointName><topicName>ft</topicName></plugin></gazebo></robot>')
+        rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'ft_fixed', '-timeout', '30'])
+        self.assertNotEqual(rc, 0)
+        self.assertIn('<jointName>', out)
+        self.assertIn("joint 'wrist' is fixed", out)
+        self.assertIn('libgazebo_ros_ft_sensor.so', out)
+
+
 class BadPoseTests(unittest.TestCase):
     """Non-finite or absurd poses never enter running state: refused naming the field, and the
     model's ground truth stays what it was."""

@@ -975,3 +975,92 @@ TEST(Physics, ARobotRootedAtAWorldLinkIsFixedWhereItIsSpawned)
       EXPECT_LT(after.z(), 0.5) << "the free robot did not fall";
   }
 }
+
+// A joint's wrench (what gazebo_ros_ft_sensor reports): the parent's push on the child, in the
+// child's axes, about the joint, checked against statics and a pendulum's dynamics.
+TEST(Physics, AJointsWrenchHoldsTheArmAgainstGravity)
+{
+  const double m = 1.0, g = 9.8, r_com = 0.25;  // the arm: 1 kg, its centre of mass 0.25 m out
+  // A shoulder about y without stops: gravity pitches the arm down (+).
+  auto spec = std::make_shared<RobotSpec>(
+      parseUrdf(armUrdf(true, R"(continuous"><parent link="base_link"/><child link="arm_link"/>
+      <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit effort="50" velocity="50"/>)"),
+                "arm.urdf"));
+  // The errors of the swing below, at a step size.
+  struct Swing
+  {
+    double axis_torque = 0, force = 0, fastest = 0;
+  };
+  auto swing = [&](double step)
+  {
+    PhysicsWorld::Options o;
+    o.step = step;
+    PhysicsWorld w(flatWorld(), o);
+    Robot& r = w.addRobot(spec, "arm", "", btTransform::getIdentity());
+    r.watchJointWrench("shoulder");
+    // Held at 0.4 rad below horizontal by the servo: the joint carries the arm's weight and the
+    // servo's torque against gravity's, whatever the servo's steady-state error.
+    r.commandPosition("shoulder", 0.4, 50);
+    run(w, 2.0);
+    const double q = r.jointPosition("shoulder");
+    EXPECT_NEAR(q, 0.4, 0.01);
+    auto [f, tau] = r.jointWrench("shoulder");
+    // The weight's reaction, (0, 0, m g) in the world, in the child's axes (pitched by q about y).
+    EXPECT_NEAR(f.x(), -m * g * std::sin(q), 1e-6);
+    EXPECT_NEAR(f.y(), 0.0, 1e-6);
+    EXPECT_NEAR(f.z(), m * g * std::cos(q), 1e-6);
+    // The servo's torque about the axis: minus gravity's, m g r cos(q).
+    EXPECT_NEAR(tau.y(), -m * g * r_com * std::cos(q), 1e-6);
+    EXPECT_NEAR(tau.x(), 0.0, 1e-6);
+    EXPECT_NEAR(tau.z(), 0.0, 1e-6);
+
+    // Let go: the arm swings free from there. The joint transmits no torque about its axis, and
+    // its pull is what the centre of mass's acceleration a needs beyond gravity, m (a - g): in
+    // the child's axes a = (-w^2 r, 0, -alpha r) and g = (g sin(q), 0, -g cos(q)), with
+    // alpha = m g r cos(q) / I about the pivot.
+    r.commandNone("shoulder");
+    const double I = 0.021 + m * r_com * r_com;
+    Swing e;
+    for (int i = 0; i < std::lround(1.5 / step); ++i)
+    {
+      // The step's forces act where it begins (Bullet moves the links last, at the new velocity).
+      const double q0 = r.jointPosition("shoulder"), w0 = r.jointVelocity("shoulder");
+      w.step();
+      const double w1 = r.jointVelocity("shoulder");
+      std::tie(f, tau) = r.jointWrench("shoulder");
+      const double alpha = m * g * r_com * std::cos(q0) / I;
+      const btVector3 expected(m * (-w0 * w1 * r_com - g * std::sin(q0)), 0, m * (-alpha * r_com + g * std::cos(q0)));
+      e.axis_torque = std::max(e.axis_torque, std::abs(tau.y()));
+      e.force = std::max(e.force, (f - expected).length());
+      e.fastest = std::max(e.fastest, std::abs(w1));
+    }
+    return e;
+  };
+  const Swing coarse = swing(0.001), fine = swing(0.0005);
+  EXPECT_GT(coarse.fastest, 5.0) << "the arm did not swing";
+  // What is left is the step's discretisation, first order in the step: against gravity's
+  // 2.4 N m and forces up to 18.8 N, below 0.01 N m and 0.05 N at 1 ms, and half of it at 0.5 ms.
+  EXPECT_LT(coarse.axis_torque, 0.01);
+  EXPECT_LT(coarse.force, 0.05);
+  EXPECT_NEAR(fine.axis_torque / coarse.axis_torque, 0.5, 0.05);
+  EXPECT_NEAR(fine.force / coarse.force, 0.5, 0.05);
+}
+
+// A free prismatic joint lets its child rest on the ground: no force along its axis. Left out,
+// the ground's push would show as the joint holding the link's whole weight.
+TEST(Physics, AJointsWrenchCountsTheGroundsPushOnItsChild)
+{
+  auto spec = std::make_shared<RobotSpec>(
+      parseUrdf(armUrdf(true, R"(prismatic"><parent link="base_link"/><child link="arm_link"/>
+      <origin xyz="0 0 -0.1"/><axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="50" velocity="5"/>)"),
+                "arm.urdf"));
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(spec, "arm", "", btTransform::getIdentity());
+  r.watchJointWrench("shoulder");
+  run(w, 2.0);
+  EXPECT_NEAR(r.jointPosition("shoulder"), -0.875, 0.005) << "the link did not come to rest on the ground";
+  const auto [f, tau] = r.jointWrench("shoulder");
+  EXPECT_NEAR(f.z(), 0.0, 0.05) << "of a 9.81 N weight";
+  EXPECT_NEAR(f.x(), 0.0, 0.05);
+  EXPECT_NEAR(f.y(), 0.0, 0.05);
+}

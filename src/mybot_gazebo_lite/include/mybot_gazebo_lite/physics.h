@@ -119,6 +119,15 @@ public:
   std::pair<btVector3, btVector3> externalWrench(const std::string& link) const;
   // Contact friction of every collision of the robot (planar_move: the base slides as commanded).
   void setContactFriction(double mu);
+  // The wrench the parent link exerts on `joint`'s child through the joint over the last step
+  // (constraint, actuation and the joint's damping alike), in the child link's axes, its torque
+  // about the joint's origin (a URDF joint's is the child link's): what Gazebo's GetForceTorque gives as
+  // body2Force / body2Torque, and what a force-torque sensor between the two links measures.
+  // Bullet's own joint feedback leaves out the motors' impulses, so it is computed by
+  // Newton-Euler on the child's subtree instead (jointWrenches in physics.cpp). Zero until a step
+  // has run with the joint watched; watching costs a pass over the robot's bodies per step.
+  void watchJointWrench(const std::string& joint);
+  std::pair<btVector3, btVector3> jointWrench(const std::string& joint) const;
 
   btMultiBody* multibody() const { return mb_; }
   const std::vector<btCollisionObject*>& colliders() const { return colliders_; }
@@ -152,6 +161,15 @@ private:
   friend class PhysicsWorld;
   // The world pose of the body a link lives in (the base or a multibody link).
   btTransform bodyWorld(const LinkRef& ref) const;
+  // A body's world pose (its centre of mass and principal axes) and momentum: linear, and angular
+  // about its centre of mass.
+  struct BodyMotion
+  {
+    btTransform pose;
+    btVector3 p, L;
+  };
+  // Each body's (index body + 1).
+  std::vector<BodyMotion> bodyMotions() const;
   std::string name_, ns_;
   std::shared_ptr<const RobotSpec> spec_;
   btTransform spawn_;
@@ -172,6 +190,10 @@ private:
   std::vector<std::pair<int, double>> ball_joints_;
   // addWrench's sums by body (index body + 1): for the coming step, and over the last one.
   std::vector<std::pair<btVector3, btVector3>> pending_wrench_, last_wrench_;
+  // watchJointWrench's joints (index into joints_) and their wrench over the last step; the
+  // bodies' motion before the step.
+  std::vector<std::pair<size_t, std::pair<btVector3, btVector3>>> watched_wrench_;
+  std::vector<BodyMotion> motion_before_;
 };
 
 // A collision object that may intersect a sensor ray (robots and dynamic world bodies).
@@ -350,6 +372,8 @@ private:
   void addJointConstraints(const std::vector<LumpedBody>& bodies, Robot& r);
   void addWorldModel(const WorldModel& m);
   void updateContacts();
+  // The watched joints' wrenches (Robot::watchJointWrench) from the step just taken.
+  void jointWrenches(Robot& r);
   void recordPoints(const btPersistentManifold* m);
   Robot* robotOf(const btCollisionObject* o) const;
   std::string modelOf(const btCollisionObject* o) const;  // "" for the ground plane

@@ -148,6 +148,44 @@ std::pair<btVector3, btVector3> Robot::externalWrench(const std::string& link) c
   return last_wrench_[static_cast<size_t>(links_.at(link).body + 1)];
 }
 
+void Robot::watchJointWrench(const std::string& joint)
+{
+  const size_t j = joint_index_.at(joint);
+  for (const auto& w : watched_wrench_)
+    if (w.first == j)
+      return;
+  watched_wrench_.push_back({j, {btVector3(0, 0, 0), btVector3(0, 0, 0)}});
+}
+
+std::pair<btVector3, btVector3> Robot::jointWrench(const std::string& joint) const
+{
+  const size_t j = joint_index_.at(joint);
+  for (const auto& w : watched_wrench_)
+    if (w.first == j)
+      return w.second;
+  throw std::logic_error("jointWrench: joint " + joint + " is not watched");
+}
+
+std::vector<Robot::BodyMotion> Robot::bodyMotions() const
+{
+  const int n = mb_->getNumLinks();
+  btAlignedObjectArray<btVector3> omega, vel;
+  omega.resize(n + 1);
+  vel.resize(n + 1);
+  mb_->compTreeLinkVelocities(&omega[0], &vel[0]);  // in each body's own (principal) axes
+  std::vector<BodyMotion> out(static_cast<size_t>(n + 1));
+  for (int b = -1; b < n; ++b)
+  {
+    BodyMotion& o = out[static_cast<size_t>(b + 1)];
+    o.pose = b < 0 ? mb_->getBaseWorldTransform() : mb_->getLink(b).m_cachedWorldTransform;
+    const double m = b < 0 ? mb_->getBaseMass() : mb_->getLinkMass(b);
+    const btVector3 inertia = b < 0 ? mb_->getBaseInertia() : mb_->getLinkInertia(b);
+    o.p = o.pose.getBasis() * (m * vel[b + 1]);
+    o.L = o.pose.getBasis() * (inertia * omega[b + 1]);  // diag(I) w, then to the world's axes
+  }
+  return out;
+}
+
 Pose Robot::linkState(const std::string& link) const
 {
   const LinkRef& ref = links_.at(link);
@@ -801,6 +839,9 @@ void PhysicsWorld::step()
   applyWrenches();
   applyEfforts();
   cancelGravity();
+  for (auto& rp : robots_)
+    if (!rp->watched_wrench_.empty())
+      rp->motion_before_ = rp->bodyMotions();
   world_->stepSimulation(dt, 0, dt);
   for (auto& rp : robots_)
   {
@@ -815,6 +856,94 @@ void PhysicsWorld::step()
   ++steps_;
   time_ = time_base_ + (steps_ - steps_base_) * dt;
   updateContacts();
+  for (auto& rp : robots_)
+    if (!rp->watched_wrench_.empty())
+      jointWrenches(*rp);
+}
+
+// A joint's wrench by Newton-Euler on the subtree S its child heads. The joint is the only link
+// between S and the rest of the robot, so what it transmits is what S's motion needs beyond the
+// other external wrenches: f = dp/dt - sum(m g + F_applied + F_contact), and about a point P,
+// tau_P = sum[dL_k/dt + (c_k - P) x (dp_k/dt - m_k g - F_k)] - sum(tau_k) - sum((x_i - P) x F_i)
+// over S's bodies k (centre of mass c_k) and its contact points x_i. The rates are the step's:
+// Bullet's semi-implicit step makes m (v' - v) / dt exactly the mean force of the step, contact
+// and joint impulses included, and the forces between S's own bodies cancel in the sum. Those
+// forces act where the step began (positions move last, with the new velocities), so the moment
+// arms and the child's axes are taken there too.
+void PhysicsWorld::jointWrenches(Robot& r)
+{
+  btMultiBody* mb = r.mb_;
+  const int n = mb->getNumLinks();
+  const double dt = opt_.step;
+  const std::vector<Robot::BodyMotion>& before = r.motion_before_;
+  const std::vector<Robot::BodyMotion> after = r.bodyMotions();
+  if (before.size() != after.size())
+    return;
+  // Per body: the external force, and its torque about the body's centre of mass, over the step.
+  std::vector<std::pair<btVector3, btVector3>> external(after.size(), {btVector3(0, 0, 0), btVector3(0, 0, 0)});
+  for (int b = -1; b < n; ++b)
+  {
+    const size_t k = static_cast<size_t>(b + 1);
+    const double m = b < 0 ? mb->getBaseMass() : mb->getLinkMass(b);
+    if (k >= r.gravity_off_.size() || !r.gravity_off_[k])
+      external[k].first += spec_.gravity * m;
+    external[k].first += r.last_wrench_[k].first;
+    external[k].second += r.last_wrench_[k].second;
+  }
+  for (int i = 0; i < dispatcher_->getNumManifolds(); ++i)
+  {
+    const btPersistentManifold* m = dispatcher_->getManifoldByIndexInternal(i);
+    for (int side = 0; side < 2; ++side)
+    {
+      const auto* col = btMultiBodyLinkCollider::upcast(side == 0 ? m->getBody0() : m->getBody1());
+      if (!col || col->m_multiBody != mb)
+        continue;
+      const auto* other = btMultiBodyLinkCollider::upcast(side == 0 ? m->getBody1() : m->getBody0());
+      if (other && other->m_multiBody == mb)
+        continue;  // a self-collision: the two bodies' impulses are equal and opposite
+      const size_t k = static_cast<size_t>(col->m_link + 1);
+      const btVector3 c = before[k].pose.getOrigin();
+      for (int p = 0; p < m->getNumContacts(); ++p)
+      {
+        const btManifoldPoint& pt = m->getContactPoint(p);
+        // Bullet's normal points from body 1 into body 0; friction acts along the lateral
+        // directions on body 0, and the opposite on body 1.
+        btVector3 impulse = pt.m_normalWorldOnB * pt.m_appliedImpulse +
+                            pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
+                            pt.m_lateralFrictionDir2 * pt.m_appliedImpulseLateral2;
+        if (side == 1)
+          impulse = -impulse;
+        const btVector3 f = impulse / dt;
+        const btVector3 x = side == 0 ? pt.getPositionWorldOnA() : pt.getPositionWorldOnB();
+        external[k].first += f;
+        external[k].second += (x - c).cross(f);
+      }
+    }
+  }
+  for (auto& [j, wrench] : r.watched_wrench_)
+  {
+    const Robot::Joint& joint = r.joints_[j];
+    const int head = joint.link;
+    // In the child link's axes, about the joint's origin (the child's own for a URDF joint).
+    const btTransform child =
+        before[static_cast<size_t>(head + 1)].pose * r.links_.at(joint.spec->child).in_body_inertial;
+    const btVector3 P = child * joint.spec->pivot.getOrigin();
+    btVector3 f(0, 0, 0), tau(0, 0, 0);
+    for (int b = head; b < n; ++b)
+    {
+      int a = b;
+      while (a > head)
+        a = mb->getParent(a);
+      if (a != head)
+        continue;  // not in the subtree (links are numbered parents first)
+      const size_t k = static_cast<size_t>(b + 1);
+      const btVector3 net = (after[k].p - before[k].p) / dt - external[k].first;
+      f += net;
+      tau += (after[k].L - before[k].L) / dt - external[k].second + (before[k].pose.getOrigin() - P).cross(net);
+    }
+    const btMatrix3x3 to_child = child.getBasis().transpose();
+    wrench = {to_child * f, to_child * tau};
+  }
 }
 
 Robot* PhysicsWorld::robotOf(const btCollisionObject* o) const

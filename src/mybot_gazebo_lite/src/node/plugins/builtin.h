@@ -91,6 +91,7 @@ std::unique_ptr<SimPlugin> makePlanarMove(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeP3D(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeForce(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeF3D(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeFTSensor(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeJointPoseTrajectory(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeJointStatePublisher(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeJointCommand(const PluginContext& c);

@@ -136,9 +136,13 @@ std::string scopedLink(const PluginContext& c, const std::string& name)
 std::string PluginParams::joint(const std::string& tag, const std::string& def) const
 {
   std::string j = scopedJoint(c_, str(tag, def));
-  if (!c_.robot->hasJoint(j))
-    fail(tag, "no movable joint named '" + j + "'");
-  return j;
+  if (c_.robot->hasJoint(j))
+    return j;
+  for (const JointSpec& spec : c_.robot->spec().joints)
+    if (spec.name == j && spec.type == JointSpec::FIXED)
+      fail(tag, "joint '" + j + "' is fixed: Gazebo lumps its child into its parent, and so does gazebo_lite " +
+                    "(<disableFixedJointLumping> is not simulated)");
+  fail(tag, "no movable joint named '" + j + "'");
 }
 
 std::string PluginParams::link(const std::string& tag, const std::string& def) const

@@ -1,0 +1,64 @@
+// libgazebo_ros_ft_sensor.so: the wrench a joint transmits (geometry_msgs/WrenchStamped on
+// <topicName>): the parent's push on the child link, in the child link's axes, its torque about
+// the joint, as upstream reads Gazebo's Joint::GetForceTorque(0).body2Force / body2Torque. Stamped
+// with the child link's name (tf_prefix applied). Constraint and actuation alike: a servo holding
+// an arm shows its torque, a free joint none about its axis (Robot::jointWrench). <gaussianNoise>
+// is added to each of the six values. At <updateRate> (0: every step) while someone subscribes.
+#include "builtin.h"
+
+#include <geometry_msgs/WrenchStamped.h>
+
+namespace mybot_gazebo_lite
+{
+
+namespace
+{
+class FTSensor : public SimPlugin
+{
+public:
+  explicit FTSensor(const PluginContext& c) : c_(c)
+  {
+    PluginParams p(c, c.spec->xml);
+    joint_ = p.joint("jointName", "");
+    const std::string topic = p.requiredStr("topicName");
+    const double sigma = p.num("gaussianNoise", 0.0);
+    if (sigma < 0)
+      p.fail("gaussianNoise", "must be >= 0");
+    noise_ = std::normal_distribution<double>(0.0, sigma);
+    rate_ = Rate(p.num("updateRate", 0.0));
+    msg_.header.frame_id = resolveFrame(c, c.robot->joint(joint_).spec->child);
+    c.robot->watchJointWrench(joint_);
+    pub_ = ros::NodeHandle(c.ns).advertise<geometry_msgs::WrenchStamped>(topic, kEveryStepQueue);
+  }
+  void update(double t) override
+  {
+    if (pub_.getNumSubscribers() == 0 || !rate_.due(t))
+      return;
+    const auto [force, torque] = c_.robot->jointWrench(joint_);
+    msg_.header.stamp = ros::Time(t);
+    msg_.wrench.force.x = force.x() + noise();
+    msg_.wrench.force.y = force.y() + noise();
+    msg_.wrench.force.z = force.z() + noise();
+    msg_.wrench.torque.x = torque.x() + noise();
+    msg_.wrench.torque.y = torque.y() + noise();
+    msg_.wrench.torque.z = torque.z() + noise();
+    pub_.publish(msg_);
+  }
+
+private:
+  double noise() { return noise_.stddev() > 0 ? noise_(*c_.rng) : 0.0; }
+  PluginContext c_;
+  std::string joint_;
+  std::normal_distribution<double> noise_;
+  Rate rate_;
+  geometry_msgs::WrenchStamped msg_;
+  ros::Publisher pub_;
+};
+}  // namespace
+
+std::unique_ptr<SimPlugin> makeFTSensor(const PluginContext& c)
+{
+  return std::make_unique<FTSensor>(c);
+}
+
+}  // namespace mybot_gazebo_lite
