@@ -2,7 +2,7 @@
 """Model plugins in lockstep (model_plugins.test): gazebo_ros_force pushes a 2 kg crate as Newton
 says; gazebo_ros_f3d reports the external wrench on it; gazebo_ros_joint_pose_trajectory poses a
 turntable's joint point by point, as upstream times the points; gazebo_ros_ft_sensor reads what
-that joint carries."""
+that joint carries; gazebo_ros_triggered_camera and _multicamera render a frame per trigger."""
 import math
 import threading
 import unittest
@@ -10,11 +10,13 @@ import unittest
 import rospy
 import rostest
 from geometry_msgs.msg import Wrench, WrenchStamped
+from sensor_msgs.msg import Image
+from std_msgs.msg import Empty as EmptyMsg
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from std_srvs.srv import Empty
 
 from gazebo_msgs.srv import ApplyBodyWrench, BodyRequest, GetJointProperties, GetModelState
-from mybot_lockstep import participant
+from mybot_lockstep import participant, wait_connected
 from mybot_lockstep.start_paused import unpause_when
 
 MASS, G = 2.0, 9.8
@@ -43,14 +45,38 @@ class ModelPluginTests(unittest.TestCase):
         cls.reset = rospy.ServiceProxy("/gazebo/reset_world", Empty)
         cls.joint = rospy.ServiceProxy("/gazebo/get_joint_properties", GetJointProperties)
         cls.trajectory = cls.ls.Publisher("/table/set_joint_trajectory", JointTrajectory, queue_size=10)
-        unpause_when(cls.ls, lambda: all(cls.model(model_name=m).success for m in ("crate", "table")),
-                     "the crate and the table were not spawned")
+        cls.frames = {}
+        links = []
+        for cam in ("snap", "pair/left", "pair/right"):
+            cls.frames[cam] = []
+            links.append(cls.ls.Subscriber("/cams/%s/image_raw" % cam, Image,
+                                           lambda m, cam=cam: cls._frame(cam, m)))
+        cls.shutter = {cam: cls.ls.Publisher("/cams/%s/image_trigger" % cam, EmptyMsg, queue_size=10)
+                       for cam in ("snap", "pair/left", "pair/right")}
+        unpause_when(cls.ls, lambda: all(cls.model(model_name=m).success for m in ("crate", "table", "cams")),
+                     "the crate, the table and the cameras were not spawned")
+        # A frame is rendered only for a subscriber, and a trigger sent before its connection is
+        # lost: both connected before anything is asked (wall time: connections are made in it).
+        wait_connected(links + list(cls.shutter.values()))
         cls.ls.sleep(0.5)  # settle on the ground
 
     @classmethod
     def _f3d(cls, m):
         with cls.lock:
             cls.f3d = m
+
+    @classmethod
+    def _frame(cls, cam, m):
+        with cls.lock:
+            cls.frames[cam].append(m)
+
+    def taken(self):
+        """The frames each camera sent since the last call."""
+        with self.lock:
+            out = {cam: list(f) for cam, f in self.frames.items()}
+            for f in self.frames.values():
+                del f[:]
+        return out
 
     @classmethod
     def _ft(cls, m):
@@ -154,6 +180,30 @@ class ModelPluginTests(unittest.TestCase):
                 for value, expected in ((w.force.x, 0.0), (w.force.y, 0.0), (w.force.z, 0.5 * G),
                                         (w.torque.x, 0.0), (w.torque.y, -0.5 * G * 0.1), (w.torque.z, 0.0)):
                     self.assertAlmostEqual(value, expected, delta=1e-6, msg=(angle, str(w)))
+
+    def test_a_triggered_camera_renders_one_frame_per_trigger(self):
+        self.ls.sleep(0.3)
+        self.assertEqual(self.taken(), {"snap": [], "pair/left": [], "pair/right": []},
+                         "a triggered camera rendered untriggered (at its sensor's 30 Hz)")
+        # Two triggers in one period make one frame, at the step after they arrive.
+        t0 = rospy.get_time()
+        self.shutter["snap"].publish(EmptyMsg())
+        self.shutter["snap"].publish(EmptyMsg())
+        self.ls.sleep(0.1)
+        got = self.taken()
+        self.assertEqual(len(got["snap"]), 1, got)
+        self.assertEqual(got["pair/left"] + got["pair/right"], [])
+        stamp = got["snap"][0].header.stamp.to_sec()
+        self.assertGreater(stamp, t0)
+        self.assertLessEqual(stamp, t0 + 0.01 + 1e-9)  # within the period the triggers came in
+        self.assertEqual(got["snap"][0].header.frame_id, "post")
+        # The stereo pair: a trigger on either camera's topic shutters both, in one instant.
+        for cam in ("pair/right", "pair/left"):
+            self.shutter[cam].publish(EmptyMsg())
+            self.ls.sleep(0.1)
+            got = self.taken()
+            self.assertEqual((len(got["snap"]), len(got["pair/left"]), len(got["pair/right"])), (0, 1, 1), cam)
+            self.assertEqual(got["pair/left"][0].header.stamp, got["pair/right"][0].header.stamp)
 
 if __name__ == "__main__":
     rostest.rosrun("mybot_gazebo_lite", "model_plugins_test", ModelPluginTests)

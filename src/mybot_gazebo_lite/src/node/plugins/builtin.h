@@ -104,7 +104,9 @@ std::unique_ptr<SimPlugin> makeImu(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeCamera(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeDepthCamera(const PluginContext& c);     // gazebo_ros_openni_kinect
 std::unique_ptr<SimPlugin> makeRosDepthCamera(const PluginContext& c);  // gazebo_ros_depth_camera
-std::unique_ptr<SimPlugin> makeMultiCamera(const PluginContext& c);     // a stereo pair
+std::unique_ptr<SimPlugin> makeMultiCamera(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeTriggeredCamera(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeTriggeredMultiCamera(const PluginContext& c);  // a stereo pair
 std::unique_ptr<SimPlugin> makeHectorGps(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeHectorImu(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeHectorMagnetic(const PluginContext& c);

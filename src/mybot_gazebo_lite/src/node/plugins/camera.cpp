@@ -1,10 +1,12 @@
 // libgazebo_ros_camera.so, libgazebo_ros_openni_kinect.so, libgazebo_ros_depth_camera.so and
-// libgazebo_ros_multicamera.so (a stereo pair: two cameras of one sensor)
+// libgazebo_ros_multicamera.so (a stereo pair: two cameras of one sensor); their triggered kin,
+// libgazebo_ros_triggered_camera.so and libgazebo_ros_triggered_multicamera.so
 #include "builtin.h"
 
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Empty.h>
 
 #include <cstring>
 #include <limits>
@@ -28,6 +30,16 @@ struct CameraMount
   double baseline = 0;
 };
 
+// gazebo_ros_triggered_camera's shutter: a std_msgs/Empty on <triggerTopicName> (image_trigger,
+// in the camera's namespace) asks for one frame, rendered at the next step whatever the sensor's
+// rate; triggers before it make no more. The cameras of a triggered stereo pair share one, each
+// listening on its own topic: either one shutters both, as upstream's one sensor does.
+struct Trigger
+{
+  bool pending = false;
+  std::vector<ros::Subscriber> subs;
+};
+
 class Camera : public SimPlugin
 {
 public:
@@ -40,8 +52,9 @@ public:
     OpenniKinect,
     DepthCamera
   };
-  Camera(const PluginContext& c, Kind kind, const CameraMount* mount = nullptr)
-      : c_(c), depth_sensor_(kind != Kind::Camera), noise_(c.rng ? (*c.rng)() : 0)
+  // `trigger`: the camera's shutter, or none for one that renders at its rate.
+  Camera(const PluginContext& c, Kind kind, const CameraMount* mount = nullptr, Trigger* trigger = nullptr)
+      : c_(c), depth_sensor_(kind != Kind::Camera), noise_(c.rng ? (*c.rng)() : 0), trigger_(trigger)
   {
     PluginParams p(c, c.spec->xml);
     if (!c.spec->has_sensor)
@@ -105,6 +118,10 @@ public:
     info_.P = {k_.fx, 0, k_.cx, -k_.fx * baseline, 0, k_.fy, k_.cy, 0, 0, 0, 1, 0};
     ros::NodeHandle nh(ros::NodeHandle(c.ns), p.str("cameraName", "") + (mount ? mount->suffix : ""));
     const bool ir = kind == Kind::DepthCamera;
+    if (trigger_)
+      trigger_->subs.push_back(subscribeCommand<std_msgs::Empty>(
+          c, nh, p.str("triggerTopicName", "image_trigger"),
+          [t = trigger_](const std_msgs::Empty::ConstPtr&) { t->pending = true; }, 10));
     image_pub_ = nh.advertise<sensor_msgs::Image>(p.str("imageTopicName", ir ? "ir/image_raw" : "image_raw"), 2);
     info_pub_ =
         nh.advertise<sensor_msgs::CameraInfo>(p.str("cameraInfoTopicName", ir ? "ir/camera_info" : "camera_info"), 2);
@@ -124,9 +141,12 @@ public:
   {
     // The period's grid runs whether or not anyone listens, so that a stream's first two frames
     // are a period apart whenever its subscriber came (a grid started at the first frame wanted
-    // put the second one on the simulation's first period: 0.010 and 0.033 s).
-    if (!rate_.due(t))
+    // put the second one on the simulation's first period: 0.010 and 0.033 s). A triggered
+    // camera renders when its shutter is pending (its owner releases it after the frame).
+    if (trigger_ ? !trigger_->pending : !rate_.due(t))
       return;
+    if (trigger_)
+      ++rate_.fired;
     const bool want_image = image_pub_.getNumSubscribers() > 0 || info_pub_.getNumSubscribers() > 0;
     const bool want_points = depth_sensor_ && points_pub_.getNumSubscribers() > 0;
     const bool want_depth =
@@ -261,6 +281,25 @@ private:
   std::vector<uint8_t> rgb_;
   std::vector<float> depth_;
   ros::Publisher image_pub_, info_pub_, depth_pub_, depth_info_pub_, points_pub_;
+  Trigger* trigger_;
+};
+
+// libgazebo_ros_triggered_camera.so: a camera that renders one frame per trigger.
+class TriggeredCamera : public SimPlugin
+{
+public:
+  explicit TriggeredCamera(const PluginContext& c) : camera_(c, Camera::Kind::Camera, nullptr, &trigger_) {}
+  void update(double t) override
+  {
+    camera_.update(t);
+    trigger_.pending = false;
+  }
+  void reset() override { trigger_.pending = false; }
+  SensorUpdates sensorUpdates() const override { return camera_.sensorUpdates(); }
+
+private:
+  Trigger trigger_;  // before the camera: it subscribes into it
+  Camera camera_;
 };
 
 // gazebo_ros_multicamera: a <sensor type="multicamera"> of two <camera name="...">, one whose name
@@ -271,7 +310,8 @@ private:
 class MultiCamera : public SimPlugin
 {
 public:
-  explicit MultiCamera(const PluginContext& c)
+  // `triggered`: libgazebo_ros_triggered_multicamera.so, one frame of each camera per trigger.
+  MultiCamera(const PluginContext& c, bool triggered) : trigger_(triggered ? std::make_unique<Trigger>() : nullptr)
   {
     PluginParams p(c, c.spec->xml);
     if (!c.spec->has_sensor)
@@ -304,17 +344,25 @@ public:
       mounts_.push_back(std::move(m));
     }
     for (const auto& m : mounts_)
-      cameras_.push_back(std::make_unique<Camera>(c, Camera::Kind::Camera, m.get()));
+      cameras_.push_back(std::make_unique<Camera>(c, Camera::Kind::Camera, m.get(), trigger_.get()));
   }
   void update(double t) override
   {
     for (auto& cam : cameras_)
       cam->update(t);
+    if (trigger_)
+      trigger_->pending = false;
+  }
+  void reset() override
+  {
+    if (trigger_)
+      trigger_->pending = false;
   }
   // The first camera's updates and frames (Gazebo's metrics report the sensor as one).
   SensorUpdates sensorUpdates() const override { return cameras_.front()->sensorUpdates(); }
 
 private:
+  std::unique_ptr<Trigger> trigger_;
   std::vector<std::unique_ptr<CameraMount>> mounts_;
   std::vector<std::unique_ptr<Camera>> cameras_;
 };
@@ -322,7 +370,15 @@ private:
 
 std::unique_ptr<SimPlugin> makeMultiCamera(const PluginContext& c)
 {
-  return std::make_unique<MultiCamera>(c);
+  return std::make_unique<MultiCamera>(c, false);
+}
+std::unique_ptr<SimPlugin> makeTriggeredMultiCamera(const PluginContext& c)
+{
+  return std::make_unique<MultiCamera>(c, true);
+}
+std::unique_ptr<SimPlugin> makeTriggeredCamera(const PluginContext& c)
+{
+  return std::make_unique<TriggeredCamera>(c);
 }
 
 std::unique_ptr<SimPlugin> makeCamera(const PluginContext& c)

@@ -94,6 +94,8 @@ const std::vector<Builtin>& builtins()
        {"bodyName", "topicName", "serviceName", "gaussianNoise", "updateRate", "frameName", "xyzOffset", "rpyOffset"}},
       {"libgazebo_ros_camera.so", makeCamera, kCameraTags},
       {"libgazebo_ros_multicamera.so", makeMultiCamera, kCameraTags},
+      {"libgazebo_ros_triggered_camera.so", makeTriggeredCamera, kCameraTags},
+      {"libgazebo_ros_triggered_multicamera.so", makeTriggeredMultiCamera, kCameraTags},
       {"libgazebo_ros_openni_kinect.so", makeDepthCamera,
        with(kCameraTags, {"baseline", "depthImageTopicName", "depthImageCameraInfoTopicName", "pointCloudTopicName",
                           "pointCloudCutoff", "pointCloudCutoffMax"})},
