@@ -9,6 +9,7 @@ import unittest
 import rospy
 import rostest
 from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState, PointCloud, Range
 
 from mybot_common.geometry import wrap, yaw_of
@@ -34,18 +35,22 @@ class TutorialRobots(unittest.TestCase):
         cls.bumper = None
         cls.skid_joints = None
         cls.cloud = None
+        cls.tricycle_odom = None
+        cls.tricycle_joints = None
+        cls.ls.Subscriber("/tricycle/odom", Odometry, cls._store("tricycle_odom"))
+        cls.ls.Subscriber("/tricycle/joint_states", JointState, cls._store("tricycle_joints"))
         cls.ls.Subscriber("/planar/points3d", PointCloud, cls._store("cloud"))
         cls.ls.Subscriber("/skid/joint_states", JointState, cls._store("skid_joints"))
         cls.ls.Subscriber("/skid/sonar", Range, cls._store("sonar"))
         cls.ls.Subscriber("/skid/bumper", ContactsState, cls._store("bumper"))
-        cls.pubs = {n: cls.ls.Publisher("/%s/cmd_vel" % n, Twist, queue_size=1) for n in ("fourwheel", "skid", "planar")}
+        cls.pubs = {n: cls.ls.Publisher("/%s/cmd_vel" % n, Twist, queue_size=1) for n in ("fourwheel", "skid", "planar", "tricycle")}
         rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
         cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
         # The world starts paused: the spawners start in wall time, so time starts once the three
         # robots stand in it (the same moment every run); this joins (named in lockstep_wait_for)
         # and holds the first period after the unpause.
         unpause_when(cls.ls, lambda: all(cls.model(model_name=n).success for n in cls.pubs),
-                     "the three robots were not spawned")
+                     "the four robots were not spawned")
         cls.ls.sleep(1.0)  # settle on the ground
 
     @classmethod
@@ -132,6 +137,40 @@ class TutorialRobots(unittest.TestCase):
         self.assertLess(abs(math.degrees(wrap(b[2] - a[2]) - 0.5 * dt)), 2.0, "turned %.2f deg of %.2f" % (
             math.degrees(wrap(b[2] - a[2])), math.degrees(0.5 * dt)))
 
+    def test_tricycle_drives_steers_and_counts_its_rear_wheels(self):
+        """gazebo_ros_tricycle_drive: linear.x is the front wheel's speed, angular.z its steering
+        angle; the rear wheels' odometry follows ground truth."""
+        spawn = self.pose("tricycle")
+        self.check_straight("tricycle", 0.3)
+        # Steered 0.4 rad, the front wheel at 0.3 m/s: the body turns at v sin(0.4) / 0.45 m.
+        delta = 0.4
+        a, b, dt = self.drive("tricycle", twist(vx=0.3, wz=delta), 4.0)
+        expected = 0.3 * math.sin(delta) / 0.45 * dt
+        turned = wrap(b[2] - a[2])
+        self.assertLess(abs(turned - expected) / expected, 0.05, "turned %.4f rad of %.4f" % (turned, expected))
+        with self.lock:
+            odom = self.tricycle_odom
+        # Standing, steered by a command of no speed: the steering joint goes to the angle.
+        rate = self.ls.Rate(50)
+        for _ in range(10):
+            self.pubs["tricycle"].publish(twist(wz=-0.3))
+            rate.sleep()
+        with self.lock:
+            js = self.tricycle_joints
+        self.assertAlmostEqual(dict(zip(js.name, js.position))["front_steering_joint"], -0.3, delta=0.01)
+        self.pubs["tricycle"].publish(twist())
+        # The odometry counts the rear wheels: it follows the point between them, 0.2 m behind
+        # base_link, from where that point was at the spawn (the spawn's heading is 0).
+        end = self.pose("tricycle")
+
+        def axle(p):
+            return p[0] - 0.2 * math.cos(p[2]), p[1] - 0.2 * math.sin(p[2])
+        (x0, y0), (x1, y1) = axle(spawn), axle(end)
+        o = odom.pose.pose
+        err = math.hypot(o.position.x - (x1 - x0), o.position.y - (y1 - y0))
+        self.assertLess(err, 0.01, "odometry %.4f m from the truth after %.2f m" % (err, math.hypot(x1 - x0, y1 - y0)))
+        self.assertLess(abs(math.degrees(wrap(yaw_of(o.orientation) - wrap(end[2] - spawn[2])))), 1.0)
+
     def test_sonar_sees_the_ground(self):
         self.assertTrue(self.ls.wait_for(lambda: self.sonar is not None, 5.0), "no /skid/sonar")
         with self.lock:
@@ -156,11 +195,18 @@ class TutorialRobots(unittest.TestCase):
 
     def test_bumper_reports_the_wheel_on_the_ground(self):
         self.assertTrue(self.ls.wait_for(lambda: self.bumper is not None and self.bumper.states, 5.0), "no contact on /skid/bumper")
+        # And still after 3 s at rest, when the physics engine would have put the robot to sleep
+        # (and stopped looking for its contacts) had the bumper not kept it awake.
+        self.ls.sleep(3.0)
         with self.lock:
-            s = self.bumper.states[0]
+            m = self.bumper
+        self.assertGreater(m.header.stamp.to_sec(), rospy.get_time() - 0.1)
+        self.assertEqual(len(m.states), 1, "no contact on /skid/bumper after 3 s at rest")
+        s = m.states[0]
         self.assertEqual(s.collision2_name, "ground_plane")
         self.assertIn("left_front", s.collision1_name)
-        self.assertGreater(s.total_wrench.force.z, 0.0)
+        # It carries a quarter of the 7 kg robot, give or take how the four wheels share it.
+        self.assertGreater(s.total_wrench.force.z, 0.1 * 7 * 9.8)
 
 
 if __name__ == "__main__":

@@ -986,7 +986,9 @@ void PhysicsWorld::recordPoints(const btPersistentManifold* m)
     for (int k = 0; k < m->getNumContacts(); ++k)
     {
       const btManifoldPoint& p = m->getContactPoint(k);
-      if (p.getDistance() > 0)
+      // A body resting on another is held a hair apart as often as a hair into it (+1e-7 m for a
+      // wheel on the ground, as the bodies around it had it): a point that pushed counts too.
+      if (p.getDistance() > 0 && p.getAppliedImpulse() <= 0)
         continue;
       Robot::Contacts::Point pt;
       pt.links = links;

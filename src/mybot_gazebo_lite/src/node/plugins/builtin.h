@@ -1,6 +1,7 @@
 // The plugins built into gazebo_lite, one a file in this folder; registry.cpp maps file names to them.
 #pragma once
 
+#include "mybot_gazebo_lite/kinematics.h"
 #include "mybot_gazebo_lite/ros/sim_plugin.h"
 #include "mybot_gazebo_lite/sensor_error_model.h"
 
@@ -39,6 +40,28 @@ private:
 // ground truth as odometry, as upstream), with a diagonal covariance {x, y, yaw} on pose and twist.
 nav_msgs::Odometry worldPoseOdometry(const PluginContext& c, double t, const std::string& odom_frame,
                                      const std::string& base_frame, const double cov[3]);
+
+// What gazebo_ros's wheeled drives (diff drive, tricycle) publish alike at each update: odometry,
+// from the root link's world pose or from encoder dead reckoning, with upstream's pose covariance;
+// its tf (odom -> base) unless `odom_tf` is cleared; and on request (<publishWheelTF>,
+// <publishWheelJointState>) each wheel's tf (parent link -> child link) and joint_states.
+// Reads <odometryTopic> (odom), <odometryFrame> (odom), <robotBaseFrame> (`base_default`).
+struct WheelDriveOutputs
+{
+  WheelDriveOutputs() = default;
+  WheelDriveOutputs(const PluginContext& c, const PluginParams& p, ros::NodeHandle& nh, const std::string& base_default,
+                    std::vector<std::string> joints);
+  // `encoder`: the dead reckoning to publish, or null for the world pose.
+  void publish(double t, const EncoderOdometry* encoder) const;
+  bool odom_tf = true;
+
+private:
+  const PluginContext* c_ = nullptr;
+  std::string odom_frame_, base_frame_;
+  std::vector<std::string> joints_;
+  bool wheel_tf_ = false, wheel_js_ = false;
+  ros::Publisher odom_pub_, js_pub_;
+};
 
 // The rays of a <sensor type="ray"> (horizontal x vertical samples, Gazebo's convention: positive
 // vertical angles look up) cast through Bullet, for the range and block-laser plugins.
@@ -92,6 +115,7 @@ std::unique_ptr<SimPlugin> makeP3D(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeForce(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeF3D(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeFTSensor(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeTricycleDrive(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeJointPoseTrajectory(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeJointStatePublisher(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeJointCommand(const PluginContext& c);

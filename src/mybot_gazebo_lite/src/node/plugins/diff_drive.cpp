@@ -4,10 +4,6 @@
 #include "mybot_gazebo_lite/kinematics.h"
 
 #include <geometry_msgs/Twist.h>
-#include <nav_msgs/Odometry.h>
-#include <sensor_msgs/JointState.h>
-
-#include <cmath>
 
 namespace mybot_gazebo_lite
 {
@@ -48,18 +44,9 @@ public:
       encoder_ = true;
     else if (src != "world" && src != "1")
       p.fail("odometrySource", "expected 'encoder' or 'world', got '" + src + "'");
-    publish_odom_tf_ = p.boolean("publishOdomTF", p.boolean("publishTf", true));  // publishTf: its older name
-    publish_wheel_tf_ = p.boolean("publishWheelTF", false);
-    publish_wheel_js_ = p.boolean("publishWheelJointState", false);
-    odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
-    base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
-    base_link_ = scopedLink(c, p.str("robotBaseFrame", "base_footprint"));
-    if (!c.robot->hasLink(base_link_))
-      base_link_ = c.robot->spec().root;
+    out_ = WheelDriveOutputs(c_, p, nh, "base_footprint", {left_, right_});
+    out_.odom_tf = p.boolean("publishOdomTF", p.boolean("publishTf", true));  // publishTf: its older name
     cmd_ = std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), timeout_);
-    odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
-    if (publish_wheel_js_)
-      js_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 1);
     hold();
   }
   void reset() override
@@ -76,7 +63,7 @@ public:
     if (!rate_.due(t))
       return;
     const geometry_msgs::Twist& cmd = cmd_->at(t);
-    publishOdometry(t);
+    out_.publish(t, encoder_ ? &odo_ : nullptr);
     auto [vl, vr] = diffDriveWheelSpeeds(cmd.linear.x, cmd.angular.z, geo_);
     double r = geo_.diameter / 2;
     double period = rate_.period > 0 ? rate_.period : dt;
@@ -96,68 +83,16 @@ private:
     c_.robot->commandVelocity(left_, 0, torque_);
     c_.robot->commandVelocity(right_, 0, torque_);
   }
-  void publishOdometry(double t)
-  {
-    nav_msgs::Odometry o;
-    o.header.stamp = ros::Time(t);
-    o.header.frame_id = odom_frame_;
-    o.child_frame_id = base_frame_;
-    btTransform pose;
-    if (encoder_)
-    {
-      btQuaternion q;
-      q.setEulerZYX(odo_.theta, 0, 0);
-      pose = btTransform(q, btVector3(odo_.x, odo_.y, 0));
-      o.twist.twist.linear.x = odo_.v;
-      o.twist.twist.angular.z = odo_.w;
-    }
-    else
-    {
-      Pose s = c_.robot->linkState(c_.robot->spec().root);
-      pose = s.tf;
-      btScalar yaw, pitch, roll;
-      pose.getBasis().getEulerZYX(yaw, pitch, roll);
-      o.twist.twist.linear.x = std::cos(yaw) * s.linear.x() + std::sin(yaw) * s.linear.y();
-      o.twist.twist.linear.y = std::cos(yaw) * s.linear.y() - std::sin(yaw) * s.linear.x();
-      o.twist.twist.angular.z = s.angular.z();
-    }
-    toMsg(pose, o.pose.pose);
-    o.pose.covariance[0] = o.pose.covariance[7] = 0.00001;
-    o.pose.covariance[14] = o.pose.covariance[21] = o.pose.covariance[28] = 1e12;
-    o.pose.covariance[35] = 0.001;
-    odom_pub_.publish(o);
-    if (publish_odom_tf_)
-      c_.tf->sendTransform(toTf(pose, t, odom_frame_, base_frame_));
-    if (publish_wheel_tf_ || publish_wheel_js_)
-    {
-      sensor_msgs::JointState js;
-      js.header.stamp = ros::Time(t);
-      for (const std::string* j : {&left_, &right_})
-      {
-        const JointSpec* spec = c_.robot->joint(*j).spec;
-        if (publish_wheel_tf_)
-        {
-          btTransform rel = c_.robot->linkState(spec->parent).tf.inverse() * c_.robot->linkState(spec->child).tf;
-          c_.tf->sendTransform(toTf(rel, t, resolveFrame(c_, spec->parent), resolveFrame(c_, spec->child)));
-        }
-        js.name.push_back(*j);
-        js.position.push_back(c_.robot->jointPosition(*j));
-        js.velocity.push_back(c_.robot->jointVelocity(*j));
-      }
-      if (publish_wheel_js_)
-        js_pub_.publish(js);
-    }
-  }
   PluginContext c_;
-  std::string left_, right_, odom_frame_, base_frame_, base_link_;
+  std::string left_, right_;
   DiffDriveGeometry geo_;
   double accel_, torque_, timeout_;
-  bool encoder_ = false, publish_odom_tf_, publish_wheel_tf_, publish_wheel_js_;
+  bool encoder_ = false;
   Rate rate_;
   double instr_[2] = {0, 0};
   std::unique_ptr<TwistCommand> cmd_;
   EncoderOdometry odo_;
-  ros::Publisher odom_pub_, js_pub_;
+  WheelDriveOutputs out_;
 };
 }  // namespace
 

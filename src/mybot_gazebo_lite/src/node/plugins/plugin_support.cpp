@@ -2,6 +2,8 @@
 #include "mybot_gazebo_lite/parsing.h"
 #include "builtin.h"
 
+#include <sensor_msgs/JointState.h>
+
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -312,6 +314,72 @@ nav_msgs::Odometry worldPoseOdometry(const PluginContext& c, double t, const std
     (*m)[35] = cov[2];
   }
   return o;
+}
+
+WheelDriveOutputs::WheelDriveOutputs(const PluginContext& c, const PluginParams& p, ros::NodeHandle& nh,
+                                     const std::string& base_default, std::vector<std::string> joints)
+    : c_(&c), joints_(std::move(joints))
+{
+  odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
+  base_frame_ = resolveFrame(c, p.str("robotBaseFrame", base_default));
+  wheel_tf_ = p.boolean("publishWheelTF", false);
+  wheel_js_ = p.boolean("publishWheelJointState", false);
+  odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
+  if (wheel_js_)
+    js_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 1);
+}
+
+void WheelDriveOutputs::publish(double t, const EncoderOdometry* encoder) const
+{
+  const PluginContext& c = *c_;
+  nav_msgs::Odometry o;
+  o.header.stamp = ros::Time(t);
+  o.header.frame_id = odom_frame_;
+  o.child_frame_id = base_frame_;
+  btTransform pose;
+  if (encoder)
+  {
+    btQuaternion q;
+    q.setEulerZYX(encoder->theta, 0, 0);
+    pose = btTransform(q, btVector3(encoder->x, encoder->y, 0));
+    o.twist.twist.linear.x = encoder->v;
+    o.twist.twist.angular.z = encoder->w;
+  }
+  else
+  {
+    Pose s = c.robot->linkState(c.robot->spec().root);
+    pose = s.tf;
+    btScalar yaw, pitch, roll;
+    pose.getBasis().getEulerZYX(yaw, pitch, roll);
+    o.twist.twist.linear.x = std::cos(yaw) * s.linear.x() + std::sin(yaw) * s.linear.y();
+    o.twist.twist.linear.y = std::cos(yaw) * s.linear.y() - std::sin(yaw) * s.linear.x();
+    o.twist.twist.angular.z = s.angular.z();
+  }
+  toMsg(pose, o.pose.pose);
+  o.pose.covariance[0] = o.pose.covariance[7] = 0.00001;
+  o.pose.covariance[14] = o.pose.covariance[21] = o.pose.covariance[28] = 1e12;
+  o.pose.covariance[35] = 0.001;
+  odom_pub_.publish(o);
+  if (odom_tf)
+    c.tf->sendTransform(toTf(pose, t, odom_frame_, base_frame_));
+  if (!wheel_tf_ && !wheel_js_)
+    return;
+  sensor_msgs::JointState js;
+  js.header.stamp = ros::Time(t);
+  for (const std::string& j : joints_)
+  {
+    const JointSpec* spec = c.robot->joint(j).spec;
+    if (wheel_tf_)
+    {
+      btTransform rel = c.robot->linkPose(spec->parent).inverse() * c.robot->linkPose(spec->child);
+      c.tf->sendTransform(toTf(rel, t, resolveFrame(c, spec->parent), resolveFrame(c, spec->child)));
+    }
+    js.name.push_back(j);
+    js.position.push_back(c.robot->jointPosition(j));
+    js.velocity.push_back(c.robot->jointVelocity(j));
+  }
+  if (wheel_js_)
+    js_pub_.publish(js);
 }
 
 }  // namespace mybot_gazebo_lite
