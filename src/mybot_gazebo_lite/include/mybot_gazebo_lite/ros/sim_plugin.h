@@ -103,6 +103,8 @@ public:
   std::string requiredStr(const std::string& tag) const;
   double num(const std::string& tag, double def) const;
   double requiredNum(const std::string& tag) const;
+  double positive(const std::string& tag, double def) const;     // > 0, else fails naming the tag
+  double nonNegative(const std::string& tag, double def) const;  // >= 0, else fails naming the tag
   bool boolean(const std::string& tag, bool def) const;
   std::string joint(const std::string& tag, const std::string& def) const;  // must be a movable joint
   // A link of the robot, as the plugin's own model scopes it; required when `def` is empty.

@@ -21,10 +21,7 @@ public:
     PluginParams p(c, c.spec->xml);
     joint_ = p.joint("jointName", "");
     const std::string topic = p.requiredStr("topicName");
-    const double sigma = p.num("gaussianNoise", 0.0);
-    if (sigma < 0)
-      p.fail("gaussianNoise", "must be >= 0");
-    noise_ = std::normal_distribution<double>(0.0, sigma);
+    noise_ = std::normal_distribution<double>(0.0, p.nonNegative("gaussianNoise", 0.0));
     rate_ = Rate(p.num("updateRate", 0.0));
     msg_.header.frame_id = resolveFrame(c, c.robot->joint(joint_).spec->child);
     c.robot->watchJointWrench(joint_);

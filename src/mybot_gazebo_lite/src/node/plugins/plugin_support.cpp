@@ -111,6 +111,22 @@ double PluginParams::requiredNum(const std::string& tag) const
   return parse(tag, n->text);
 }
 
+double PluginParams::positive(const std::string& tag, double def) const
+{
+  const double v = num(tag, def);
+  if (!(v > 0))
+    fail(tag, "must be positive");
+  return v;
+}
+
+double PluginParams::nonNegative(const std::string& tag, double def) const
+{
+  const double v = num(tag, def);
+  if (!(v >= 0))
+    fail(tag, "must be >= 0");
+  return v;
+}
+
 bool PluginParams::boolean(const std::string& tag, bool def) const
 {
   const XmlNode* n = node(tag);

@@ -37,18 +37,18 @@ public:
     wheel_ = p.joint("actuatedWheelJoint", "front_wheel_joint");
     left_ = p.joint("encoderWheelLeftJoint", "left_wheel_joint");
     right_ = p.joint("encoderWheelRightJoint", "right_wheel_joint");
-    wheel_radius_ = positive(p, "actuatedWheelDiameter", 0.15) / 2;
-    geo_.diameter = positive(p, "encoderWheelDiameter", 0.15);
-    geo_.separation = positive(p, "encoderWheelSeparation", 0.5);
+    wheel_radius_ = p.positive("actuatedWheelDiameter", 0.15) / 2;
+    geo_.diameter = p.positive("encoderWheelDiameter", 0.15);
+    geo_.separation = p.positive("encoderWheelSeparation", 0.5);
     geo_.legacy = false;
-    torque_ = positive(p, "wheelTorque", 5.0);
+    torque_ = p.positive("wheelTorque", 5.0);
     const JointSpec& steer = *c.robot->joint(steering_).spec;
     steer_torque_ = steer.has_effort && steer.effort > 0 ? steer.effort : torque_;
-    accel_ = nonNegative(p, "wheelAcceleration", 0.0);
-    decel_ = nonNegative(p, "wheelDeceleration", accel_);
-    speed_tolerance_ = nonNegative(p, "wheelSpeedTolerance", 0.01);
-    steering_speed_ = nonNegative(p, "steeringSpeed", 0.0);
-    angle_tolerance_ = nonNegative(p, "steeringAngleTolerance", 0.01);
+    accel_ = p.nonNegative("wheelAcceleration", 0.0);
+    decel_ = p.nonNegative("wheelDeceleration", accel_);
+    speed_tolerance_ = p.nonNegative("wheelSpeedTolerance", 0.01);
+    steering_speed_ = p.nonNegative("steeringSpeed", 0.0);
+    angle_tolerance_ = p.nonNegative("steeringAngleTolerance", 0.01);
     rate_ = Rate(p.num("updateRate", 100.0));
     const std::string src = p.str("odometrySource", "world");
     if (src != "world" && src != "encoder")
@@ -56,7 +56,7 @@ public:
     encoder_ = src == "encoder";
     out_ = WheelDriveOutputs(c_, p, nh, "base_link", {steering_, wheel_, left_, right_});
     cmd_ =
-        std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), nonNegative(p, "commandTimeout", 0.5));
+        std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), p.nonNegative("commandTimeout", 0.5));
     hold();
   }
   void reset() override
@@ -80,20 +80,6 @@ public:
   }
 
 private:
-  static double positive(const PluginParams& p, const std::string& tag, double def)
-  {
-    const double v = p.num(tag, def);
-    if (!(v > 0))
-      p.fail(tag, "must be positive");
-    return v;
-  }
-  static double nonNegative(const PluginParams& p, const std::string& tag, double def)
-  {
-    const double v = p.num(tag, def);
-    if (!(v >= 0))
-      p.fail(tag, "must be >= 0");
-    return v;
-  }
   void hold()
   {
     c_.robot->commandVelocity(wheel_, 0, torque_);
