@@ -2,7 +2,8 @@
 """Model plugins in lockstep (model_plugins.test): gazebo_ros_force pushes a 2 kg crate as Newton
 says; gazebo_ros_f3d reports the external wrench on it; gazebo_ros_joint_pose_trajectory poses a
 turntable's joint point by point, as upstream times the points; gazebo_ros_ft_sensor reads what
-that joint carries; gazebo_ros_triggered_camera and _multicamera render a frame per trigger."""
+that joint carries; gazebo_ros_triggered_camera and _multicamera render a frame per trigger;
+gazebo_ros_vacuum_gripper holds a box up while it is on."""
 import math
 import threading
 import unittest
@@ -11,11 +12,12 @@ import rospy
 import rostest
 from geometry_msgs.msg import Wrench, WrenchStamped
 from sensor_msgs.msg import Image
-from std_msgs.msg import Empty as EmptyMsg
+from std_msgs.msg import Bool, Empty as EmptyMsg
+from geometry_msgs.msg import Pose
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from std_srvs.srv import Empty
 
-from gazebo_msgs.srv import ApplyBodyWrench, BodyRequest, GetJointProperties, GetModelState
+from gazebo_msgs.srv import ApplyBodyWrench, BodyRequest, DeleteModel, GetJointProperties, GetModelState, SpawnModel
 from mybot_lockstep import participant, wait_connected
 from mybot_lockstep.start_paused import unpause_when
 
@@ -38,6 +40,8 @@ class ModelPluginTests(unittest.TestCase):
         cls.ft = []
         cls.ls.Subscriber("/crate/wrench", WrenchStamped, cls._f3d)
         cls.ls.Subscriber("/table/turn_wrench", WrenchStamped, cls._ft)
+        cls.grasping = None
+        cls.ls.Subscriber("/suction/grasping", Bool, cls._grasping)
         cls.push = cls.ls.Publisher("/crate/push", Wrench, queue_size=1)
         rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
         cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
@@ -53,8 +57,8 @@ class ModelPluginTests(unittest.TestCase):
                                            lambda m, cam=cam: cls._frame(cam, m)))
         cls.shutter = {cam: cls.ls.Publisher("/cams/%s/image_trigger" % cam, EmptyMsg, queue_size=10)
                        for cam in ("snap", "pair/left", "pair/right")}
-        unpause_when(cls.ls, lambda: all(cls.model(model_name=m).success for m in ("crate", "table", "cams")),
-                     "the crate, the table and the cameras were not spawned")
+        unpause_when(cls.ls, lambda: all(cls.model(model_name=m).success for m in ("crate", "table", "cams", "suction")),
+                     "the crate, the table, the cameras and the suction post were not spawned")
         # A frame is rendered only for a subscriber, and a trigger sent before its connection is
         # lost: both connected before anything is asked (wall time: connections are made in it).
         wait_connected(links + list(cls.shutter.values()))
@@ -77,6 +81,11 @@ class ModelPluginTests(unittest.TestCase):
             for f in self.frames.values():
                 del f[:]
         return out
+
+    @classmethod
+    def _grasping(cls, m):
+        with cls.lock:
+            cls.grasping = m.data
 
     @classmethod
     def _ft(cls, m):
@@ -204,6 +213,42 @@ class ModelPluginTests(unittest.TestCase):
             got = self.taken()
             self.assertEqual((len(got["snap"]), len(got["pair/left"]), len(got["pair/right"])), (0, 1, 1), cam)
             self.assertEqual(got["pair/left"][0].header.stamp, got["pair/right"][0].header.stamp)
+
+    BOX = ('<sdf version="1.6"><model name="parcel"><link name="link"><inertial><mass>0.2</mass><inertia>'
+           '<ixx>0.0003</ixx><iyy>0.0003</iyy><izz>0.0003</izz></inertia></inertial><collision name="c">'
+           '<geometry><box><size>0.1 0.1 0.1</size></box></geometry></collision></link></model></sdf>')
+
+    def test_a_vacuum_gripper_holds_a_box_up_while_it_is_on(self):
+        on = rospy.ServiceProxy("/suction/on", Empty)
+        off = rospy.ServiceProxy("/suction/off", Empty)
+        cup_z = 0.8  # the post's frame (suction_post.urdf), at (-3, 3)
+        on()
+        pose = Pose()
+        pose.position.x, pose.position.y, pose.position.z = -3.0, 3.0, cup_z - 0.004  # within the 1 cm snap
+        pose.orientation.w = 1.0
+        res = rospy.ServiceProxy("/gazebo/spawn_sdf_model", SpawnModel)(model_name="parcel", model_xml=self.BOX,
+                                                                       initial_pose=pose)
+        self.assertTrue(res.success, res.status_message)
+        try:
+            self.ls.sleep(1.0)
+            held = self.model(model_name="parcel").pose.position
+            self.assertAlmostEqual(held.z, cup_z, delta=1e-3)  # held up, on the cup, for a second
+            self.assertAlmostEqual(held.x, -3.0, delta=1e-3)
+            with self.lock:
+                self.assertIs(self.grasping, True)
+            off()
+            self.ls.sleep(1.0)
+            self.assertAlmostEqual(self.model(model_name="parcel").pose.position.z, 0.05, delta=0.005)  # dropped
+            with self.lock:
+                self.assertIs(self.grasping, False)
+            on()  # 0.75 m below the cup, out of its 5 cm reach: left alone
+            self.ls.sleep(0.5)
+            self.assertAlmostEqual(self.model(model_name="parcel").pose.position.z, 0.05, delta=0.005)
+            with self.lock:
+                self.assertIs(self.grasping, False)
+        finally:
+            off()
+            rospy.ServiceProxy("/gazebo/delete_model", DeleteModel)(model_name="parcel")
 
 if __name__ == "__main__":
     rostest.rosrun("mybot_gazebo_lite", "model_plugins_test", ModelPluginTests)

@@ -97,6 +97,7 @@ const std::vector<Builtin>& builtins()
         "updateRate"}},
       {"libgazebo_ros_force.so", makeForce, {"bodyName", "topicName"}},
       {"libgazebo_ros_f3d.so", makeF3D, {"bodyName", "topicName", "frameName"}},
+      {"libgazebo_ros_vacuum_gripper.so", makeVacuumGripper, {"bodyName", "topicName"}},
       {"libgazebo_ros_ft_sensor.so", makeFTSensor, {"jointName", "topicName", "gaussianNoise", "updateRate"}},
       {"libgazebo_ros_joint_pose_trajectory.so", makeJointPoseTrajectory, {"topicName", "serviceName", "updateRate"}},
       {"libgazebo_ros_joint_state_publisher.so", makeJointStatePublisher, {"jointName", "updateRate"}},
