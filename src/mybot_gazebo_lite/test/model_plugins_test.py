@@ -3,7 +3,8 @@
 says; gazebo_ros_f3d reports the external wrench on it; gazebo_ros_joint_pose_trajectory poses a
 turntable's joint point by point, as upstream times the points; gazebo_ros_ft_sensor reads what
 that joint carries; gazebo_ros_triggered_camera and _multicamera render a frame per trigger;
-gazebo_ros_vacuum_gripper holds a box up while it is on."""
+gazebo_ros_vacuum_gripper holds a box up while it is on; roboticsgroup's mimic joint plugin makes a
+gripper's fingers follow its driven one."""
 import math
 import threading
 import unittest
@@ -17,7 +18,8 @@ from geometry_msgs.msg import Pose
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from std_srvs.srv import Empty
 
-from gazebo_msgs.srv import ApplyBodyWrench, BodyRequest, DeleteModel, GetJointProperties, GetModelState, SpawnModel
+from gazebo_msgs.srv import (ApplyBodyWrench, ApplyJointEffort, BodyRequest, DeleteModel, GetJointProperties,
+                             GetModelState, SpawnModel)
 from mybot_lockstep import participant, wait_connected
 from mybot_lockstep.start_paused import unpause_when
 
@@ -57,8 +59,8 @@ class ModelPluginTests(unittest.TestCase):
                                            lambda m, cam=cam: cls._frame(cam, m)))
         cls.shutter = {cam: cls.ls.Publisher("/cams/%s/image_trigger" % cam, EmptyMsg, queue_size=10)
                        for cam in ("snap", "pair/left", "pair/right")}
-        unpause_when(cls.ls, lambda: all(cls.model(model_name=m).success for m in ("crate", "table", "cams", "suction")),
-                     "the crate, the table, the cameras and the suction post were not spawned")
+        unpause_when(cls.ls, lambda: all(cls.model(model_name=m).success for m in ("crate", "table", "cams", "suction", "mimic")),
+                     "not every model was spawned")
         # A frame is rendered only for a subscriber, and a trigger sent before its connection is
         # lost: both connected before anything is asked (wall time: connections are made in it).
         wait_connected(links + list(cls.shutter.values()))
@@ -249,6 +251,28 @@ class ModelPluginTests(unittest.TestCase):
         finally:
             off()
             rospy.ServiceProxy("/gazebo/delete_model", DeleteModel)(model_name="parcel")
+
+    def test_mimic_joints_follow_the_driven_finger(self):
+        def position(joint):
+            return self.joint(joint_name="mimic::" + joint).position[0]
+
+        def check(servo_tolerance, pid_tolerance):
+            lead = position("finger_joint")
+            self.assertAlmostEqual(position("mirror_joint"), -lead + 0.1, delta=servo_tolerance)
+            self.assertAlmostEqual(position("pid_joint"), 0.5 * lead, delta=pid_tolerance)
+            return lead
+
+        check(1e-4, 1e-3)  # at rest, the mirror 0.1 rad off
+        # The driven finger turned by a torque against its damping (0.5 rad/s): the servo follows
+        # on time (the leader's speed fed forward), the PID behind by what its gains leave.
+        res = rospy.ServiceProxy("/gazebo/apply_joint_effort", ApplyJointEffort)(
+            joint_name="mimic::finger_joint", effort=0.05, start_time=rospy.Time(0), duration=rospy.Duration(1.0))
+        self.assertTrue(res.success, res.status_message)
+        self.ls.sleep(0.8)
+        moving = check(1e-4, 5e-3)  # measured: 1e-16 and 1.0e-3
+        self.assertGreater(moving, 0.3)
+        self.ls.sleep(1.2)  # the torque gone, the finger stops; both followers settle on it
+        check(1e-4, 1e-3)  # measured: 1e-16 and 2e-4
 
 if __name__ == "__main__":
     rostest.rosrun("mybot_gazebo_lite", "model_plugins_test", ModelPluginTests)

@@ -985,6 +985,20 @@ class MalformedInputTests(unittest.TestCase):
         self.assertIn('libgazebo_ros_ft_sensor.so', out)
 
 
+    def test_a_joint_mimicking_itself_is_named(self):
+        path = self.write('mimic_self.urdf', '<robot name="r"><link name="a"><inertial><mass value="1"/>'
+                          '<inertia ixx="1" iyy="1" izz="1"/></inertial></link><link name="b"><inertial>'
+                          '<mass value="1"/><inertia ixx="1" iyy="1" izz="1"/></inertial></link>'
+                          '<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>'
+                          '<gazebo><plugin name="m" filename="libroboticsgroup_gazebo_mimic_joint_plugin.so">'
+                          '<joint>j</joint><mimicJoint>j</mimicJoint></plugin></gazebo></robot>')
+        rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'mimic_self', '-timeout', '30'])
+        self.assertNotEqual(rc, 0)
+        self.assertIn('<mimicJoint>', out)
+        self.assertIn('a joint cannot mimic itself', out)
+        self.assertIn('libroboticsgroup_gazebo_mimic_joint_plugin.so', out)
+
+
 class BadPoseTests(unittest.TestCase):
     """Non-finite or absurd poses never enter running state: refused naming the field, and the
     model's ground truth stays what it was."""

@@ -117,6 +117,7 @@ std::unique_ptr<SimPlugin> makeF3D(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeFTSensor(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeTricycleDrive(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeVacuumGripper(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeMimicJoint(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeJointPoseTrajectory(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeJointStatePublisher(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeJointCommand(const PluginContext& c);

@@ -33,6 +33,9 @@ const std::set<std::string> kCameraTags = {
     "distortionK1", "distortionK2", "distortionK3",   "distortionT1",        "distortionT2",     "Cx",
     "Cy",           "CxPrime",      "focalLength",    "borderCrop",          "triggerTopicName", "autoDistortion"};
 
+const std::set<std::string> kMimicTags = {"joint",         "mimicJoint", "multiplier", "offset",
+                                          "sensitiveness", "maxEffort",  "hasPID"};
+
 std::set<std::string> with(std::set<std::string> a, const std::set<std::string>& b)
 {
   a.insert(b.begin(), b.end());
@@ -97,6 +100,9 @@ const std::vector<Builtin>& builtins()
         "updateRate"}},
       {"libgazebo_ros_force.so", makeForce, {"bodyName", "topicName"}},
       {"libgazebo_ros_f3d.so", makeF3D, {"bodyName", "topicName", "frameName"}},
+      // roboticsgroup_gazebo_plugins (and its upatras fork): the grippers' mimic joints.
+      {"libroboticsgroup_gazebo_mimic_joint_plugin.so", makeMimicJoint, kMimicTags},
+      {"libroboticsgroup_upatras_gazebo_mimic_joint_plugin.so", makeMimicJoint, kMimicTags},
       {"libgazebo_ros_vacuum_gripper.so", makeVacuumGripper, {"bodyName", "topicName"}},
       {"libgazebo_ros_ft_sensor.so", makeFTSensor, {"jointName", "topicName", "gaussianNoise", "updateRate"}},
       {"libgazebo_ros_joint_pose_trajectory.so", makeJointPoseTrajectory, {"topicName", "serviceName", "updateRate"}},
