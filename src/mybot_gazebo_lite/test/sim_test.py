@@ -943,60 +943,47 @@ class MalformedInputTests(unittest.TestCase):
         for a, b in wants:
             self.assertTrue(any(a in m and b in m for m in logs), (a, b, logs))
 
+    # A robot of one link (and `child`, a second one on joint `j` of `joint_type`) with `plugin`.
+    LINK = '<link name="%s"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1"/></inertial></link>'
+
+    def assert_spawn_refused(self, model, plugin, says, joint_type=None):
+        """Spawning the robot with `plugin` (its <plugin> element) fails, naming each of `says`."""
+        body = self.LINK % 'a'
+        if joint_type:
+            body += self.LINK % 'b' + ('<joint name="j" type="%s"><parent link="a"/><child link="b"/></joint>'
+                                       % joint_type)
+        path = self.write(model + '.urdf', '<robot name="r">%s<gazebo>%s</gazebo></robot>' % (body, plugin))
+        rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', model, '-timeout', '30'])
+        self.assertNotEqual(rc, 0, model)
+        for phrase in says:
+            self.assertIn(phrase, out)
+
     def test_bad_plugin_parameter(self):
-        path = self.write('badplugin.urdf', '<robot name="r"><link name="a"><inertial><mass value="1"/>'
-                          '<inertia ixx="1" iyy="1" izz="1"/></inertial></link>'
-                          '<gazebo><plugin name="gt" filename="libgazebo_ros_p3d.so"><topicName>gt</topicName>'
-                          '<updateRate>fast</updateRate><bodyName>a</bodyName></plugin></gazebo></robot>')
-        rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'badp', '-timeout', '30'])
-        self.assertNotEqual(rc, 0)
-        self.assertIn('<updateRate>', out)
-        self.assertIn('libgazebo_ros_p3d.so', out)
+        self.assert_spawn_refused('badp', '<plugin name="gt" filename="libgazebo_ros_p3d.so"><topicName>gt</topicName>'
+                                  '<updateRate>fast</updateRate><bodyName>a</bodyName></plugin>',
+                                  ('<updateRate>', 'libgazebo_ros_p3d.so'))
 
     def test_bad_hector_error_model_is_named(self):
         """hector's per-axis errors are three numbers: two are refused naming the tag; a negative
         spread too."""
         for tag, value, message in (('accelDrift', '0.1 0.1', 'expected 3 numbers'),
                                     ('rateGaussianNoise', '0 0 -0.1', 'must be >= 0')):
-            path = self.write('bad_%s.urdf' % tag, '<robot name="r"><link name="a"><inertial><mass value="1"/>'
-                              '<inertia ixx="1" iyy="1" izz="1"/></inertial></link>'
-                              '<gazebo><plugin name="imu" filename="libhector_gazebo_ros_imu.so">'
-                              '<%s>%s</%s></plugin></gazebo></robot>' % (tag, value, tag))
-            rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'bad_' + tag, '-timeout', '30'])
-            self.assertNotEqual(rc, 0, tag)
-            self.assertIn('<%s>' % tag, out)
-            self.assertIn(message, out)
-            self.assertIn('libhector_gazebo_ros_imu.so', out)
-
+            self.assert_spawn_refused('bad_' + tag, '<plugin name="imu" filename="libhector_gazebo_ros_imu.so">'
+                                      '<%s>%s</%s></plugin>' % (tag, value, tag),
+                                      ('<%s>' % tag, message, 'libhector_gazebo_ros_imu.so'))
 
     def test_a_plugin_on_a_fixed_joint_is_told_it_is_lumped(self):
         """A force-torque sensor on a fixed joint: Gazebo lumps the joint away, and so does
         gazebo_lite; the error says so rather than that no such joint exists."""
-        path = self.write('ft_fixed.urdf', '<robot name="r"><link name="a"><inertial><mass value="1"/>'
-                          '<inertia ixx="1" iyy="1" izz="1"/></inertial></link><link name="b"><inertial>'
-                          '<mass value="1"/><inertia ixx="1" iyy="1" izz="1"/></inertial></link>'
-                          '<joint name="wrist" type="fixed"><parent link="a"/><child link="b"/></joint>'
-                          '<gazebo><plugin name="ft" filename="libgazebo_ros_ft_sensor.so">'
-                          '<jointName>wrist</jointName><topicName>ft</topicName></plugin></gazebo></robot>')
-        rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'ft_fixed', '-timeout', '30'])
-        self.assertNotEqual(rc, 0)
-        self.assertIn('<jointName>', out)
-        self.assertIn("joint 'wrist' is fixed", out)
-        self.assertIn('libgazebo_ros_ft_sensor.so', out)
-
+        self.assert_spawn_refused('ft_fixed', '<plugin name="ft" filename="libgazebo_ros_ft_sensor.so">'
+                                  '<jointName>j</jointName><topicName>ft</topicName></plugin>',
+                                  ('<jointName>', "joint 'j' is fixed", 'libgazebo_ros_ft_sensor.so'), 'fixed')
 
     def test_a_joint_mimicking_itself_is_named(self):
-        path = self.write('mimic_self.urdf', '<robot name="r"><link name="a"><inertial><mass value="1"/>'
-                          '<inertia ixx="1" iyy="1" izz="1"/></inertial></link><link name="b"><inertial>'
-                          '<mass value="1"/><inertia ixx="1" iyy="1" izz="1"/></inertial></link>'
-                          '<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>'
-                          '<gazebo><plugin name="m" filename="libroboticsgroup_gazebo_mimic_joint_plugin.so">'
-                          '<joint>j</joint><mimicJoint>j</mimicJoint></plugin></gazebo></robot>')
-        rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', 'mimic_self', '-timeout', '30'])
-        self.assertNotEqual(rc, 0)
-        self.assertIn('<mimicJoint>', out)
-        self.assertIn('a joint cannot mimic itself', out)
-        self.assertIn('libroboticsgroup_gazebo_mimic_joint_plugin.so', out)
+        self.assert_spawn_refused('mimic_self', '<plugin name="m" filename="libroboticsgroup_gazebo_mimic_joint_plugin.so">'
+                                  '<joint>j</joint><mimicJoint>j</mimicJoint></plugin>',
+                                  ('<mimicJoint>', 'a joint cannot mimic itself',
+                                   'libroboticsgroup_gazebo_mimic_joint_plugin.so'), 'continuous')
 
 
 class BadPoseTests(unittest.TestCase):
