@@ -38,19 +38,21 @@ class TutorialRobots(unittest.TestCase):
         cls.tricycle_odom = None
         cls.tricycle_joints = None
         cls.ls.Subscriber("/tricycle/odom", Odometry, cls._store("tricycle_odom"))
+        cls.sixwheel_odom = None
+        cls.ls.Subscriber("/sixwheel/odom", Odometry, cls._store("sixwheel_odom"))
         cls.ls.Subscriber("/tricycle/joint_states", JointState, cls._store("tricycle_joints"))
         cls.ls.Subscriber("/planar/points3d", PointCloud, cls._store("cloud"))
         cls.ls.Subscriber("/skid/joint_states", JointState, cls._store("skid_joints"))
         cls.ls.Subscriber("/skid/sonar", Range, cls._store("sonar"))
         cls.ls.Subscriber("/skid/bumper", ContactsState, cls._store("bumper"))
-        cls.pubs = {n: cls.ls.Publisher("/%s/cmd_vel" % n, Twist, queue_size=1) for n in ("fourwheel", "skid", "planar", "tricycle")}
+        cls.pubs = {n: cls.ls.Publisher("/%s/cmd_vel" % n, Twist, queue_size=1) for n in ("fourwheel", "skid", "planar", "tricycle", "sixwheel")}
         rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
         cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
         # The world starts paused: the spawners start in wall time, so time starts once the three
         # robots stand in it (the same moment every run); this joins (named in lockstep_wait_for)
         # and holds the first period after the unpause.
         unpause_when(cls.ls, lambda: all(cls.model(model_name=n).success for n in cls.pubs),
-                     "the four robots were not spawned")
+                     "the five robots were not spawned")
         cls.ls.sleep(1.0)  # settle on the ground
 
     @classmethod
@@ -170,6 +172,20 @@ class TutorialRobots(unittest.TestCase):
         err = math.hypot(o.position.x - (x1 - x0), o.position.y - (y1 - y0))
         self.assertLess(err, 0.01, "odometry %.4f m from the truth after %.2f m" % (err, math.hypot(x1 - x0, y1 - y0)))
         self.assertLess(abs(math.degrees(wrap(yaw_of(o.orientation) - wrap(end[2] - spawn[2])))), 1.0)
+
+    def test_six_wheels_drive_straight_and_turn_the_commanded_way(self):
+        """hector's multi-wheel drive: three wheels a side at the side's speed."""
+        self.check_straight("sixwheel", 0.3)
+        a, b, _ = self.drive("sixwheel", twist(wz=0.5), 3.0, settle=0.5)
+        turned = wrap(b[2] - a[2])
+        self.assertGreater(turned, 0.05, "turned %.3f rad" % turned)  # skid steering: the direction
+        self.assertLess(turned, 0.5 * 2.5, "turned %.3f rad" % turned)
+        with self.lock:
+            o = self.sixwheel_odom
+        self.assertEqual((o.header.frame_id, o.child_frame_id), ("odom", "base_link"))
+        x, y, yaw = self.pose("sixwheel")  # its odometry is its world pose, as upstream's
+        self.assertAlmostEqual(o.pose.pose.position.x, x, delta=0.01)
+        self.assertAlmostEqual(o.pose.pose.position.y, y, delta=0.01)
 
     def test_sonar_sees_the_ground(self):
         self.assertTrue(self.ls.wait_for(lambda: self.sonar is not None, 5.0), "no /skid/sonar")

@@ -107,6 +107,8 @@ public:
   double nonNegative(const std::string& tag, double def) const;  // >= 0, else fails naming the tag
   bool boolean(const std::string& tag, bool def) const;
   std::string joint(const std::string& tag, const std::string& def) const;  // must be a movable joint
+  // A list of movable joints split at any of `separators` (as written; each checked as joint()'s).
+  std::vector<std::string> jointList(const std::string& tag, const std::string& separators) const;
   // A link of the robot, as the plugin's own model scopes it; required when `def` is empty.
   std::string link(const std::string& tag, const std::string& def = "") const;
   btTransform pose(const std::string& tag) const;  // "x y z r p y"
@@ -118,6 +120,7 @@ public:
 
 private:
   double parse(const std::string& tag, const std::string& t) const;
+  std::string movableJoint(const std::string& tag, const std::string& name) const;  // scoped, checked
   const PluginContext& c_;
   const XmlNode& x_;
 };

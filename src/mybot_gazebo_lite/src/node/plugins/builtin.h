@@ -53,7 +53,7 @@ struct WheelDriveOutputs
                     std::vector<std::string> joints);
   // `encoder`: the dead reckoning to publish, or null for the world pose.
   void publish(double t, const EncoderOdometry* encoder) const;
-  bool odom_tf = true;
+  bool odom_tf = true, odom_msg = true;
 
 private:
   const PluginContext* c_ = nullptr;
@@ -110,6 +110,7 @@ private:
 
 std::unique_ptr<SimPlugin> makeDiffDrive(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeSkidSteerDrive(const PluginContext& c);
+std::unique_ptr<SimPlugin> makeHectorMultiWheelDrive(const PluginContext& c);
 std::unique_ptr<SimPlugin> makePlanarMove(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeP3D(const PluginContext& c);
 std::unique_ptr<SimPlugin> makeForce(const PluginContext& c);

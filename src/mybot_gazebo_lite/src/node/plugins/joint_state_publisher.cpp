@@ -3,8 +3,6 @@
 
 #include <sensor_msgs/JointState.h>
 
-#include <sstream>
-
 #include <cmath>
 
 namespace mybot_gazebo_lite
@@ -20,20 +18,9 @@ public:
     PluginParams p(c, c.spec->xml);
     if (p.has("jointName"))
     {
-      std::stringstream ss(p.str("jointName", ""));
-      std::string j;
-      while (std::getline(ss, j, ','))
-      {
-        j.erase(0, j.find_first_not_of(" \t\n"));
-        j.erase(j.find_last_not_of(" \t\n") + 1);
-        if (j.empty())
-          continue;
-        const std::string joint = scopedJoint(c, j);
-        if (!c.robot->hasJoint(joint))
-          p.fail("jointName", "no movable joint named '" + j + "'");
-        joints_.push_back(joint);
-        names_.push_back(j);  // as given: a nested model's plugin names its own joints so
-      }
+      names_ = p.jointList("jointName", ",");  // as given: a nested model's plugin names its own joints so
+      for (const std::string& j : names_)
+        joints_.push_back(scopedJoint(c, j));
     }
     else
     {

@@ -153,7 +153,35 @@ std::string scopedLink(const PluginContext& c, const std::string& name)
 
 std::string PluginParams::joint(const std::string& tag, const std::string& def) const
 {
-  std::string j = scopedJoint(c_, str(tag, def));
+  return movableJoint(tag, str(tag, def));
+}
+
+std::vector<std::string> PluginParams::jointList(const std::string& tag, const std::string& separators) const
+{
+  std::vector<std::string> out;
+  const std::string text = str(tag, "");
+  size_t start = 0;
+  while (start <= text.size())
+  {
+    size_t end = text.find_first_of(separators, start);
+    if (end == std::string::npos)
+      end = text.size();
+    std::string name = text.substr(start, end - start);
+    name.erase(0, name.find_first_not_of(" \t\n"));
+    name.erase(name.find_last_not_of(" \t\n") + 1);
+    if (!name.empty())
+    {
+      movableJoint(tag, name);
+      out.push_back(name);
+    }
+    start = end + 1;
+  }
+  return out;
+}
+
+std::string PluginParams::movableJoint(const std::string& tag, const std::string& name) const
+{
+  const std::string j = scopedJoint(c_, name);
   if (c_.robot->hasJoint(j))
     return j;
   for (const JointSpec& spec : c_.robot->spec().joints)
@@ -375,7 +403,8 @@ void WheelDriveOutputs::publish(double t, const EncoderOdometry* encoder) const
   o.pose.covariance[0] = o.pose.covariance[7] = 0.00001;
   o.pose.covariance[14] = o.pose.covariance[21] = o.pose.covariance[28] = 1e12;
   o.pose.covariance[35] = 0.001;
-  odom_pub_.publish(o);
+  if (odom_msg)
+    odom_pub_.publish(o);
   if (odom_tf)
     c.tf->sendTransform(toTf(pose, t, odom_frame_, base_frame_));
   if (!wheel_tf_ && !wheel_js_)
