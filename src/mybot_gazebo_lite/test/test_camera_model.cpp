@@ -298,3 +298,37 @@ int main(int argc, char** argv)
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }
+
+// gazebo_ros_camera_utils' formats, and the bytes each encoding gives a 2 x 2 image.
+TEST(CameraEncoding, GazeboFormatsAndTheirBytes)
+{
+  EXPECT_EQ(gazeboImageEncoding("R8G8B8"), "rgb8");
+  EXPECT_EQ(gazeboImageEncoding("BGR_INT8"), "bgr8");
+  EXPECT_EQ(gazeboImageEncoding("L_INT16"), "mono16");
+  EXPECT_EQ(gazeboImageEncoding("R16G16B16"), "rgb16");
+  EXPECT_EQ(gazeboImageEncoding("BAYER_GRBG8"), "bayer_grbg8");
+  EXPECT_EQ(gazeboImageEncoding("R_FLOAT32"), "");
+  // Red, green / blue, white.
+  const std::vector<uint8_t> rgb = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
+  uint32_t step = 0;
+  EXPECT_EQ(encodeImage(rgb, 2, 2, "rgb8", step), rgb);
+  EXPECT_EQ(step, 6u);
+  EXPECT_EQ(encodeImage(rgb, 2, 2, "bgr8", step),
+            (std::vector<uint8_t>{0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255}));
+  // Luma 0.299 R + 0.587 G + 0.114 B.
+  EXPECT_EQ(encodeImage(rgb, 2, 2, "mono8", step), (std::vector<uint8_t>{76, 149, 29, 255}));
+  EXPECT_EQ(step, 2u);
+  // 16 bits: 257 times the 8-bit value, little-endian.
+  EXPECT_EQ(encodeImage(rgb, 2, 2, "mono16", step), (std::vector<uint8_t>{76, 76, 149, 149, 29, 29, 255, 255}));
+  EXPECT_EQ(step, 4u);
+  const std::vector<uint8_t> rgb16 = encodeImage(rgb, 2, 2, "rgb16", step);
+  EXPECT_EQ(step, 12u);
+  EXPECT_EQ(std::vector<uint8_t>(rgb16.begin(), rgb16.begin() + 6), (std::vector<uint8_t>{255, 255, 0, 0, 0, 0}));
+  // Bayer: the pixel's own colour in its place of the pattern. RGGB reads R at (0, 0), G at
+  // (1, 0) and (0, 1), B at (1, 1): red's R, green's G, blue's G, white's B.
+  EXPECT_EQ(encodeImage(rgb, 2, 2, "bayer_rggb8", step), (std::vector<uint8_t>{255, 255, 0, 255}));
+  EXPECT_EQ(step, 2u);
+  EXPECT_EQ(encodeImage(rgb, 2, 2, "bayer_bggr8", step), (std::vector<uint8_t>{0, 255, 0, 255}));
+  EXPECT_EQ(encodeImage(rgb, 2, 2, "bayer_gbrg8", step), (std::vector<uint8_t>{0, 0, 0, 255}));
+  EXPECT_EQ(encodeImage(rgb, 2, 2, "bayer_grbg8", step), (std::vector<uint8_t>{0, 0, 255, 255}));
+}

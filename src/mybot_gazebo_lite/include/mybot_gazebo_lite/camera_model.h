@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace mybot_gazebo_lite
@@ -107,6 +108,16 @@ inline OpticalPoint depthToPoint(const CameraIntrinsics& k, int u, int v, float 
 {
   return {static_cast<float>((u - k.cx) * depth / k.fx), static_cast<float>((v - k.cy) * depth / k.fy), depth};
 }
+
+// The ROS image encoding gazebo_ros_camera_utils gives a Gazebo <image><format> (R8G8B8 -> rgb8,
+// L16 -> mono16, BAYER_RGGB8 -> bayer_rggb8, ...); "" for a format it does not know.
+std::string gazeboImageEncoding(const std::string& format);
+// A rendered rgb8 image (width x height) in `encoding` (one gazeboImageEncoding gives): its
+// bytes, `step` set to a row's. mono: the luma (0.299 R + 0.587 G + 0.114 B); 16-bit samples
+// little-endian, 257 times the 8-bit value; bayer: each pixel the colour of its place in the
+// 2 x 2 pattern the encoding names ("rggb": R G on even rows, G B on odd ones).
+std::vector<uint8_t> encodeImage(const std::vector<uint8_t>& rgb, int width, int height, const std::string& encoding,
+                                 uint32_t& step);
 
 class NoiseTable
 {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <random>
 
 namespace mybot_gazebo_lite
@@ -398,6 +399,73 @@ void NoiseTable::addToFloats(float* data, size_t n, double mean, double stddev)
   for (size_t j = 0; j < n; ++j, i = (i + stride) & mask)
     if (std::isfinite(data[j]))
       data[j] = static_cast<float>(data[j] + mean + stddev * table_[i]);
+}
+
+std::string gazeboImageEncoding(const std::string& format)
+{
+  static const std::map<std::string, std::string> kEncodings = {{"R8G8B8", "rgb8"},
+                                                                {"RGB_INT8", "rgb8"},
+                                                                {"B8G8R8", "bgr8"},
+                                                                {"BGR_INT8", "bgr8"},
+                                                                {"L8", "mono8"},
+                                                                {"L_INT8", "mono8"},
+                                                                {"L16", "mono16"},
+                                                                {"L_INT16", "mono16"},
+                                                                {"R16G16B16", "rgb16"},
+                                                                {"RGB_INT16", "rgb16"},
+                                                                {"BAYER_RGGB8", "bayer_rggb8"},
+                                                                {"BAYER_BGGR8", "bayer_bggr8"},
+                                                                {"BAYER_GBRG8", "bayer_gbrg8"},
+                                                                {"BAYER_GRBG8", "bayer_grbg8"}};
+  const auto e = kEncodings.find(format);
+  return e == kEncodings.end() ? "" : e->second;
+}
+
+std::vector<uint8_t> encodeImage(const std::vector<uint8_t>& rgb, int width, int height, const std::string& encoding,
+                                 uint32_t& step)
+{
+  const size_t n = static_cast<size_t>(width) * height;
+  const auto luma = [&](size_t i)
+  { return static_cast<uint8_t>((299 * rgb[3 * i] + 587 * rgb[3 * i + 1] + 114 * rgb[3 * i + 2]) / 1000); };
+  std::vector<uint8_t> out;
+  if (encoding == "mono8" || encoding == "mono16")
+  {
+    const size_t bytes = encoding == "mono8" ? 1 : 2;
+    step = static_cast<uint32_t>(width * bytes);
+    out.resize(n * bytes);
+    for (size_t i = 0; i < n; ++i)
+      for (size_t b = 0; b < bytes; ++b)
+        out[i * bytes + b] = luma(i);  // v * 257: the 8-bit value in both bytes
+  }
+  else if (encoding == "rgb16")
+  {
+    step = static_cast<uint32_t>(width * 6);
+    out.resize(n * 6);
+    for (size_t i = 0; i < 3 * n; ++i)
+      out[2 * i] = out[2 * i + 1] = rgb[i];
+  }
+  else if (encoding.compare(0, 6, "bayer_") == 0)
+  {
+    const std::string pattern = encoding.substr(6);
+    step = static_cast<uint32_t>(width);
+    out.resize(n);
+    for (int v = 0; v < height; ++v)
+      for (int u = 0; u < width; ++u)
+      {
+        const size_t i = static_cast<size_t>(v) * width + u;
+        const char c = pattern[2 * (v % 2) + (u % 2)];
+        out[i] = rgb[3 * i + (c == 'r' ? 0 : c == 'g' ? 1 : 2)];
+      }
+  }
+  else
+  {
+    step = static_cast<uint32_t>(width * 3);
+    out = rgb;
+    if (encoding == "bgr8")
+      for (size_t i = 0; i < n; ++i)
+        std::swap(out[3 * i], out[3 * i + 2]);
+  }
+  return out;
 }
 
 }  // namespace mybot_gazebo_lite

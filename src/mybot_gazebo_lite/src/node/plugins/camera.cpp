@@ -81,23 +81,13 @@ public:
     settings_.far = s.num("camera/clip/far", 100.0);
     if (!(settings_.near > 0 && settings_.far > settings_.near))
       s.fail("camera/clip", "need 0 < near < far");
-    std::string format = s.str("camera/image/format", "R8G8B8");
-    if (format == "R8G8B8" || format == "RGB_INT8")
-    {
-      encoding_ = "rgb8";
-    }
-    else if (format == "B8G8R8" || format == "BGR_INT8")
-    {
-      encoding_ = "bgr8";
-    }
-    else if (format == "L8" || format == "L_INT8")
-    {
-      encoding_ = "mono8";
-    }
-    else
-    {
-      s.fail("camera/image/format", "supported: R8G8B8, B8G8R8, L8; got '" + format + "'");
-    }
+    const std::string format = s.str("camera/image/format", "R8G8B8");
+    encoding_ = gazeboImageEncoding(format);
+    if (encoding_.empty())
+      s.fail("camera/image/format",
+             "supported: R8G8B8, B8G8R8, L8, L16, R16G16B16, BAYER_RGGB8, BAYER_BGGR8, "
+             "BAYER_GBRG8, BAYER_GRBG8 (and the *_INT* names of the first five); got '" +
+                 format + "'");
     noise_mean_ = s.num("camera/noise/mean", 0.0);
     noise_sd_ = s.num("camera/noise/stddev", 0.0);
     if (noise_sd_ < 0)
@@ -214,22 +204,8 @@ private:
     m->width = k_.width;
     m->height = k_.height;
     m->encoding = encoding_;
-    const size_t n = static_cast<size_t>(k_.width) * k_.height;
-    if (encoding_ == "mono8")
-    {
-      m->step = k_.width;
-      m->data.resize(n);
-      for (size_t i = 0; i < n; ++i)
-        m->data[i] = static_cast<uint8_t>((299 * rgb_[3 * i] + 587 * rgb_[3 * i + 1] + 114 * rgb_[3 * i + 2]) / 1000);
-    }
-    else
-    {
-      m->step = k_.width * 3;
-      m->data = rgb_;
-      if (encoding_ == "bgr8")
-        for (size_t i = 0; i < n; ++i)
-          std::swap(m->data[3 * i], m->data[3 * i + 2]);
-    }
+    m->is_bigendian = 0;
+    m->data = encodeImage(rgb_, k_.width, k_.height, encoding_, m->step);
     return m;
   }
   // Organised cloud in the optical convention (x right, y down, z forward), NaN where there is no reading.
