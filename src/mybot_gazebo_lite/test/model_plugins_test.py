@@ -42,6 +42,8 @@ class ModelPluginTests(unittest.TestCase):
         cls.ft = []
         cls.ls.Subscriber("/crate/wrench", WrenchStamped, cls._f3d)
         cls.ls.Subscriber("/table/turn_wrench", WrenchStamped, cls._ft)
+        cls.tip = None
+        cls.ls.Subscriber("/table/tip_wrench", WrenchStamped, cls._tip)
         cls.grasping = None
         cls.ls.Subscriber("/suction/grasping", Bool, cls._grasping)
         cls.push = cls.ls.Publisher("/crate/push", Wrench, queue_size=1)
@@ -83,6 +85,11 @@ class ModelPluginTests(unittest.TestCase):
             for f in self.frames.values():
                 del f[:]
         return out
+
+    @classmethod
+    def _tip(cls, m):
+        with cls.lock:
+            cls.tip = m
 
     @classmethod
     def _grasping(cls, m):
@@ -173,9 +180,10 @@ class ModelPluginTests(unittest.TestCase):
             self.assertAlmostEqual(self.turn(), 0.8, delta=1e-3, msg=str((joints, points, frame)))
 
     def test_the_turntables_joint_carries_the_plates_weight_in_the_plates_axes(self):
-        """The 0.5 kg plate's centre of mass is 0.1 m out along its x: whatever way the plate
-        points, the joint holds up its weight, (0, 0, m g) in the plate's axes, and the torque
-        that keeps it level, (0, -m g 0.1, 0), at the sensor's 50 Hz."""
+        """The 0.5 kg plate's centre of mass is 0.1 m out along its x, the 0.2 kg tip's 0.25 m:
+        whatever way the plate points, the joint holds up their weight, (0, 0, 0.7 g) in the
+        plate's axes, and the torque that keeps them level, (0, -(0.5 x 0.1 + 0.2 x 0.25) g, 0),
+        at the sensor's 50 Hz; the tip's kept fixed mount its own weight and torque."""
         for angle in (0.8, -2.0):
             self.send(["turn"], [([angle], 0.0)])
             self.ls.sleep(0.2)
@@ -188,9 +196,15 @@ class ModelPluginTests(unittest.TestCase):
             for m in got:
                 self.assertEqual(m.header.frame_id, "plate")
                 w = m.wrench
-                for value, expected in ((w.force.x, 0.0), (w.force.y, 0.0), (w.force.z, 0.5 * G),
-                                        (w.torque.x, 0.0), (w.torque.y, -0.5 * G * 0.1), (w.torque.z, 0.0)):
+                for value, expected in ((w.force.x, 0.0), (w.force.y, 0.0), (w.force.z, 0.7 * G),
+                                        (w.torque.x, 0.0), (w.torque.y, -0.1 * G), (w.torque.z, 0.0)):
                     self.assertAlmostEqual(value, expected, delta=1e-6, msg=(angle, str(w)))
+            with self.lock:
+                tip = self.tip
+            self.assertEqual(tip.header.frame_id, "tip")
+            for value, expected in ((tip.wrench.force.z, 0.2 * G), (tip.wrench.torque.y, -0.2 * G * 0.05),
+                                    (tip.wrench.force.x, 0.0), (tip.wrench.torque.z, 0.0)):
+                self.assertAlmostEqual(value, expected, delta=1e-6, msg=(angle, str(tip.wrench)))
 
     def test_a_triggered_camera_renders_one_frame_per_trigger(self):
         self.ls.sleep(0.3)

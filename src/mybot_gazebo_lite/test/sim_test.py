@@ -973,11 +973,12 @@ class MalformedInputTests(unittest.TestCase):
                                       ('<%s>' % tag, message, 'libhector_gazebo_ros_imu.so'))
 
     def test_a_plugin_on_a_fixed_joint_is_told_it_is_lumped(self):
-        """A force-torque sensor on a fixed joint: Gazebo lumps the joint away, and so does
-        gazebo_lite; the error says so rather than that no such joint exists."""
+        """A force-torque sensor on a fixed joint its <gazebo reference> does not keep: Gazebo
+        lumps the joint away, and so does gazebo_lite; the error says so, and how to keep it."""
         self.assert_spawn_refused('ft_fixed', '<plugin name="ft" filename="libgazebo_ros_ft_sensor.so">'
                                   '<jointName>j</jointName><topicName>ft</topicName></plugin>',
-                                  ('<jointName>', "joint 'j' is fixed", 'libgazebo_ros_ft_sensor.so'), 'fixed')
+                                  ('<jointName>', "joint 'j' is fixed", '<preserveFixedJoint>',
+                                   'libgazebo_ros_ft_sensor.so'), 'fixed')
 
     def test_a_joint_mimicking_itself_is_named(self):
         self.assert_spawn_refused('mimic_self', '<plugin name="m" filename="libroboticsgroup_gazebo_mimic_joint_plugin.so">'

@@ -66,6 +66,40 @@ TEST(Loaders, UrdfGazeboTagsNotReadAreWarnedNamingThem)
   EXPECT_FLOAT_EQ(wheel->color[2], 0.0f);
 }
 
+// A fixed joint's <gazebo reference> keeps it (Gazebo's preserveFixedJoint and
+// disableFixedJointLumping): read silently; a value that is no boolean is refused naming the tag.
+TEST(Loaders, UrdfKeptFixedJointsAreRead)
+{
+  const auto robot = [](const std::string& tags)
+  {
+    return "<robot name='r'><link name='a'><inertial><mass value='1'/><inertia ixx='1' iyy='1' izz='1'/></inertial>"
+           "</link><link name='b'><inertial><mass value='1'/><inertia ixx='1' iyy='1' izz='1'/></inertial></link>"
+           "<joint name='wrist' type='fixed'><parent link='a'/><child link='b'/></joint>"
+           "<gazebo reference='wrist'>" +
+           tags + "</gazebo></robot>";
+  };
+  EXPECT_FALSE(parseUrdf(robot(""), "k.urdf").joint("wrist")->keep_fixed);
+  for (const std::string tags :
+       {"<preserveFixedJoint>true</preserveFixedJoint>", "<disableFixedJointLumping>1</disableFixedJointLumping>",
+        "<preserveFixedJoint value='true'/>"})
+  {
+    const RobotSpec r = parseUrdf(robot(tags), "k.urdf");
+    EXPECT_TRUE(r.joint("wrist")->keep_fixed) << tags;
+    EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
+  }
+  try
+  {
+    parseUrdf(robot("<preserveFixedJoint>yes please</preserveFixedJoint>"), "k.urdf");
+    FAIL();
+  }
+  catch (const LoadError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("k.urdf: <gazebo reference='wrist'> <preserveFixedJoint>"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected true or false, got 'yes please'"), std::string::npos) << e.what();
+  }
+}
+
 // A link's <material> picks its camera colour from Gazebo's stock scripts; any other script is
 // drawn grey, with a warning naming it.
 TEST(Loaders, UrdfMaterialColoursTheLinkForTheCameras)

@@ -1064,3 +1064,82 @@ TEST(Physics, AJointsWrenchCountsTheGroundsPushOnItsChild)
   EXPECT_NEAR(f.x(), 0.0, 0.05);
   EXPECT_NEAR(f.y(), 0.0, 0.05);
 }
+
+// Friction on the child counts too: a sled pushed along a free prismatic joint slides against
+// the ground's friction, and the joint carries nothing along its axis. (The sled hangs on a free
+// vertical joint, so that the ground bears its whole weight: N, and its friction, are known.)
+TEST(Physics, AJointsWrenchCountsTheGroundsFrictionOnItsChild)
+{
+  const std::string urdf = R"(<robot name="sled"><link name="world"/>
+    <joint name="world_joint" type="fixed"><parent link="world"/><child link="base"/><origin xyz="0 0 1"/></joint>
+    <link name="base"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+      <inertial><mass value="4"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+    <link name="slider"><inertial><mass value="0.1"/>
+      <inertia ixx="0.0001" ixy="0" ixz="0" iyy="0.0001" iyz="0" izz="0.0001"/></inertial></link>
+    <joint name="lift" type="prismatic"><parent link="base"/><child link="slider"/><origin xyz="0 0 -0.9"/>
+      <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="100" velocity="10"/></joint>
+    <link name="sled"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision>
+      <inertial><mass value="1"/><inertia ixx="0.004" ixy="0" ixz="0" iyy="0.004" iyz="0" izz="0.007"/></inertial></link>
+    <joint name="slide" type="prismatic"><parent link="slider"/><child link="sled"/>
+      <axis xyz="1 0 0"/><limit lower="-5" upper="5" effort="100" velocity="10"/></joint></robot>)";
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(urdf, "sled.urdf"));
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(spec, "sled", "", btTransform::getIdentity());
+  r.watchJointWrench("slide");
+  r.commandNone("lift");
+  r.commandNone("slide");
+  run(w, 0.5);  // down onto the ground
+  ASSERT_NEAR(r.linkPose("sled").getOrigin().z(), 0.05, 0.002);
+  const double push = 15.0, v0 = r.jointVelocity("slide");
+  double most = 0;
+  const int steps = 500;
+  for (int i = 0; i < steps; ++i)
+  {
+    r.addWrench("sled", btVector3(push, 0, 0), btVector3(0, 0, 0));
+    w.step();
+    most = std::max(most, std::abs(r.jointWrench("slide").first.x()));
+  }
+  // The sled's 1 kg accelerated by the push less the friction: mu N = 1 x 1.1 kg x 9.8 m/s^2.
+  const double friction = push - 1.0 * (r.jointVelocity("slide") - v0) / (steps * w.stepSize());
+  EXPECT_NEAR(friction, 1.1 * 9.8, 0.5) << "the ground's friction";
+  EXPECT_LT(most, 0.05) << "of a " << push << " N push against " << friction << " N of friction";
+}
+
+// A fixed joint Gazebo keeps (<preserveFixedJoint>): a wrist's force-torque sensor reads what the
+// hand below it weighs, and the hand stays where the wrist holds it.
+TEST(Physics, AKeptFixedJointHoldsItsChildAndReadsItsWeight)
+{
+  const std::string urdf = armUrdf(true, R"(revolute"><parent link="base_link"/><child link="arm_link"/>
+      <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="50" velocity="5"/>)");
+  // A 0.5 kg hand on a fixed wrist at the arm's end, its centre of mass 0.1 m further out.
+  const std::string hand = R"(<link name="hand">
+      <collision><origin xyz="0.1 0 0"/><geometry><box size="0.1 0.05 0.05"/></geometry></collision>
+      <inertial><origin xyz="0.1 0 0"/><mass value="0.5"/>
+        <inertia ixx="0.0002" ixy="0" ixz="0" iyy="0.0005" iyz="0" izz="0.0005"/></inertial></link>
+    <joint name="wrist" type="fixed"><parent link="arm_link"/><child link="hand"/><origin xyz="0.5 0 0"/></joint>
+    <gazebo reference="wrist"><preserveFixedJoint>true</preserveFixedJoint></gazebo></robot>)";
+  const std::string with_hand = urdf.substr(0, urdf.rfind("</robot>")) + hand;
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(with_hand, "arm.urdf"));
+  ASSERT_TRUE(spec->joint("wrist")->keep_fixed);
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(spec, "arm", "", btTransform::getIdentity());
+  ASSERT_TRUE(r.hasKeptFixedJoint("wrist"));
+  EXPECT_FALSE(r.hasJoint("wrist"));  // not movable: nothing commands it
+  r.watchJointWrench("wrist");
+  r.commandPosition("shoulder", 0.3, 50);
+  run(w, 2.0);
+  const double q = r.jointPosition("shoulder"), m = 0.5, g = 9.8;
+  // The hand where the wrist holds it: 0.5 m out along the arm, turned with it.
+  const btTransform rel = r.linkPose("arm_link").inverse() * r.linkPose("hand");
+  EXPECT_LT((rel.getOrigin() - btVector3(0.5, 0, 0)).length(), 1e-6);
+  EXPECT_LT(rel.getRotation().getAngle(), 1e-6);
+  // Its weight's reaction in the hand's axes (pitched by q about y), and the torque about the
+  // wrist that keeps it level: minus the weight's, m g 0.1 cos(q) about y.
+  const auto [f, tau] = r.jointWrench("wrist");
+  EXPECT_NEAR(f.x(), -m * g * std::sin(q), 1e-6);
+  EXPECT_NEAR(f.y(), 0.0, 1e-6);
+  EXPECT_NEAR(f.z(), m * g * std::cos(q), 1e-6);
+  EXPECT_NEAR(tau.y(), -m * g * 0.1 * std::cos(q), 1e-6);
+  EXPECT_NEAR(tau.x(), 0.0, 1e-6);
+  EXPECT_NEAR(tau.z(), 0.0, 1e-6);
+}

@@ -119,6 +119,9 @@ struct JointSpec
   double lower = 0, upper = 0, effort = 0, velocity = 0;
   bool has_effort = false, has_velocity = false;  // <limit effort|velocity> written
   double damping = 0, friction = 0;
+  // A fixed joint Gazebo keeps (its <gazebo reference> says <disableFixedJointLumping> or
+  // <preserveFixedJoint>): its child stays a body of its own instead of being lumped into its parent.
+  bool keep_fixed = false;
 };
 
 // A URDF <transmission> (transmission_interface/SimpleTransmission): one joint, one actuator.

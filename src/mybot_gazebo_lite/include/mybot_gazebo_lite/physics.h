@@ -91,6 +91,8 @@ public:
   const btTransform& spawnPose() const { return spawn_; }
   bool hasLink(const std::string& n) const { return links_.count(n) != 0; }
   bool hasJoint(const std::string& n) const { return joint_index_.count(n) != 0; }
+  // A fixed joint Gazebo keeps (JointSpec::keep_fixed): not movable, but its wrench can be watched.
+  bool hasKeptFixedJoint(const std::string& n) const;
   std::vector<std::string> movableJoints() const;
 
   // World pose and velocity of a URDF link frame.
@@ -126,6 +128,7 @@ public:
   // Bullet's own joint feedback leaves out the motors' impulses, so it is computed by
   // Newton-Euler on the child's subtree instead (jointWrenches in physics.cpp). Zero until a step
   // has run with the joint watched; watching costs a pass over the robot's bodies per step.
+  // `joint`: a movable joint, or a fixed one Gazebo keeps.
   void watchJointWrench(const std::string& joint);
   std::pair<btVector3, btVector3> jointWrench(const std::string& joint) const;
 
@@ -190,10 +193,16 @@ private:
   std::vector<std::pair<int, double>> ball_joints_;
   // addWrench's sums by body (index body + 1): for the coming step, and over the last one.
   std::vector<std::pair<btVector3, btVector3>> pending_wrench_, last_wrench_;
-  // watchJointWrench's joints (index into joints_) and their wrench over the last step; the
-  // bodies' motion before the step.
-  std::vector<std::pair<size_t, std::pair<btVector3, btVector3>>> watched_wrench_;
+  // watchJointWrench's joints and their wrench over the last step; the bodies' motion before the step.
+  struct WatchedJoint
+  {
+    const JointSpec* spec = nullptr;
+    int link = -1;  // the multibody link the joint heads
+    std::pair<btVector3, btVector3> wrench{btVector3(0, 0, 0), btVector3(0, 0, 0)};
+  };
+  std::vector<WatchedJoint> watched_wrench_;
   std::vector<BodyMotion> motion_before_;
+  std::map<std::string, int> kept_fixed_;  // kept fixed joints -> their multibody link
 };
 
 // A collision object that may intersect a sensor ray (robots and dynamic world bodies).

@@ -148,21 +148,37 @@ std::pair<btVector3, btVector3> Robot::externalWrench(const std::string& link) c
   return last_wrench_[static_cast<size_t>(links_.at(link).body + 1)];
 }
 
+bool Robot::hasKeptFixedJoint(const std::string& n) const
+{
+  return kept_fixed_.count(n) != 0;
+}
+
 void Robot::watchJointWrench(const std::string& joint)
 {
-  const size_t j = joint_index_.at(joint);
   for (const auto& w : watched_wrench_)
-    if (w.first == j)
+    if (w.spec->name == joint)
       return;
-  watched_wrench_.push_back({j, {btVector3(0, 0, 0), btVector3(0, 0, 0)}});
+  WatchedJoint w;
+  if (hasJoint(joint))
+  {
+    w.spec = this->joint(joint).spec;
+    w.link = this->joint(joint).link;
+  }
+  else
+  {
+    w.link = kept_fixed_.at(joint);
+    for (const JointSpec& js : spec_->joints)
+      if (js.name == joint)
+        w.spec = &js;
+  }
+  watched_wrench_.push_back(w);
 }
 
 std::pair<btVector3, btVector3> Robot::jointWrench(const std::string& joint) const
 {
-  const size_t j = joint_index_.at(joint);
   for (const auto& w : watched_wrench_)
-    if (w.first == j)
-      return w.second;
+    if (w.spec->name == joint)
+      return w.wrench;
   throw std::logic_error("jointWrench: joint " + joint + " is not watched");
 }
 
@@ -573,7 +589,7 @@ std::vector<PhysicsWorld::LumpedBody> PhysicsWorld::lumpFixedJoints(const RobotS
       if (j.parent != cur)
         continue;
       auto [pb, ptf] = where[cur];
-      if (j.type == JointSpec::FIXED)
+      if (j.type == JointSpec::FIXED && !j.keep_fixed)
       {
         btTransform t = ptf * j.origin;
         where[j.child] = {pb, t};
@@ -630,7 +646,10 @@ void PhysicsWorld::buildMultiBody(const std::vector<LumpedBody>& bodies, Robot& 
     btQuaternion rotParentToThis = offB.getRotation() * offA.getRotation().inverse();
     btVector3 axis = quatRotate(offB.getRotation(), b.joint->axis);
     int parent_link = b.parent - 1;
-    if (b.joint->type == JointSpec::BALL)
+    if (b.joint->type == JointSpec::FIXED)  // a fixed joint Gazebo keeps (keep_fixed)
+      mb->setupFixed(i - 1, b.mp.mass, b.mp.diag, parent_link, rotParentToThis, offA.getOrigin(), -offB.getOrigin(),
+                     true);
+    else if (b.joint->type == JointSpec::BALL)
       mb->setupSpherical(i - 1, b.mp.mass, b.mp.diag, parent_link, rotParentToThis, offA.getOrigin(), -offB.getOrigin(),
                          true);
     else if (b.joint->type == JointSpec::PRISMATIC)
@@ -692,6 +711,11 @@ void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Ro
   for (int i = 1; i < static_cast<int>(bodies.size()); ++i)
   {
     const JointSpec* js = bodies[i].joint;
+    if (js->type == JointSpec::FIXED)
+    {
+      r.kept_fixed_[js->name] = i - 1;
+      continue;
+    }
     if (js->type == JointSpec::BALL)
     {
       r.ball_joints_.emplace_back(i - 1, js->damping);
@@ -920,14 +944,12 @@ void PhysicsWorld::jointWrenches(Robot& r)
       }
     }
   }
-  for (auto& [j, wrench] : r.watched_wrench_)
+  for (auto& w : r.watched_wrench_)
   {
-    const Robot::Joint& joint = r.joints_[j];
-    const int head = joint.link;
+    const int head = w.link;
     // In the child link's axes, about the joint's origin (the child's own for a URDF joint).
-    const btTransform child =
-        before[static_cast<size_t>(head + 1)].pose * r.links_.at(joint.spec->child).in_body_inertial;
-    const btVector3 P = child * joint.spec->pivot.getOrigin();
+    const btTransform child = before[static_cast<size_t>(head + 1)].pose * r.links_.at(w.spec->child).in_body_inertial;
+    const btVector3 P = child * w.spec->pivot.getOrigin();
     btVector3 f(0, 0, 0), tau(0, 0, 0);
     for (int b = head; b < n; ++b)
     {
@@ -942,7 +964,7 @@ void PhysicsWorld::jointWrenches(Robot& r)
       tau += (after[k].L - before[k].L) / dt - external[k].second + (before[k].pose.getOrigin() - P).cross(net);
     }
     const btMatrix3x3 to_child = child.getBasis().transpose();
-    wrench = {to_child * f, to_child * tau};
+    w.wrench = {to_child * f, to_child * tau};
   }
 }
 
@@ -1065,7 +1087,9 @@ bool PhysicsWorld::resetWorld()
     Robot& r = *rp;
     r.contacts_ = Robot::Contacts();
     for (int i = 0; i < r.mb_->getNumLinks(); ++i)
-      if (r.mb_->getLink(i).m_jointType == btMultibodyLink::eSpherical)
+      if (r.mb_->getLink(i).m_jointType == btMultibodyLink::eFixed)
+        continue;  // a kept fixed joint: nothing to reset (and no velocity of its own to write)
+      else if (r.mb_->getLink(i).m_jointType == btMultibodyLink::eSpherical)
       {
         const btScalar identity[4] = {0, 0, 0, 1}, rest[3] = {0, 0, 0};  // the quaternion x y z w
         r.mb_->setJointPosMultiDof(i, identity);

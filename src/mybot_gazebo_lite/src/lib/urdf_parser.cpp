@@ -147,6 +147,16 @@ JointSpec::Type jointType(const Ctx& c, const std::string& t, const std::string&
   c.fail(where, "unknown joint type '" + t + "'");
 }
 
+// sdformat's booleans: true/false or 1/0.
+bool textBool(const std::string& v, bool& out)
+{
+  if (v == "true" || v == "1")
+    return out = true, true;
+  if (v == "false" || v == "0")
+    return out = false, true;
+  return false;
+}
+
 bool textDouble(const XmlNode& n, double& out)
 {
   char* end = nullptr;
@@ -195,23 +205,10 @@ GazeboTag classifyGazeboTag(const std::string& n, bool on_link, bool has_ref)
       "static",   "self_collide", "selfCollide", "enable_wind", "audio_source",    "projector"};
   if (cosmetic.count(n))
     return {GazeboTag::COSMETIC, n};
-  static const std::set<std::string> not_simulated = {"minDepth",
-                                                      "maxVel",
-                                                      "gravity",
-                                                      "turnGravityOff",
-                                                      "dampingFactor",
-                                                      "implicitSpringDamper",
-                                                      "cfmDamping",
-                                                      "stopCfm",
-                                                      "stopErp",
-                                                      "fudgeFactor",
-                                                      "springReference",
-                                                      "springStiffness",
-                                                      "disableFixedJointLumping",
-                                                      "preserveFixedJoint",
-                                                      "collision",
-                                                      "velocity_decay",
-                                                      "kinematic"};
+  static const std::set<std::string> not_simulated = {
+      "minDepth",   "maxVel",         "gravity",  "turnGravityOff", "dampingFactor",   "implicitSpringDamper",
+      "cfmDamping", "stopCfm",        "stopErp",  "fudgeFactor",    "springReference", "springStiffness",
+      "collision",  "velocity_decay", "kinematic"};
   if (not_simulated.count(n))
     return {GazeboTag::NOT_SIMULATED, n};
   return {GazeboTag::UNKNOWN, n};
@@ -472,6 +469,18 @@ void parseGazeboExtensions(const Ctx& c, const XMLElement* robot, const std::set
         if (!gazeboMaterialColor(x.text, link->color))
           spec.warnings.push_back(source + ": " + where + " '" + x.text +
                                   "': not one of Gazebo's stock colours, drawn grey by the cameras");
+      }
+      else if ((x.name == "disableFixedJointLumping" || x.name == "preserveFixedJoint") && !link && !ref.empty())
+      {
+        // Gazebo keeps such a fixed joint, and its child a link of its own (a wrist's force-torque
+        // sensor sits on one). On a movable joint it changes nothing.
+        const std::string v = x.text.empty() ? x.attr("value") : x.text;
+        bool keep = false;
+        if (!textBool(v, keep))
+          c.fail(where, "expected true or false, got '" + v + "'");
+        for (auto& j : spec.joints)
+          if (j.name == ref && j.type == JointSpec::FIXED)
+            j.keep_fixed = keep;
       }
       else if (tag.kind == GazeboTag::UNKNOWN)
       {

@@ -2,7 +2,8 @@
 // <topicName>): the parent's push on the child link, in the child link's axes, its torque about
 // the joint, as upstream reads Gazebo's Joint::GetForceTorque(0).body2Force / body2Torque. Stamped
 // with the child link's name (tf_prefix applied). Constraint and actuation alike: a servo holding
-// an arm shows its torque, a free joint none about its axis (Robot::jointWrench). <gaussianNoise>
+// an arm shows its torque, a free joint none about its axis (Robot::jointWrench). A fixed joint
+// needs its <gazebo reference> to keep it (<preserveFixedJoint>), as in Gazebo. <gaussianNoise>
 // is added to each of the six values. At <updateRate> (0: every step) while someone subscribes.
 #include "builtin.h"
 
@@ -19,11 +20,13 @@ public:
   explicit FTSensor(const PluginContext& c) : c_(c)
   {
     PluginParams p(c, c.spec->xml);
-    joint_ = p.joint("jointName", "");
+    // A movable joint, or a fixed one Gazebo keeps (a wrist sensor's: <preserveFixedJoint>).
+    const std::string kept = scopedJoint(c, p.requiredStr("jointName"));
+    joint_ = c.robot->hasKeptFixedJoint(kept) ? kept : p.joint("jointName", "");
     const std::string topic = p.requiredStr("topicName");
     noise_ = std::normal_distribution<double>(0.0, p.nonNegative("gaussianNoise", 0.0));
     rate_ = Rate(p.num("updateRate", 0.0));
-    msg_.header.frame_id = resolveFrame(c, c.robot->joint(joint_).spec->child);
+    msg_.header.frame_id = resolveFrame(c, c.robot->spec().joint(joint_)->child);
     c.robot->watchJointWrench(joint_);
     pub_ = ros::NodeHandle(c.ns).advertise<geometry_msgs::WrenchStamped>(topic, kEveryStepQueue);
   }

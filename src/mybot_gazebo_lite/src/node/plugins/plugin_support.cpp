@@ -186,8 +186,10 @@ std::string PluginParams::movableJoint(const std::string& tag, const std::string
     return j;
   for (const JointSpec& spec : c_.robot->spec().joints)
     if (spec.name == j && spec.type == JointSpec::FIXED)
-      fail(tag, "joint '" + j + "' is fixed: Gazebo lumps its child into its parent, and so does gazebo_lite " +
-                    "(<disableFixedJointLumping> is not simulated)");
+      fail(tag, spec.keep_fixed ? "joint '" + j + "' is fixed: this plugin moves or reads a movable joint"
+                                : "joint '" + j + "' is fixed: Gazebo lumps its child into its parent, and so does " +
+                                      "gazebo_lite, unless its <gazebo reference> sets <preserveFixedJoint> or " +
+                                      "<disableFixedJointLumping>");
   fail(tag, "no movable joint named '" + j + "'");
 }
 
