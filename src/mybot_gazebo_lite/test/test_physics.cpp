@@ -1142,4 +1142,15 @@ TEST(Physics, AKeptFixedJointHoldsItsChildAndReadsItsWeight)
   EXPECT_NEAR(tau.y(), -m * g * 0.1 * std::cos(q), 1e-6);
   EXPECT_NEAR(tau.x(), 0.0, 1e-6);
   EXPECT_NEAR(tau.z(), 0.0, 1e-6);
+  // Gazebo's model has the hand and the wrist: a link with its own mass, a fixed joint.
+  ModelProperties props;
+  ASSERT_TRUE(w.modelProperties("arm", props));
+  EXPECT_EQ(props.links, (std::vector<std::string>{"base_link", "arm_link", "hand"}));
+  EXPECT_EQ(props.joints, (std::vector<std::string>{"shoulder", "wrist"}));
+  JointProperties jp;
+  ASSERT_EQ(w.jointProperties("arm::wrist", jp), "");
+  EXPECT_EQ(jp.type, JointSpec::FIXED);
+  LinkProperties lp;
+  ASSERT_EQ(w.linkProperties("arm::hand", lp), "");
+  EXPECT_NEAR(lp.mass, 0.5, 1e-12);
 }

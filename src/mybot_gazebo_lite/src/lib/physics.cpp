@@ -1413,14 +1413,15 @@ std::string PhysicsWorld::jointProperties(const std::string& joint, JointPropert
   const std::string why = resolveJoint(joint, r, name);
   if (!why.empty())
   {
-    // An SDF model's fixed or ball joint: Gazebo keeps it; it does not move on its own axis.
+    // An SDF model's fixed or ball joint, or a URDF's fixed joint it is told to keep
+    // (preserveFixedJoint): Gazebo has it; it does not move on its own axis.
     const size_t sep = joint.find("::");
     const std::string model = sep == std::string::npos ? "" : joint.substr(0, sep);
     const std::string jname = sep == std::string::npos ? joint : joint.substr(sep + 2);
     std::vector<std::string> owners;
     const JointSpec* found = nullptr;
     for (const auto& rp : robots_)
-      if (rp->spec_->from_sdf && (model.empty() || rp->name_ == model))
+      if ((rp->spec_->from_sdf || rp->hasKeptFixedJoint(jname)) && (model.empty() || rp->name_ == model))
         if (const JointSpec* js = rp->spec_->joint(jname);
             js && (js->type == JointSpec::FIXED || js->type == JointSpec::BALL))
         {
@@ -1844,7 +1845,14 @@ bool PhysicsWorld::modelProperties(const std::string& model, ModelProperties& ou
     }
     if (!out.links.empty())
       out.canonical_link = out.links.front();
-    out.joints = r->movableJoints();
+    // The movable joints and the fixed ones Gazebo keeps, in the order of the bodies they head.
+    std::map<int, std::string> by_link;
+    for (const auto& j : r->joints_)
+      by_link[j.link] = j.spec->name;
+    for (const auto& [name, link] : r->kept_fixed_)
+      by_link[link] = name;
+    for (const auto& [link, name] : by_link)
+      out.joints.push_back(name);
     return true;
   }
   const auto m =
