@@ -100,6 +100,33 @@ TEST(Loaders, UrdfKeptFixedJointsAreRead)
   }
 }
 
+// A URDF <mimic> Gazebo classic ignores: warned once naming the joint, unless a mimic joint
+// plugin holds that joint.
+TEST(Loaders, UrdfMimicWithoutAPluginIsWarned)
+{
+  const auto gripper = [](const std::string& gazebo)
+  {
+    return "<robot name='g'><link name='palm'><inertial><mass value='1'/><inertia ixx='1' iyy='1' izz='1'/>"
+           "</inertial></link><link name='l'><inertial><mass value='0.1'/><inertia ixx='1' iyy='1' izz='1'/>"
+           "</inertial></link><link name='r'><inertial><mass value='0.1'/><inertia ixx='1' iyy='1' izz='1'/>"
+           "</inertial></link><joint name='left' type='continuous'><parent link='palm'/><child link='l'/></joint>"
+           "<joint name='right' type='continuous'><parent link='palm'/><child link='r'/>"
+           "<mimic joint='left' multiplier='-1'/></joint>" +
+           gazebo + "</robot>";
+  };
+  const RobotSpec bare = parseUrdf(gripper(""), "g.urdf");
+  EXPECT_EQ(bare.joint("right")->mimic, "left");
+  ASSERT_EQ(bare.warnings.size(), 1u);
+  EXPECT_NE(bare.warnings[0].find("g.urdf: joint 'right' <mimic joint='left'>: Gazebo classic ignores <mimic>"),
+            std::string::npos)
+      << bare.warnings[0];
+  const RobotSpec held = parseUrdf(gripper("<gazebo><plugin name='m' filename='libroboticsgroup_upatras_gazebo_mimic_"
+                                           "joint_plugin.so'><joint>left</joint><mimicJoint>right</mimicJoint>"
+                                           "</plugin></gazebo>"),
+                                   "g.urdf");
+  EXPECT_TRUE(held.warnings.empty()) << held.warnings.front();
+}
+
 // A link's <material> picks its camera colour from Gazebo's stock scripts; any other script is
 // drawn grey, with a warning naming it.
 TEST(Loaders, UrdfMaterialColoursTheLinkForTheCameras)

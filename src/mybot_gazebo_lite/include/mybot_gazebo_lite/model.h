@@ -122,6 +122,7 @@ struct JointSpec
   // A fixed joint Gazebo keeps (its <gazebo reference> says <disableFixedJointLumping> or
   // <preserveFixedJoint>): its child stays a body of its own instead of being lumped into its parent.
   bool keep_fixed = false;
+  std::string mimic;  // URDF <mimic joint>: the joint it is said to follow ("" for none)
 };
 
 // A URDF <transmission> (transmission_interface/SimpleTransmission): one joint, one actuator.

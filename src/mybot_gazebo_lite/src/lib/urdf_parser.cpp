@@ -379,6 +379,8 @@ JointSpec parseJoint(const Ctx& c, const XMLElement* j, const std::set<std::stri
     if (js.damping < 0 || js.friction < 0)
       c.fail(where + " <dynamics>", "negative damping/friction");
   }
+  if (const XMLElement* m = j->FirstChildElement("mimic"))
+    js.mimic = m->Attribute("joint") ? m->Attribute("joint") : "";
   if (js.type == JointSpec::FLOATING || js.type == JointSpec::PLANAR)
     c.fail(where, "floating/planar joints are not supported");
   return js;
@@ -498,6 +500,24 @@ void parseGazeboExtensions(const Ctx& c, const XMLElement* robot, const std::set
   addSensorPlugins(spec, "<gazebo reference='");
 }
 
+// A joint's <mimic> no mimic joint plugin holds: Gazebo classic ignores <mimic>, and so does
+// gazebo_lite, so the joint moves on its own (a gripper's second finger hangs free). Said once.
+void warnUnheldMimics(RobotSpec& spec)
+{
+  std::set<std::string> held;
+  for (const PluginSpec& p : spec.plugins)
+    if (p.filename.find("mimic_joint_plugin") != std::string::npos)
+      if (const XmlNode* m = p.xml.child("mimicJoint"))
+        held.insert(m->text);
+  for (const JointSpec& j : spec.joints)
+    if (!j.mimic.empty() && !held.count(j.name))
+      spec.warnings.push_back(
+          spec.source + ": joint '" + j.name + "' <mimic joint='" + j.mimic +
+          "'>: Gazebo classic ignores <mimic>, and so does gazebo_lite: the joint moves on its own " +
+          "unless a mimic joint plugin (libroboticsgroup_gazebo_mimic_joint_plugin.so, see " +
+          "mybot_gazebo_lite/README.md) holds it");
+}
+
 // The one link that is no joint's child.
 std::string findRoot(const Ctx& c, const RobotSpec& spec, const std::set<std::string>& children)
 {
@@ -535,6 +555,7 @@ RobotSpec parseUrdf(const std::string& xml, const std::string& source, const Uri
     spec.transmissions.push_back(parseTransmission(c, t, joints));
   spec.root = findRoot(c, spec, children);
   parseGazeboExtensions(c, robot, joints, spec);
+  warnUnheldMimics(spec);
   return spec;
 }
 
