@@ -276,6 +276,57 @@ TEST(Physics, ListsEveryModelAndLinkInGazebosOrder)
   }
 }
 
+// The links a vacuum gripper may take: of moving models only, within the radius, none of the asker's,
+// each with the state linkStates() gives it.
+TEST(Physics, FindsTheMovingLinksNearAPoint)
+{
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(fixture("diffbot.urdf"), "diffbot.urdf"));
+  WorldSpec world = flatWorld();
+  world.models.push_back(boxModel("pillar", btVector3(0.5, 0.5, 0.5), btVector3(0.1, 0.1, 1), true));
+  world.models.push_back(boxModel("crate", btVector3(0.6, 0.4, 0.15), btVector3(0.1, 0.1, 0.1), false));
+  PhysicsWorld w(world, {});
+  w.addRobot(spec, "near", "", btTransform::getIdentity());
+  w.addRobot(spec, "asker", "", makeTransform(btVector3(0.3, 0.3, 0), btVector3(0, 0, 0)));
+  w.addRobot(spec, "far", "", makeTransform(btVector3(-5, 0, 0), btVector3(0, 0, 0)));
+  run(w, 0.2);
+  w.setRobotVelocity(*w.robot("near"), btVector3(0.2, 0, 0), btVector3(0, 0, 0.5));  // velocities to compare
+
+  const auto all = w.linkStates();
+  for (const double radius : {0.05, 0.3, 0.6, 1.0})
+  {
+    const btVector3 centre(0.5, 0.4, 0.1);
+    std::vector<std::pair<std::string, Pose>> expected;
+    for (const auto& [name, state] : all)
+    {
+      const std::string model = name.substr(0, name.find("::"));
+      if (model != "asker" && model != "pillar" && model != "ground_plane" &&
+          (state.tf.getOrigin() - centre).length() < radius)
+        expected.emplace_back(name, state);
+    }
+    const auto near = w.movingLinksNear(centre, radius, "asker");
+    ASSERT_EQ(near.size(), expected.size()) << radius;
+    for (size_t i = 0; i < near.size(); ++i)
+    {
+      EXPECT_EQ(near[i].first, expected[i].first);
+      EXPECT_EQ(near[i].second.tf.getOrigin(), expected[i].second.tf.getOrigin()) << near[i].first;
+      EXPECT_EQ(near[i].second.linear, expected[i].second.linear) << near[i].first;
+      EXPECT_EQ(near[i].second.angular, expected[i].second.angular) << near[i].first;
+    }
+    if (radius == 1.0)  // the scene holds what the test means to tell apart
+    {
+      EXPECT_TRUE(std::any_of(near.begin(), near.end(), [](const auto& n) { return n.first == "crate::link"; }));
+      EXPECT_TRUE(std::any_of(near.begin(), near.end(), [](const auto& n) { return n.first.rfind("near::", 0) == 0; }));
+      for (const std::string left_out : {"asker::", "pillar::"})  // near, and not listed
+        EXPECT_TRUE(std::any_of(all.begin(), all.end(),
+                                [&](const auto& n) {
+                                  return n.first.rfind(left_out, 0) == 0 &&
+                                         (n.second.tf.getOrigin() - centre).length() < 1.0;
+                                }))
+            << left_out;
+    }
+  }
+}
+
 // gazebo_ros's spawn_sdf_model and delete_model on world models, while the world runs.
 TEST(Physics, SpawnsAndDeletesSdfModelsWhileRunning)
 {

@@ -312,6 +312,11 @@ public:
   std::vector<std::pair<std::string, Pose>> modelStates() const;
   // Every link's state, named "model::link" as in Gazebo's /gazebo/link_states, in the same order.
   std::vector<std::pair<std::string, Pose>> linkStates() const;
+  // The links of the models that move (robots and dynamic world models, but `except_model`) whose
+  // frame is within `radius` of `centre`, named and ordered as linkStates() names them, with their
+  // states. Only those links' velocities are computed: a vacuum gripper asks at every step.
+  std::vector<std::pair<std::string, Pose>> movingLinksNear(const btVector3& centre, double radius,
+                                                            const std::string& except_model) const;
   // A model's state, or a link's ("model::link"); false when there is no such entity.
   bool entityState(const std::string& name, Pose& out) const;
 

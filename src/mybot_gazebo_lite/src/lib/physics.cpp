@@ -1249,6 +1249,30 @@ std::vector<std::pair<std::string, Pose>> PhysicsWorld::linkStates() const
   return out;
 }
 
+std::vector<std::pair<std::string, Pose>> PhysicsWorld::movingLinksNear(const btVector3& centre, double radius,
+                                                                        const std::string& except_model) const
+{
+  std::vector<std::pair<std::string, Pose>> out;
+  for (const std::string& name : model_order_)
+  {
+    if (name == except_model)
+      continue;
+    if (const Robot* r = robotNamed(name))
+    {
+      // Where a frame is costs one transform; its velocity, a pass over the tree: only for those near.
+      for (const auto& l : r->spec_->links)
+        if (r->hasLink(l.name) && (r->linkPose(l.name).getOrigin() - centre).length() < radius)
+          out.emplace_back(name + "::" + l.name, r->linkState(l.name));
+      continue;
+    }
+    for (const auto& wb : world_bodies_)
+      if (wb.model == name && wb.body &&
+          ((wb.obj->getWorldTransform() * wb.link_in_body).getOrigin() - centre).length() < radius)
+        out.emplace_back(name + "::" + wb.link_name, linkFrameState(wb));
+  }
+  return out;
+}
+
 bool PhysicsWorld::entityState(const std::string& name, Pose& out) const
 {
   const size_t sep = name.find("::");

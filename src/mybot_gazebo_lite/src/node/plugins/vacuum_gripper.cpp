@@ -41,15 +41,10 @@ public:
     if (!on_)
       return;
     const Pose cup = c_.robot->linkState(body_);
-    const std::string own = c_.robot->name() + "::";
-    for (const auto& [name, s] : c_.world->linkStates())
+    for (const auto& [name, s] : c_.world->movingLinksNear(cup.tf.getOrigin(), kReach, c_.robot->name()))
     {
-      if (name.compare(0, own.size(), own) == 0)
-        continue;
       const btVector3 offset = cup.tf.getOrigin() - s.tf.getOrigin();
       const double distance = offset.length();
-      if (distance >= kReach || isStatic(name.substr(0, name.find("::"))))
-        continue;
       btTransform pose = s.tf;
       if (distance < kSnap)
         pose.setOrigin(cup.tf.getOrigin());
@@ -84,12 +79,6 @@ private:
     on_ = false;
     return true;
   }
-  bool isStatic(const std::string& model) const
-  {
-    ModelProperties props;
-    return c_.world->modelProperties(model, props) && props.is_static;
-  }
-
   PluginContext c_;
   std::string body_;
   bool on_ = false, grasping_ = false;
