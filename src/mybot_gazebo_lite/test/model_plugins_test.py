@@ -4,7 +4,8 @@ says; gazebo_ros_f3d reports the external wrench on it; gazebo_ros_joint_pose_tr
 turntable's joint point by point, as upstream times the points; gazebo_ros_ft_sensor reads what
 that joint carries; gazebo_ros_triggered_camera and _multicamera render a frame per trigger;
 gazebo_ros_vacuum_gripper holds a box up while it is on; roboticsgroup's mimic joint plugin makes a
-gripper's fingers follow its driven one."""
+gripper's fingers follow its driven one; gazebo_ros_p3d's and gazebo_ros_imu's gaussianNoise spreads
+their readings as much as it says."""
 import math
 import threading
 import unittest
@@ -12,7 +13,8 @@ import unittest
 import rospy
 import rostest
 from geometry_msgs.msg import Wrench, WrenchStamped
-from sensor_msgs.msg import Image
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import Image, Imu
 from std_msgs.msg import Bool, Empty as EmptyMsg
 from geometry_msgs.msg import Pose
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
@@ -47,6 +49,9 @@ class ModelPluginTests(unittest.TestCase):
         cls.grasping = None
         cls.ls.Subscriber("/suction/grasping", Bool, cls._grasping)
         cls.push = cls.ls.Publisher("/crate/push", Wrench, queue_size=1)
+        cls.noisy = {"noisy_truth": [], "imu": []}
+        cls.ls.Subscriber("/crate/noisy_truth", Odometry, lambda m: cls._noisy("noisy_truth", m))
+        cls.ls.Subscriber("/crate/imu", Imu, lambda m: cls._noisy("imu", m))
         rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
         cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
         cls.apply = rospy.ServiceProxy("/gazebo/apply_body_wrench", ApplyBodyWrench)
@@ -72,6 +77,11 @@ class ModelPluginTests(unittest.TestCase):
     def _f3d(cls, m):
         with cls.lock:
             cls.f3d = m
+
+    @classmethod
+    def _noisy(cls, topic, m):
+        with cls.lock:
+            cls.noisy[topic].append(m)
 
     @classmethod
     def _frame(cls, cam, m):
@@ -147,6 +157,40 @@ class ModelPluginTests(unittest.TestCase):
         self.ls.sleep(0.5)
         self.assertLess(self.z(), 0.01)  # back on the ground, and staying there
         self.assertAlmostEqual(self.reported().wrench.force.z, 0.0, places=9)
+
+    def spread(self, values, truth, sigma):
+        """Checks samples of truth + N(0, sigma): their mean, and their deviation within 20 % (with
+        300 samples or more, the estimate's standard error is 4 % or less)."""
+        n = len(values)
+        mean = sum(values) / n
+        std = math.sqrt(sum((v - mean) ** 2 for v in values) / (n - 1))
+        self.assertLess(abs(mean - truth), 5 * sigma / math.sqrt(n), (mean, truth))
+        self.assertGreater(std, 0.8 * sigma)
+        self.assertLess(std, 1.2 * sigma)
+
+    def test_gaussian_noise_spreads_p3d_and_imu_readings_as_much_as_it_says(self):
+        """At rest on the ground: the truth is its resting pose and no motion, the IMU's gravity."""
+        for m in self.noisy.values():
+            del m[:]
+        self.ls.sleep(3.0)  # 300 readings of each at 100 Hz
+        rest = self.model(model_name="crate").pose.position
+        with self.lock:
+            odom, imu = list(self.noisy["noisy_truth"]), list(self.noisy["imu"])
+        self.assertGreaterEqual(len(odom), 300)
+        self.assertGreaterEqual(len(imu), 300)
+        p = [m.pose.pose.position for m in odom]
+        self.spread([v.x - rest.x for v in p] + [v.y - rest.y for v in p] + [v.z - rest.z for v in p], 0.0, 0.01)
+        for part in ("linear", "angular"):
+            v = [getattr(m.twist.twist, part) for m in odom]
+            self.spread([a.x for a in v] + [a.y for a in v] + [a.z for a in v], 0.0, 0.01)
+        self.assertAlmostEqual(odom[-1].pose.covariance[0], 1e-4, places=12)
+        self.assertAlmostEqual(odom[-1].twist.covariance[35], 1e-4, places=12)
+        w = [m.angular_velocity for m in imu]
+        self.spread([a.x for a in w] + [a.y for a in w] + [a.z for a in w], 0.0, 0.02)
+        a = [m.linear_acceleration for m in imu]
+        self.spread([v.x for v in a] + [v.y for v in a], 0.0, 0.02)
+        self.spread([v.z for v in a], G, 0.02)
+        self.assertAlmostEqual(imu[-1].angular_velocity_covariance[0], 4e-4, places=12)
 
     def turn(self):
         return self.joint(joint_name="table::turn").position[0]

@@ -967,6 +967,14 @@ class MalformedInputTests(unittest.TestCase):
                                   '<updateRate>fast</updateRate><bodyName>a</bodyName></plugin>',
                                   ('<updateRate>', 'libgazebo_ros_p3d.so'))
 
+    def test_a_negative_gaussian_noise_is_named(self):
+        """A deviation below 0 is a mistake (gazebo_ros would square it away): refused, naming it."""
+        for lib in ('libgazebo_ros_p3d.so', 'libgazebo_ros_imu.so', 'libgazebo_ros_ft_sensor.so'):
+            self.assert_spawn_refused('noise_' + lib.split('_')[-1][:-3],
+                                      '<plugin name="n" filename="%s"><topicName>n</topicName><bodyName>b</bodyName>'
+                                      '<jointName>j</jointName><gaussianNoise>-0.1</gaussianNoise></plugin>' % lib,
+                                      ('<gaussianNoise>', 'must be >= 0', lib), 'continuous')
+
     def test_bad_hector_error_model_is_named(self):
         """hector's per-axis errors are three numbers: two are refused naming the tag; a negative
         spread too."""

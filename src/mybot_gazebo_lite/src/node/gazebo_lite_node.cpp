@@ -1017,9 +1017,7 @@ private:
     res.pause = paused_;
     res.max_update_rate = rtf_ / world_->stepSize();
     const btVector3& g = world_->gravity();
-    res.gravity.x = g.x();
-    res.gravity.y = g.y();
-    res.gravity.z = g.z();
+    res.gravity = toMsg(g);
     res.ode_config.sor_pgs_iters = world_->solverIterations();
     res.success = true;
     res.status_message = "GetPhysicsProperties: got properties";
@@ -1076,27 +1074,8 @@ private:
   static geometry_msgs::Pose poseMsg(const Pose& s)
   {
     geometry_msgs::Pose p;
-    const btVector3& o = s.tf.getOrigin();
-    const btQuaternion q = s.tf.getRotation();
-    p.position.x = o.x();
-    p.position.y = o.y();
-    p.position.z = o.z();
-    p.orientation.x = q.x();
-    p.orientation.y = q.y();
-    p.orientation.z = q.z();
-    p.orientation.w = q.w();
+    toMsg(s.tf, p);
     return p;
-  }
-  static geometry_msgs::Twist twistMsg(const Pose& s)
-  {
-    geometry_msgs::Twist t;
-    t.linear.x = s.linear.x();
-    t.linear.y = s.linear.y();
-    t.linear.z = s.linear.z();
-    t.angular.x = s.angular.x();
-    t.angular.y = s.angular.y();
-    t.angular.z = s.angular.z();
-    return t;
   }
 
   bool setLinkState(SetLinkState::Request& req, SetLinkState::Response& res)

@@ -11,6 +11,7 @@
 #include "mybot_gazebo_lite/raycast2d.h"
 
 #include <geometry_msgs/Pose.h>
+#include <geometry_msgs/Twist.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <mybot_lockstep/ros/coordinator.h>
 #include <ros/ros.h>
@@ -153,7 +154,15 @@ std::string resolveFrame(const PluginContext& c, std::string f);
 // (PluginSpec::scope), else the name as given.
 std::string scopedJoint(const PluginContext& c, const std::string& name);
 std::string scopedLink(const PluginContext& c, const std::string& name);
+// `v` with a draw of `noise` added to x, y, then z, in that order: a constructor's arguments are
+// evaluated in any order, and a seeded run must repeat. No draw when its deviation is 0.
+btVector3 addNoise(btVector3 v, std::normal_distribution<double>& noise, std::mt19937& rng);
+// Bullet's types as geometry_msgs: their one home, for the plugins and the node's services.
+geometry_msgs::Vector3 toMsg(const btVector3& v);
+geometry_msgs::Quaternion toMsg(const btQuaternion& q);
 void toMsg(const btTransform& tf, geometry_msgs::Pose& p);
+// A state's velocities (world axes) as a Twist.
+geometry_msgs::Twist twistMsg(const Pose& s);
 geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std::string& parent,
                                      const std::string& child);
 

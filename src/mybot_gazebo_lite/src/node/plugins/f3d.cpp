@@ -28,12 +28,8 @@ public:
       return;
     const auto w = c_.robot->externalWrench(body_);
     msg_.header.stamp = ros::Time(t);
-    msg_.wrench.force.x = w.first.x();
-    msg_.wrench.force.y = w.first.y();
-    msg_.wrench.force.z = w.first.z();
-    msg_.wrench.torque.x = w.second.x();
-    msg_.wrench.torque.y = w.second.y();
-    msg_.wrench.torque.z = w.second.z();
+    msg_.wrench.force = toMsg(w.first);
+    msg_.wrench.torque = toMsg(w.second);
     pub_.publish(msg_);
   }
 

@@ -36,17 +36,12 @@ public:
       return;
     const auto [force, torque] = c_.robot->jointWrench(joint_);
     msg_.header.stamp = ros::Time(t);
-    msg_.wrench.force.x = force.x() + noise();
-    msg_.wrench.force.y = force.y() + noise();
-    msg_.wrench.force.z = force.z() + noise();
-    msg_.wrench.torque.x = torque.x() + noise();
-    msg_.wrench.torque.y = torque.y() + noise();
-    msg_.wrench.torque.z = torque.z() + noise();
+    msg_.wrench.force = toMsg(addNoise(force, noise_, *c_.rng));
+    msg_.wrench.torque = toMsg(addNoise(torque, noise_, *c_.rng));
     pub_.publish(msg_);
   }
 
 private:
-  double noise() { return noise_.stddev() > 0 ? noise_(*c_.rng) : 0.0; }
   PluginContext c_;
   std::string joint_;
   std::normal_distribution<double> noise_;

@@ -16,7 +16,7 @@ namespace
 class Imu : public SimPlugin
 {
 public:
-  Imu(const PluginContext& c, bool sensor_plugin) : c_(c), noise_(0, 1)
+  Imu(const PluginContext& c, bool sensor_plugin) : c_(c)
   {
     PluginParams p(c, c.spec->xml);
     if (sensor_plugin)
@@ -34,7 +34,7 @@ public:
       rate_ = Rate(p.num("updateRate", 0.0));
     }
     frame_ = resolveFrame(c, p.str("frameName", body_));
-    gn_ = p.num("gaussianNoise", 0.0);
+    noise_ = std::normal_distribution<double>(0.0, p.nonNegative("gaussianNoise", 0.0));
     // Offsets of the reported frame: zero ones (as most URDFs write them) change nothing; others
     // are not simulated, and said so.
     for (const char* tag : {"xyzOffset", "rpyOffset"})
@@ -53,8 +53,6 @@ public:
           ROS_WARN("%s: plugin '%s' on link '%s': <%s> %s is not simulated by gazebo_lite; ignored",
                    c.robot->spec().source.c_str(), c.spec->name.c_str(), body_.c_str(), tag, p.str(tag, "").c_str());
       }
-    if (gn_ < 0)
-      p.fail("gaussianNoise", "must be >= 0");
     pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Imu>(p.str("topicName", "imu"), kEveryStepQueue);
     model_ = ImuModel(sensor_pose_);
   }
@@ -68,18 +66,12 @@ public:
     const ImuModel::Reading r = model_.read(s, c_.world->worldSpec().gravity);
     const btVector3& w = r.angular_velocity;
     const btVector3& a = r.linear_acceleration;
-    auto n = [&]() { return gn_ > 0 ? gn_ * noise_(*c_.rng) : 0.0; };
     sensor_msgs::Imu m;
     m.header.stamp = ros::Time(t);
     m.header.frame_id = frame_;
-    // One draw after another, in this order (a constructor's arguments are evaluated in any order).
-    btVector3 noisy_w = w, noisy_a = a;
-    for (int i = 0; i < 3; ++i)
-      noisy_w[i] += n();
-    for (int i = 0; i < 3; ++i)
-      noisy_a[i] += n();
-    setImu(m, r.orientation, noisy_w, noisy_a);
-    double var = gn_ * gn_;
+    const btVector3 noisy_w = addNoise(w, noise_, *c_.rng);  // first the rate, then the acceleration
+    setImu(m, r.orientation, noisy_w, addNoise(a, noise_, *c_.rng));
+    const double var = noise_.stddev() * noise_.stddev();
     for (int i = 0; i < 3; ++i)
       m.orientation_covariance[i * 4] = m.angular_velocity_covariance[i * 4] = m.linear_acceleration_covariance[i * 4] =
           var;
@@ -93,7 +85,6 @@ private:
   std::string body_, frame_;
   btTransform sensor_pose_ = btTransform::getIdentity();
   Rate rate_;
-  double gn_;
   ImuModel model_;
   std::normal_distribution<double> noise_;
   ros::Publisher pub_;
@@ -102,16 +93,9 @@ private:
 
 void setImu(sensor_msgs::Imu& m, const btQuaternion& q, const btVector3& w, const btVector3& a)
 {
-  m.orientation.x = q.x();
-  m.orientation.y = q.y();
-  m.orientation.z = q.z();
-  m.orientation.w = q.w();
-  m.angular_velocity.x = w.x();
-  m.angular_velocity.y = w.y();
-  m.angular_velocity.z = w.z();
-  m.linear_acceleration.x = a.x();
-  m.linear_acceleration.y = a.y();
-  m.linear_acceleration.z = a.z();
+  m.orientation = toMsg(q);
+  m.angular_velocity = toMsg(w);
+  m.linear_acceleration = toMsg(a);
 }
 
 std::unique_ptr<SimPlugin> makeImuSensor(const PluginContext& c)

@@ -15,7 +15,7 @@ namespace
 class P3D : public SimPlugin
 {
 public:
-  explicit P3D(const PluginContext& c) : c_(c), noise_(0, 1)
+  explicit P3D(const PluginContext& c) : c_(c)
   {
     PluginParams p(c, c.spec->xml);
     body_ = p.link("bodyName");
@@ -26,7 +26,7 @@ public:
     while (!frame_.empty() && frame_[0] == '/')
       frame_.erase(0, 1);
     rate_ = Rate(p.num("updateRate", 0.0));
-    gn_ = p.num("gaussianNoise", 0.0);
+    noise_ = std::normal_distribution<double>(0.0, p.nonNegative("gaussianNoise", 0.0));
     btVector3 xyz(0, 0, 0), rpy(0, 0, 0);
     try
     {
@@ -52,17 +52,13 @@ public:
     o.header.frame_id = frame_;
     o.child_frame_id = resolveFrame(c_, body_);
     btTransform pose = offset_ * s.tf;
-    auto n = [&]() { return gn_ > 0 ? gn_ * noise_(*c_.rng) : 0.0; };
-    pose.setOrigin(pose.getOrigin() + btVector3(n(), n(), n()));
+    pose.setOrigin(addNoise(pose.getOrigin(), noise_, *c_.rng));  // position, linear, angular in turn
     toMsg(pose, o.pose.pose);
-    o.twist.twist.linear.x = s.linear.x() + n();
-    o.twist.twist.linear.y = s.linear.y() + n();
-    o.twist.twist.linear.z = s.linear.z() + n();
-    o.twist.twist.angular.x = s.angular.x() + n();
-    o.twist.twist.angular.y = s.angular.y() + n();
-    o.twist.twist.angular.z = s.angular.z() + n();
+    o.twist.twist.linear = toMsg(addNoise(s.linear, noise_, *c_.rng));
+    o.twist.twist.angular = toMsg(addNoise(s.angular, noise_, *c_.rng));
+    const double var = noise_.stddev() * noise_.stddev();
     for (int i = 0; i < 6; ++i)
-      o.pose.covariance[i * 7] = o.twist.covariance[i * 7] = gn_ * gn_;
+      o.pose.covariance[i * 7] = o.twist.covariance[i * 7] = var;
     pub_.publish(o);
   }
 
@@ -70,7 +66,6 @@ private:
   PluginContext c_;
   std::string body_, frame_;
   Rate rate_;
-  double gn_;
   btTransform offset_;
   std::normal_distribution<double> noise_;
   ros::Publisher pub_;

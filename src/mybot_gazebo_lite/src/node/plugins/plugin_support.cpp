@@ -231,16 +231,47 @@ std::string resolveFrame(const PluginContext& c, std::string f)
   return c.tf_prefix.empty() ? f : c.tf_prefix + "/" + f;
 }
 
+btVector3 addNoise(btVector3 v, std::normal_distribution<double>& noise, std::mt19937& rng)
+{
+  if (noise.stddev() > 0)
+    for (int i = 0; i < 3; ++i)
+      v[i] += noise(rng);
+  return v;
+}
+
+geometry_msgs::Vector3 toMsg(const btVector3& v)
+{
+  geometry_msgs::Vector3 m;
+  m.x = v.x();
+  m.y = v.y();
+  m.z = v.z();
+  return m;
+}
+
+geometry_msgs::Quaternion toMsg(const btQuaternion& q)
+{
+  geometry_msgs::Quaternion m;
+  m.x = q.x();
+  m.y = q.y();
+  m.z = q.z();
+  m.w = q.w();
+  return m;
+}
+
 void toMsg(const btTransform& tf, geometry_msgs::Pose& p)
 {
   p.position.x = tf.getOrigin().x();
   p.position.y = tf.getOrigin().y();
   p.position.z = tf.getOrigin().z();
-  btQuaternion q = tf.getRotation();
-  p.orientation.x = q.x();
-  p.orientation.y = q.y();
-  p.orientation.z = q.z();
-  p.orientation.w = q.w();
+  p.orientation = toMsg(tf.getRotation());
+}
+
+geometry_msgs::Twist twistMsg(const Pose& s)
+{
+  geometry_msgs::Twist t;
+  t.linear = toMsg(s.linear);
+  t.angular = toMsg(s.angular);
+  return t;
 }
 
 geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std::string& parent,
@@ -250,16 +281,11 @@ geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std:
   m.header.stamp = ros::Time(t);
   m.header.frame_id = parent;
   m.child_frame_id = child;
-  m.transform.translation.x = tf.getOrigin().x();
-  m.transform.translation.y = tf.getOrigin().y();
-  m.transform.translation.z = tf.getOrigin().z();
-  btQuaternion q = tf.getRotation();
-  m.transform.rotation.x = q.x();
-  m.transform.rotation.y = q.y();
-  m.transform.rotation.z = q.z();
-  m.transform.rotation.w = q.w();
+  m.transform.translation = toMsg(tf.getOrigin());
+  m.transform.rotation = toMsg(tf.getRotation());
   return m;
 }
+
 SensorRays SensorRays::fromSensor(const PluginParams& s)
 {
   SensorRays r;
