@@ -499,7 +499,12 @@ TEST(Physics, JointEffortsTurnAJointForTheirDuration)
 
   w.addRobot(spec, "twin", "", makeTransform(btVector3(5, 0, 20), btVector3(0, 0, 0)));
   EXPECT_NE(w.applyJointEffort("left_wheel_hinge", 1, w.time(), 1).find("name it model::joint"), std::string::npos);
-  EXPECT_NE(w.applyJointEffort("bot::base_joint", 1, w.time(), 1).find("no movable joint"), std::string::npos);
+  // A URDF fixed joint: Gazebo lumps it away, and the refusal says how it would be kept.
+  EXPECT_NE(w.applyJointEffort("bot::base_joint", 1, w.time(), 1).find("is fixed, and Gazebo lumps it away"),
+            std::string::npos);
+  EXPECT_NE(w.applyJointEffort("bot::base_joint", 1, w.time(), 1).find("<preserveFixedJoint>"), std::string::npos);
+  EXPECT_NE(w.applyJointEffort("bot::no_joint", 1, w.time(), 1).find("no movable joint named 'bot::no_joint'"),
+            std::string::npos);
   EXPECT_NE(w.applyJointEffort("nobody::left_wheel_hinge", 1, w.time(), 1), "");
 }
 
@@ -565,8 +570,8 @@ TEST(Physics, ModelConfigurationSetsJointsAtOnce)
 
   for (const auto& [names, positions, says] :
        std::vector<std::tuple<std::vector<std::string>, std::vector<double>, std::string>>{
-           {{"elbow"}, {0.1}, "no movable joint named 'elbow'"},
-           {{"world_joint"}, {0.1}, "no movable joint named 'world_joint'"},
+           {{"elbow"}, {0.1}, "no movable joint named 'arm::elbow'"},
+           {{"world_joint"}, {0.1}, "joint 'arm::world_joint' is fixed, and Gazebo lumps it away"},
            {{"shoulder"}, {2.5}, "2.5 is beyond the limits [-2, 2] of joint 'shoulder'"},
            {{"shoulder"}, {std::nan("")}, "not a number"},
            {{"shoulder"}, {}, "different lengths"}})
@@ -991,6 +996,25 @@ TEST(Physics, AnSdfRobotWithAnIncludedLaserAndANestedMast)
   EXPECT_EQ(w.applyJointEffort("my_robot::mast::pan", 0.01, w.time(), 0.2), "");
   run(w, 0.5);
   EXPECT_GT(r.jointPosition("mast::pan"), 0.1);  // its own joint turns it
+
+  // Gazebo keeps an SDF model's fixed joints and their links (gazebo_lite simulates the laser in the
+  // chassis' body): every service finds them by one lookup, and those that would move or reshape
+  // them say why they cannot.
+  JointProperties jp;
+  ASSERT_EQ(w.jointProperties("laser_joint", jp), "");  // the name one model alone has
+  EXPECT_EQ(jp.type, JointSpec::FIXED);
+  EXPECT_EQ(jp.position, 0.0);
+  for (const std::string& why : {w.applyJointEffort("my_robot::laser_joint", 1, w.time(), 0.1),
+                                 w.setJointProperties("my_robot::laser_joint", JointSettings{{0.1}, {}, {}, {}, {}}),
+                                 w.setJointPositions("my_robot", {"laser_joint"}, {0.1})})
+    EXPECT_NE(why.find("joint 'my_robot::laser_joint' is fixed: it does not move"), std::string::npos) << why;
+  LinkProperties lp;
+  ASSERT_EQ(w.linkProperties("my_robot::tutorial_laser::link", lp), "");
+  EXPECT_EQ(lp.mass, sdf.robot->link("tutorial_laser::link")->inertial.mass);  // its own, not the chassis'
+  const std::string why = w.setLinkProperties("my_robot::tutorial_laser::link", lp);
+  EXPECT_NE(why.find("is fixed to 'my_robot::chassis', and gazebo_lite simulates the two as one body"),
+            std::string::npos)
+      << why;
 }
 
 int main(int argc, char** argv)
@@ -1204,4 +1228,17 @@ TEST(Physics, AKeptFixedJointHoldsItsChildAndReadsItsWeight)
   LinkProperties lp;
   ASSERT_EQ(w.linkProperties("arm::hand", lp), "");
   EXPECT_NEAR(lp.mass, 0.5, 1e-12);
+  const std::string why = w.applyJointEffort("wrist", 1, w.time(), 0.1);
+  EXPECT_NE(why.find("joint 'wrist' is fixed: it does not move"), std::string::npos) << why;
+
+  // Without the tag, Gazebo lumps the wrist away: no joint, and the hand is the arm's link.
+  auto lumped = std::make_shared<RobotSpec>(
+      parseUrdf(with_hand.substr(0, with_hand.find("<gazebo reference=\"wrist\">")) + "</robot>", "arm.urdf"));
+  w.addRobot(lumped, "plain", "", makeTransform(btVector3(3, 0, 0), btVector3(0, 0, 0)));
+  for (const std::string& why : {w.jointProperties("plain::wrist", jp), w.applyJointEffort("plain::wrist", 1, 0, 1)})
+    EXPECT_NE(why.find("joint 'plain::wrist' is fixed, and Gazebo lumps it away"), std::string::npos) << why;
+  EXPECT_NE(w.linkProperties("plain::hand", lp).find("is lumped into 'plain::arm_link'"), std::string::npos);
+  // "wrist" alone is the kept one's: the lumped one is no joint in Gazebo to be confused with.
+  ASSERT_EQ(w.jointProperties("wrist", jp), "");
+  EXPECT_EQ(jp.type, JointSpec::FIXED);
 }

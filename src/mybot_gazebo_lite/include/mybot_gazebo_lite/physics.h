@@ -427,16 +427,30 @@ private:
   // A static body placed anew: the broadphase and the spec the static world's caches read follow.
   void placeStatic(WorldBody& wb, const btTransform& body_tf);
   const Robot* robotNamed(const std::string& name) const;
-  // "model::joint", or a joint name one robot alone has, to its robot and name; "" or why not.
+  // The one lookup of a joint by the name a service is given: "model::joint", or a joint name one
+  // model alone has. It finds the joints Gazebo has: a robot's movable ones, the fixed ones a
+  // <gazebo reference> keeps, and an SDF model's fixed and ball joints. Gazebo lumps a URDF's other
+  // fixed joints away, and the message says so. "" or why not.
+  struct JointRef
+  {
+    const Robot* robot = nullptr;
+    const JointSpec* spec = nullptr;
+    bool movable = false;  // one degree of freedom here: efforts, settings and positions apply
+  };
+  std::string findJoint(const std::string& joint, JointRef& out, const std::string& kind = "joint") const;
+  // findJoint's, for a service that moves the joint: a fixed or ball joint is refused, saying so.
   std::string resolveJoint(const std::string& joint, const Robot*& robot, std::string& name) const;
-  // "model::link", or a link name one model alone has, to the robot body or the world body it
-  // names (a link lumped into another by a fixed joint is not one: the message names the other).
+  // The one lookup of a link by the name a service is given: "model::link", or a link name one
+  // model alone has, to the robot body or the world body it is in. A URDF link lumped into
+  // another by a fixed joint is not one in Gazebo: the message names the other. An SDF model's
+  // link fixed to another is one in Gazebo, though gazebo_lite simulates the two as one body.
   struct BodyRef
   {
     const Robot* robot = nullptr;
     int body = -1;
     const WorldBody* world = nullptr;
     std::string model, link;
+    bool own_body = true;  // false: an SDF link simulated inside the body of the link it is fixed to
   };
   std::string resolveBody(const std::string& link, BodyRef& out) const;
   // The body's frame (its centre of mass and principal axes) in its link's frame.

@@ -1396,27 +1396,55 @@ static std::string inSeveralModels(const std::string& kind, const std::string& n
          (models.size() > 2 ? ", ..." : "") + "): name it model::" + kind;
 }
 
+std::string PhysicsWorld::findJoint(const std::string& joint, JointRef& out, const std::string& kind) const
+{
+  out = JointRef();
+  const size_t sep = joint.find("::");
+  const std::string model = sep == std::string::npos ? "" : joint.substr(0, sep);
+  const std::string name = sep == std::string::npos ? joint : joint.substr(sep + 2);
+  std::vector<JointRef> found;
+  std::string gone;  // why a joint the model's file has is not one here
+  for (const auto& r : robots_)
+  {
+    const JointSpec* js = (model.empty() || r->name_ == model) ? r->spec_->joint(name) : nullptr;
+    if (!js)
+      continue;
+    const bool movable = r->hasJoint(name);
+    const bool kept = r->hasKeptFixedJoint(name) ||
+                      (r->spec_->from_sdf && (js->type == JointSpec::FIXED || js->type == JointSpec::BALL));
+    if (movable || kept)
+      found.push_back({r.get(), js, movable});
+    else if (js->type == JointSpec::FIXED)
+      gone = "joint '" + joint +
+             "' is fixed, and Gazebo lumps it away as gazebo_lite does (its <gazebo reference> keeps it with "
+             "<preserveFixedJoint>)";
+    else
+      gone = "joint '" + joint + "' is not simulated (its type is not one gazebo_lite moves)";
+  }
+  if (found.size() > 1)
+  {
+    std::vector<std::string> models;
+    for (const auto& f : found)
+      models.push_back(f.robot->name_);
+    return inSeveralModels("joint", joint, models);
+  }
+  if (found.empty())
+    return !gone.empty() ? gone : "no " + kind + " named '" + joint + "'";
+  out = found.front();
+  return "";
+}
+
 std::string PhysicsWorld::resolveJoint(const std::string& joint, const Robot*& robot, std::string& name) const
 {
-  robot = nullptr;
-  name = joint;
-  const size_t sep = joint.find("::");
-  if (sep != std::string::npos)
-  {
-    name = joint.substr(sep + 2);
-    robot = robotNamed(joint.substr(0, sep));
-    return robot && robot->hasJoint(name) ? "" : "no movable joint named '" + joint + "'";
-  }
-  std::vector<std::string> owners;
-  for (const auto& r : robots_)
-    if (r->hasJoint(name))
-    {
-      owners.push_back(r->name_);
-      robot = r.get();
-    }
-  if (owners.empty())
-    return "no movable joint named '" + joint + "'";
-  return owners.size() > 1 ? inSeveralModels("joint", joint, owners) : "";
+  JointRef ref;
+  const std::string why = findJoint(joint, ref, "movable joint");
+  robot = ref.robot;
+  name = ref.spec ? ref.spec->name : joint;
+  if (!why.empty() || ref.movable)
+    return why;
+  return "joint '" + joint + "' is " +
+         (ref.spec->type == JointSpec::BALL ? "a ball joint, free about its pivot: it has no axis to move on"
+                                            : "fixed: it does not move");
 }
 
 std::string PhysicsWorld::applyJointEffort(const std::string& joint, double effort, double start, double duration)
@@ -1432,40 +1460,21 @@ std::string PhysicsWorld::applyJointEffort(const std::string& joint, double effo
 
 std::string PhysicsWorld::jointProperties(const std::string& joint, JointProperties& out) const
 {
-  const Robot* r = nullptr;
-  std::string name;
-  const std::string why = resolveJoint(joint, r, name);
+  JointRef ref;
+  const std::string why = findJoint(joint, ref);
   if (!why.empty())
+    return why;
+  out = JointProperties();
+  out.type = ref.spec->type;
+  if (!ref.movable)  // fixed or ball: at 0, as Gazebo reports them
   {
-    // An SDF model's fixed or ball joint, or a URDF's fixed joint it is told to keep
-    // (preserveFixedJoint): Gazebo has it; it does not move on its own axis.
-    const size_t sep = joint.find("::");
-    const std::string model = sep == std::string::npos ? "" : joint.substr(0, sep);
-    const std::string jname = sep == std::string::npos ? joint : joint.substr(sep + 2);
-    std::vector<std::string> owners;
-    const JointSpec* found = nullptr;
-    for (const auto& rp : robots_)
-      if ((rp->spec_->from_sdf || rp->hasKeptFixedJoint(jname)) && (model.empty() || rp->name_ == model))
-        if (const JointSpec* js = rp->spec_->joint(jname);
-            js && (js->type == JointSpec::FIXED || js->type == JointSpec::BALL))
-        {
-          owners.push_back(rp->name_);
-          found = js;
-        }
-    if (!found)
-      return why;
-    if (owners.size() > 1)
-      return inSeveralModels("joint", joint, owners);
-    out = JointProperties();
-    out.type = found->type;
-    out.damping = found->damping;
+    out.damping = ref.spec->damping;
     return "";
   }
-  const Robot::Joint& j = r->joint(name);
-  out.type = j.spec->type;
+  const Robot::Joint& j = ref.robot->joint(ref.spec->name);
   out.damping = j.damping;
-  out.position = r->jointPosition(name);
-  out.rate = r->jointVelocity(name);
+  out.position = ref.robot->jointPosition(ref.spec->name);
+  out.rate = ref.robot->jointVelocity(ref.spec->name);
   return "";
 }
 
@@ -1487,7 +1496,7 @@ std::string PhysicsWorld::resolveBody(const std::string& link, BodyRef& out) con
     const auto b = bodies.find(body);
     if (b == bodies.end())
       continue;  // a "world" root: the world, no link
-    if (b->second != name)
+    if (b->second != name && !r->spec_->from_sdf)
     {
       lumped = "link '" + link + "' is lumped into '" + r->name_ + "::" + b->second +
                "' by a fixed joint, as in Gazebo: ask for that link";
@@ -1498,6 +1507,7 @@ std::string PhysicsWorld::resolveBody(const std::string& link, BodyRef& out) con
     ref.body = body;
     ref.model = r->name_;
     ref.link = name;
+    ref.own_body = b->second == name;
     found.push_back(ref);
   }
   for (const auto& wb : world_bodies_)
@@ -1541,31 +1551,18 @@ std::string PhysicsWorld::linkProperties(const std::string& link, LinkProperties
   BodyRef b;
   const std::string why = resolveBody(link, b);
   if (!why.empty())
+    return why;
+  if (!b.own_body)
   {
     // A link an SDF model fixes to another is its own link in Gazebo: its own inertial, as its
     // file gives it (its centre of mass in the link frame, its inertia turned into the link's axes).
-    const size_t sep = link.find("::");
-    const std::string model = sep == std::string::npos ? "" : link.substr(0, sep);
-    const std::string name = sep == std::string::npos ? link : link.substr(sep + 2);
-    const LinkSpec* found = nullptr;
-    const Robot* owner = nullptr;
-    for (const auto& rp : robots_)
-      if (rp->spec_->from_sdf && (model.empty() || rp->name_ == model) && rp->hasLink(name) && name != "world")
-      {
-        if (found)
-          return why;  // in several models: the message names them
-        found = rp->spec_->link(name);
-        owner = rp.get();
-      }
-    if (!found)
-      return why;
     out = LinkProperties();
-    const Inertial& in = found->inertial;
+    const Inertial& in = b.robot->spec_->link(b.link)->inertial;
     out.mass = in.mass;
     out.com = in.origin.getOrigin();
     const btMatrix3x3 I(in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz);
     out.inertia = in.origin.getBasis() * I * in.origin.getBasis().transpose();
-    out.gravity_mode = !owner->gravity_off_[owner->links_.at(name).body + 1];
+    out.gravity_mode = !b.robot->gravity_off_[b.body + 1];
     return "";
   }
   out = LinkProperties();
@@ -1609,6 +1606,10 @@ std::string PhysicsWorld::setLinkProperties(const std::string& link, const LinkP
     return why;
   if (b.world && !b.world->body)
     return "model '" + b.model + "' is static: its links do not move";
+  if (!b.own_body)
+    return "link '" + link + "' is fixed to '" + b.model + "::" + bodyLinks(*b.robot).at(b.body) +
+           "', and gazebo_lite simulates the two as one body: its mass and inertia cannot be set apart from "
+           "that link's (Gazebo's ODE can)";
   if (!(p.mass > 0))
     return "mass " + mybot_common::formatNumber(p.mass) + " kg: it must be > 0";
   const btTransform frame = bodyInLink(b);
@@ -1916,8 +1917,10 @@ std::string PhysicsWorld::setJointPositions(const std::string& model, const std:
     return "no model named '" + model + "'";
   for (size_t i = 0; i < joints.size(); ++i)
   {
-    if (!r || !r->hasJoint(joints[i]))
-      return "model '" + model + "' has no movable joint named '" + joints[i] + "'";
+    const Robot* owner = nullptr;
+    std::string name;
+    if (const std::string why = resolveJoint(model + "::" + joints[i], owner, name); !why.empty())
+      return why;
     const Robot::Joint& j = r->joint(joints[i]);
     if (!std::isfinite(positions[i]))
       return "joint_positions[" + std::to_string(i) + "] (" + joints[i] + ") is not a number";
