@@ -1121,6 +1121,45 @@ TEST(Physics, AJointsWrenchHoldsTheArmAgainstGravity)
   EXPECT_NEAR(fine.force / coarse.force, 0.5, 0.05);
 }
 
+// A servo's effort (ros_control's joint state) is what its motor exerts: the torque that holds the
+// arm against gravity, in position and velocity mode alike, and no more than its effort limit.
+TEST(Physics, AServosEffortIsTheTorqueThatHoldsTheArm)
+{
+  const double m = 1.0, g = 9.8, r_com = 0.25;
+  auto spec = std::make_shared<RobotSpec>(
+      parseUrdf(armUrdf(true, R"(continuous"><parent link="base_link"/><child link="arm_link"/>
+      <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit effort="50" velocity="50"/>)"),
+                "arm.urdf"));
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(spec, "arm", "", btTransform::getIdentity());
+  r.watchJointWrench("shoulder");
+  EXPECT_EQ(r.jointEffort("shoulder"), 0.0);  // before any step: nothing commands it
+  r.commandPosition("shoulder", 0.4, 50);
+  run(w, 2.0);
+  double q = r.jointPosition("shoulder");
+  // Gravity pitches the arm down (+ about y) with m g r cos(q); the servo holds it with minus that.
+  EXPECT_NEAR(r.jointEffort("shoulder"), -m * g * r_com * std::cos(q), 1e-6);
+  EXPECT_NEAR(r.jointEffort("shoulder"), r.jointWrench("shoulder").second.y(), 1e-9);  // all the joint carries
+
+  r.commandVelocity("shoulder", 0.0, 50);  // held still by a velocity motor
+  run(w, 0.5);
+  q = r.jointPosition("shoulder");
+  EXPECT_NEAR(r.jointEffort("shoulder"), -m * g * r_com * std::cos(q), 1e-6);
+
+  // A servo too weak for the arm gives all it has, and the arm sags.
+  r.commandPosition("shoulder", 0.0, 1.0);
+  run(w, 0.2);
+  EXPECT_NEAR(r.jointEffort("shoulder"), -1.0, 1e-9);
+  EXPECT_GT(r.jointPosition("shoulder"), q);
+
+  r.commandEffort("shoulder", 0.7);  // a commanded effort is its command
+  run(w, 0.01);
+  EXPECT_EQ(r.jointEffort("shoulder"), 0.7);
+  r.commandNone("shoulder");
+  run(w, 0.01);
+  EXPECT_EQ(r.jointEffort("shoulder"), 0.0);
+}
+
 // A free prismatic joint lets its child rest on the ground: no force along its axis. Left out,
 // the ground's push would show as the joint holding the link's whole weight.
 TEST(Physics, AJointsWrenchCountsTheGroundsPushOnItsChild)

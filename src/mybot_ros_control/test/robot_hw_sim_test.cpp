@@ -121,17 +121,23 @@ TEST(RobotHWSim, PositionCommandsReachTheirTargetAtTheVelocityLimit)
   SimJoint& head = *hw.joint("head_swivel");
   hw.claim(head, Interface::POSITION);
   head.command = 0.5;
-  double max_speed = 0;
+  double max_speed = 0, max_effort = 0;
   for (int k = 0; k < 2000; ++k)
   {  // 2 s; no gravity: the world has none
     hw.read(robot);
     max_speed = std::max(max_speed, std::abs(head.velocity));
+    max_effort = std::max(max_effort, std::abs(head.effort));
     hw.write(robot, world.stepSize());
     world.step();
   }
   hw.read(robot);
   EXPECT_NEAR(head.position, 0.5, 0.01);
   EXPECT_LT(max_speed, 1.0 + 1e-6);  // <limit velocity="1.0">
+  // The state's effort is what the servo exerted: it sped the head up, within its <limit effort>,
+  // and holds it with nothing once it is there (no gravity, no load).
+  EXPECT_GT(max_effort, 0.1);
+  EXPECT_LE(max_effort, 30.0 + 1e-9);
+  EXPECT_LT(std::abs(head.effort), 1e-6);
 }
 
 TEST(RobotHWSim, EffortCommandsAreClampedToTheLimit)

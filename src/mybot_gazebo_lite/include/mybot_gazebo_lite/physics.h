@@ -72,6 +72,7 @@ public:
     btMultiBodyJointMotor* friction = nullptr;
     Mode mode = Mode::NONE;
     double target = 0, max_effort = 0, target_velocity = 0;
+    double motor_effort = 0;  // what the motor exerted over the last step (N m or N)
     // The spec's until set_joint_properties changes them.
     double damping = 0;
     bool limited = false;
@@ -111,7 +112,10 @@ public:
   // A force or torque (N or N m) applied at every step until the next command, clamped to the
   // URDF <limit effort> when it has one.
   void commandEffort(const std::string& joint, double effort);
-  // The commanded effort of an effort-driven joint (N m or N); 0 for velocity and position servos.
+  // The actuator's effort on the joint (N m or N), as a motor's current tells it on a real robot:
+  // an effort-driven joint's command, or what its velocity or position servo exerted over the
+  // last step (what holds an arm up). Not the limits', friction's, damping's or applied efforts'.
+  // 0 for a joint nothing commands.
   double jointEffort(const std::string& joint) const;
   // A world-frame force at the centre of mass of `link`'s body and a world-frame torque, for the
   // next step only (gazebo_ros_force every step; apply_body_wrench's jobs come through here too).

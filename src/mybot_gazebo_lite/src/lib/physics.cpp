@@ -22,6 +22,16 @@ namespace mybot_gazebo_lite
 
 namespace
 {
+// A joint motor whose impulse over the last step can be read. Bullet sizes a constraint's record of
+// impulses when its solver first sees the constraint, and getAppliedImpulse before then reads past
+// an empty array.
+class JointMotor : public btMultiBodyJointMotor
+{
+public:
+  using btMultiBodyJointMotor::btMultiBodyJointMotor;
+  double lastImpulse() { return m_data.size() > 0 ? getAppliedImpulse(0) : 0.0; }
+};
+
 constexpr int kStaticGroup = btBroadphaseProxy::StaticFilter;
 constexpr int kDynamicGroup = btBroadphaseProxy::DefaultFilter;
 
@@ -275,12 +285,20 @@ void Robot::commandEffort(const std::string& n, double effort)
   j.target = effort;
 }
 
-// Only a commanded effort is known: Bullet allocates a motor's impulse record lazily (reading
-// it before the solver has seen the motor crashes), so motor efforts are not reported.
 double Robot::jointEffort(const std::string& n) const
 {
   const Joint& j = joint(n);
-  return j.mode == Mode::EFFORT ? j.target : 0.0;
+  switch (j.mode)
+  {
+    case Mode::EFFORT:
+      return j.target;
+    case Mode::VELOCITY:
+    case Mode::POSITION:
+      return j.motor_effort;
+    case Mode::NONE:
+      break;
+  }
+  return 0.0;
 }
 
 void Robot::setContactFriction(double mu)
@@ -728,7 +746,7 @@ void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Ro
     j.limited = js->has_limits && js->type != JointSpec::CONTINUOUS;
     j.lower = js->lower;
     j.upper = js->upper;
-    j.motor = new btMultiBodyJointMotor(mb, i - 1, 0, 0);
+    j.motor = new JointMotor(mb, i - 1, 0, 0);
     j.motor->setMaxAppliedImpulse(0);
     world_->addMultiBodyConstraint(j.motor);
     r.constraints_.push_back(j.motor);
@@ -869,6 +887,8 @@ void PhysicsWorld::step()
   world_->stepSimulation(dt, 0, dt);
   for (auto& rp : robots_)
   {
+    for (auto& j : rp->joints_)  // every joint's motor is one (addJointConstraints)
+      j.motor_effort = static_cast<JointMotor*>(j.motor)->lastImpulse() / dt;
     std::swap(rp->last_wrench_, rp->pending_wrench_);
     for (auto& w : rp->pending_wrench_)
       w = {btVector3(0, 0, 0), btVector3(0, 0, 0)};
@@ -1104,6 +1124,7 @@ bool PhysicsWorld::resetWorld()
     {
       if (j.mode == Robot::Mode::VELOCITY)
         j.target = 0;
+      j.motor_effort = 0;  // at rest: nothing exerted until the next step
     }
     setRobotPose(r, r.spawn_, btVector3(0, 0, 0), btVector3(0, 0, 0));
   }
