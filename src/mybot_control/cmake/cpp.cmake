@@ -47,6 +47,7 @@ if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_control_lib
     test/gtest/test_kinematics.cpp
     test/gtest/test_odometry.cpp
+    test/gtest/test_ackermann_odometry.cpp
     test/gtest/test_speed_limiter.cpp
     test/gtest/test_pid.cpp
     test/gtest/test_twist_mux.cpp

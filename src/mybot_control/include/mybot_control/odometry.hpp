@@ -1,6 +1,7 @@
 // Dead-reckoning odometry for a differential drive from wheel joint positions.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <deque>
 
@@ -50,6 +51,52 @@ private:
   std::deque<Sample> samples_;
   double raw_previous_ = 0.0;
   double velocity_ = 0.0;
+};
+
+// Stamped joint readings as the odometries take them: one with a NaN or inf, or stamped no later
+// than the last, is rejected; the first after a reset only sets the reference, so the pose does
+// not jump by where the encoders happened to start. A step keeps the readings before it.
+template <std::size_t N>
+class EncoderReadings
+{
+public:
+  enum Result
+  {
+    REJECTED,
+    REFERENCE,
+    STEP
+  };
+  Result take(const std::array<double, N>& values, double t)
+  {
+    if (!std::isfinite(t))
+      return REJECTED;
+    for (const double v : values)
+      if (!std::isfinite(v))
+        return REJECTED;
+    if (!have_reference_)
+    {
+      have_reference_ = true;
+      last_ = values;
+      t_last_ = t;
+      return REFERENCE;
+    }
+    if (!(t > t_last_))
+      return REJECTED;
+    before_ = last_;
+    dt_ = t - t_last_;
+    last_ = values;
+    t_last_ = t;
+    return STEP;
+  }
+  void reset() { have_reference_ = false; }
+  // Of the last STEP: the readings it started from, and its duration (s).
+  const std::array<double, N>& before() const { return before_; }
+  double dt() const { return dt_; }
+
+private:
+  bool have_reference_ = false;
+  std::array<double, N> last_{}, before_{};
+  double t_last_ = 0.0, dt_ = 0.0;
 };
 
 // What every wheeled odometry shares under its own kinematics, as wpimath's Odometry does under
@@ -132,10 +179,53 @@ public:
 private:
   Params params_;
   DiffDriveKinematics kin_;
-  bool have_reference_ = false;
-  double left_prev_ = 0.0, right_prev_ = 0.0, t_prev_ = 0.0;
+  EncoderReadings<2> readings_;  // left, right
   PoseIntegrator integrator_;
   WheelVelocities wheel_tangent_;
+};
+
+// A car-like robot's odometry (ros_controllers' ackermann_steering_controller): a driven rear axle
+// and a steered front wheel, in the bicycle model. Over a step the rear axle's centre rolls
+// s = r dphi along its heading (r the wheel's radius, dphi its turn) and, with the front wheel
+// steered by delta, turns about the point where the rear axle's line meets the front wheel's: a
+// circle of radius L / tan(delta) (L the wheelbase), so dtheta = s tan(delta) / L. The step's
+// delta is the mean of its two readings (the steering moves while the wheel rolls; upstream takes
+// the last one). The pose is the rear axle's centre.
+class AckermannOdometry
+{
+public:
+  struct Params
+  {
+    double wheelbase = 0.5;            // rear axle to front wheel, m
+    double wheel_radius = 0.1;         // the rear wheel's, m
+    double encoder_period = 0.0;       // rad after which the wheel's position wraps; 0 = never
+    std::size_t velocity_window = 10;  // samples of the twist rolling mean
+  };
+
+  AckermannOdometry() : AckermannOdometry(Params{}) {}
+  explicit AckermannOdometry(const Params& params);
+
+  // The rear wheel's joint position (rad) and the steering angle (rad) at time t (s). As
+  // DiffDriveOdometry: the first valid reading sets the reference; NaN/inf readings and
+  // non-increasing stamps are rejected (false).
+  bool update(double wheel_position, double steering_angle, double t);
+
+  void resetEncoders();
+  void setPose(const Pose2D& pose) { integrator_.setPose(pose); }
+  void reset()
+  {
+    setPose(Pose2D{});
+    resetEncoders();
+  }
+
+  const Pose2D& pose() const { return integrator_.pose(); }
+  Twist2D twist() const { return integrator_.twist(); }
+  double distance() const { return integrator_.distance(); }
+
+private:
+  Params params_;
+  EncoderReadings<2> readings_;  // the wheel, the steering
+  PoseIntegrator integrator_;
 };
 
 }  // namespace mybot_control

@@ -80,26 +80,13 @@ DiffDriveOdometry::DiffDriveOdometry(const Params& params)
 
 bool DiffDriveOdometry::update(double left_position, double right_position, double t)
 {
-  if (!std::isfinite(left_position) || !std::isfinite(right_position) || !std::isfinite(t))
-    return false;
-  if (!have_reference_)
-  {
-    left_prev_ = left_position;
-    right_prev_ = right_position;
-    t_prev_ = t;
-    have_reference_ = true;
-    return true;
-  }
-  const double dt = t - t_prev_;
-  if (dt <= 0.0)
-    return false;
-
-  const double dl = unwrappedDelta(left_prev_, left_position, params_.encoder_period) * params_.left_radius;
-  const double dr = unwrappedDelta(right_prev_, right_position, params_.encoder_period) * params_.right_radius;
-  left_prev_ = left_position;
-  right_prev_ = right_position;
-  t_prev_ = t;
-
+  const auto r = readings_.take({left_position, right_position}, t);
+  if (r != EncoderReadings<2>::STEP)
+    return r == EncoderReadings<2>::REFERENCE;
+  const double dt = readings_.dt();
+  const double dl = unwrappedDelta(readings_.before()[0], left_position, params_.encoder_period) * params_.left_radius;
+  const double dr =
+      unwrappedDelta(readings_.before()[1], right_position, params_.encoder_period) * params_.right_radius;
   const Twist2D delta = kin_.fromWheelTangent({dl, dr});
   integrator_.integrate(delta, dt);
   wheel_tangent_ = {dl / dt, dr / dt};
@@ -108,7 +95,7 @@ bool DiffDriveOdometry::update(double left_position, double right_position, doub
 
 void DiffDriveOdometry::resetEncoders()
 {
-  have_reference_ = false;
+  readings_.reset();
   integrator_.resetTwist();
   wheel_tangent_ = {};
 }
@@ -116,6 +103,25 @@ void DiffDriveOdometry::resetEncoders()
 void DiffDriveOdometry::setPose(const Pose2D& pose)
 {
   integrator_.setPose(pose);
+}
+
+AckermannOdometry::AckermannOdometry(const Params& params) : params_(params), integrator_(params.velocity_window) {}
+
+bool AckermannOdometry::update(double wheel_position, double steering_angle, double t)
+{
+  const auto r = readings_.take({wheel_position, steering_angle}, t);
+  if (r != EncoderReadings<2>::STEP)
+    return r == EncoderReadings<2>::REFERENCE;
+  const double s = unwrappedDelta(readings_.before()[0], wheel_position, params_.encoder_period) * params_.wheel_radius;
+  const double delta = 0.5 * (readings_.before()[1] + steering_angle);
+  integrator_.integrate({s, 0.0, s * std::tan(delta) / params_.wheelbase}, readings_.dt());
+  return true;
+}
+
+void AckermannOdometry::resetEncoders()
+{
+  readings_.reset();
+  integrator_.resetTwist();
 }
 
 }  // namespace mybot_control

@@ -137,6 +137,7 @@ const std::map<std::string, ControllerFactory>& controllerTypes()
   static const std::map<std::string, ControllerFactory> types = {
       {"joint_state_controller/JointStateController", makeJointStateController},
       {"diff_drive_controller/DiffDriveController", makeDiffDriveController},
+      {"ackermann_steering_controller/AckermannSteeringController", makeAckermannSteeringController},
       {"position_controllers/JointPositionController", [](auto& c) { return makeForwardController(c, I::POSITION); }},
       {"velocity_controllers/JointVelocityController", [](auto& c) { return makeForwardController(c, I::VELOCITY); }},
       {"effort_controllers/JointEffortController", [](auto& c) { return makeForwardController(c, I::EFFORT); }},
