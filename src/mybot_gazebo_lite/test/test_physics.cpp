@@ -997,9 +997,9 @@ TEST(Physics, AnSdfRobotWithAnIncludedLaserAndANestedMast)
   run(w, 0.5);
   EXPECT_GT(r.jointPosition("mast::pan"), 0.1);  // its own joint turns it
 
-  // Gazebo keeps an SDF model's fixed joints and their links (gazebo_lite simulates the laser in the
-  // chassis' body): every service finds them by one lookup, and those that would move or reshape
-  // them say why they cannot.
+  // Gazebo keeps an SDF model's fixed joints and their links, and so does gazebo_lite: the laser is
+  // a link of its own, fixed to the chassis. Every service finds them by one lookup; those that
+  // would move the joint say why they cannot.
   JointProperties jp;
   ASSERT_EQ(w.jointProperties("laser_joint", jp), "");  // the name one model alone has
   EXPECT_EQ(jp.type, JointSpec::FIXED);
@@ -1010,11 +1010,21 @@ TEST(Physics, AnSdfRobotWithAnIncludedLaserAndANestedMast)
     EXPECT_NE(why.find("joint 'my_robot::laser_joint' is fixed: it does not move"), std::string::npos) << why;
   LinkProperties lp;
   ASSERT_EQ(w.linkProperties("my_robot::tutorial_laser::link", lp), "");
-  EXPECT_EQ(lp.mass, sdf.robot->link("tutorial_laser::link")->inertial.mass);  // its own, not the chassis'
-  const std::string why = w.setLinkProperties("my_robot::tutorial_laser::link", lp);
-  EXPECT_NE(why.find("is fixed to 'my_robot::chassis', and gazebo_lite simulates the two as one body"),
-            std::string::npos)
-      << why;
+  const double m = sdf.robot->link("tutorial_laser::link")->inertial.mass;
+  EXPECT_NEAR(lp.mass, m, 1e-12);  // its own, not the chassis'
+  // Its joint carries its weight, as a force-torque sensor there would read it.
+  ASSERT_TRUE(r.hasKeptFixedJoint("laser_joint"));
+  r.watchJointWrench("laser_joint");
+  run(w, 0.1);
+  EXPECT_NEAR(r.jointWrench("laser_joint").first.length(), m * 9.8, 1e-6);
+  // Its mass can be set apart from the chassis'.
+  lp.mass = 2 * m;
+  lp.inertia = lp.inertia * 2.0;
+  ASSERT_EQ(w.setLinkProperties("my_robot::tutorial_laser::link", lp), "");
+  ASSERT_EQ(w.linkProperties("my_robot::tutorial_laser::link", lp), "");
+  EXPECT_NEAR(lp.mass, 2 * m, 1e-12);
+  run(w, 0.1);
+  EXPECT_NEAR(r.jointWrench("laser_joint").first.length(), 2 * m * 9.8, 1e-6);
 }
 
 int main(int argc, char** argv)

@@ -445,16 +445,14 @@ private:
   // findJoint's, for a service that moves the joint: a fixed or ball joint is refused, saying so.
   std::string resolveJoint(const std::string& joint, const Robot*& robot, std::string& name) const;
   // The one lookup of a link by the name a service is given: "model::link", or a link name one
-  // model alone has, to the robot body or the world body it is in. A URDF link lumped into
-  // another by a fixed joint is not one in Gazebo: the message names the other. An SDF model's
-  // link fixed to another is one in Gazebo, though gazebo_lite simulates the two as one body.
+  // model alone has, to the robot body or the world body it is. A URDF link lumped into another
+  // by a fixed joint is not one in Gazebo: the message names the other.
   struct BodyRef
   {
     const Robot* robot = nullptr;
     int body = -1;
     const WorldBody* world = nullptr;
     std::string model, link;
-    bool own_body = true;  // false: an SDF link simulated inside the body of the link it is fixed to
   };
   std::string resolveBody(const std::string& link, BodyRef& out) const;
   // The body's frame (its centre of mass and principal axes) in its link's frame.

@@ -1517,7 +1517,7 @@ std::string PhysicsWorld::resolveBody(const std::string& link, BodyRef& out) con
     const auto b = bodies.find(body);
     if (b == bodies.end())
       continue;  // a "world" root: the world, no link
-    if (b->second != name && !r->spec_->from_sdf)
+    if (b->second != name)
     {
       lumped = "link '" + link + "' is lumped into '" + r->name_ + "::" + b->second +
                "' by a fixed joint, as in Gazebo: ask for that link";
@@ -1528,7 +1528,6 @@ std::string PhysicsWorld::resolveBody(const std::string& link, BodyRef& out) con
     ref.body = body;
     ref.model = r->name_;
     ref.link = name;
-    ref.own_body = b->second == name;
     found.push_back(ref);
   }
   for (const auto& wb : world_bodies_)
@@ -1573,19 +1572,6 @@ std::string PhysicsWorld::linkProperties(const std::string& link, LinkProperties
   const std::string why = resolveBody(link, b);
   if (!why.empty())
     return why;
-  if (!b.own_body)
-  {
-    // A link an SDF model fixes to another is its own link in Gazebo: its own inertial, as its
-    // file gives it (its centre of mass in the link frame, its inertia turned into the link's axes).
-    out = LinkProperties();
-    const Inertial& in = b.robot->spec_->link(b.link)->inertial;
-    out.mass = in.mass;
-    out.com = in.origin.getOrigin();
-    const btMatrix3x3 I(in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz);
-    out.inertia = in.origin.getBasis() * I * in.origin.getBasis().transpose();
-    out.gravity_mode = !b.robot->gravity_off_[b.body + 1];
-    return "";
-  }
   out = LinkProperties();
   const btTransform frame = bodyInLink(b);
   btVector3 moments(0, 0, 0);
@@ -1627,10 +1613,6 @@ std::string PhysicsWorld::setLinkProperties(const std::string& link, const LinkP
     return why;
   if (b.world && !b.world->body)
     return "model '" + b.model + "' is static: its links do not move";
-  if (!b.own_body)
-    return "link '" + link + "' is fixed to '" + b.model + "::" + bodyLinks(*b.robot).at(b.body) +
-           "', and gazebo_lite simulates the two as one body: its mass and inertia cannot be set apart from "
-           "that link's (Gazebo's ODE can)";
   if (!(p.mass > 0))
     return "mass " + mybot_common::formatNumber(p.mass) + " kg: it must be > 0";
   const btTransform frame = bodyInLink(b);

@@ -596,6 +596,10 @@ bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& wher
       const auto scoped = [&](const std::string& n) { return n == "world" ? n : s.prefix + n; };
       js.parent = scoped(sc.text(j, "parent", jw, true));
       js.child = scoped(sc.text(j, "child", jw, true));
+      // Gazebo keeps an SDF model's fixed joints (it lumps only a URDF's): the child stays a link of
+      // its own, with its own mass, and a force-torque sensor can read the joint. One to the world
+      // anchors the model instead.
+      js.keep_fixed = js.type == JointSpec::FIXED && js.parent != "world";
       if (js.parent == "world" && !pose_of.count("world"))
       {
         LinkSpec world;  // the world itself, as a URDF's `world` link: what anchors the model
