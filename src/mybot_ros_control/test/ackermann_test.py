@@ -13,6 +13,7 @@ from nav_msgs.msg import Odometry
 
 from gazebo_msgs.srv import GetModelState
 from mybot_common.geometry import wrap, yaw_of
+from mybot_lockstep import wait_connected
 
 from controller_test import ControllerTest, refusal
 
@@ -126,6 +127,39 @@ class Ackermann(ControllerTest):
         self.assertIn("bad_car_controller", why)
         self.assertIn("front_steer", why)
         self.assertIn("PositionJointInterface", why)
+
+    def test_6_open_loop_odometry_turns_at_the_commands_bicycle_rate(self):
+        params = dict(rospy.get_param("/ackermann_steering_controller"), open_loop=True)
+        rospy.set_param("/open_loop_controller", params)
+        self.assertTrue(self.load(name="open_loop_controller").ok)
+        odom = []
+        sub = self.ls.Subscriber("/open_loop_controller/odom", Odometry, odom.append)
+        pub = self.ls.Publisher("/open_loop_controller/cmd_vel", Twist, queue_size=1)
+        self.assertTrue(self.switch(start_controllers=["open_loop_controller"],
+                                    stop_controllers=["ackermann_steering_controller"], strictness=2).ok)
+        wait_connected([sub, pub])
+        v, steer = 0.4, 0.3
+        rate = self.ls.Rate(50)
+        t0 = rospy.get_time()
+        while rospy.get_time() - t0 < 1.0:  # past the ramps
+            pub.publish(twist(v, steer))
+            rate.sleep()
+        start = odom[-1]
+        while rospy.get_time() - t0 < 3.0:
+            pub.publish(twist(v, steer))
+            rate.sleep()
+        end = odom[-1]
+        for _ in range(50):
+            pub.publish(twist(0.0, 0.0))
+            rate.sleep()
+        self.assertTrue(self.switch(start_controllers=["ackermann_steering_controller"],
+                                    stop_controllers=["open_loop_controller"], strictness=2).ok)
+        elapsed = (end.header.stamp - start.header.stamp).to_sec()
+        turned = wrap(yaw_of(end.pose.pose.orientation) - yaw_of(start.pose.pose.orientation))
+        self.assertGreater(elapsed, 1.5)
+        # The command's own rate: exact but for the odometry publications' 20 ms grid.
+        self.assertAlmostEqual(turned, v * math.tan(steer) / WHEELBASE * elapsed, delta=1e-6)
+        self.assertAlmostEqual(end.twist.twist.angular.z, v * math.tan(steer) / WHEELBASE, delta=1e-9)
 
 
 if __name__ == "__main__":
