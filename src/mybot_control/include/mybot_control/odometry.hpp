@@ -29,31 +29,7 @@ private:
   std::deque<double> values_;
 };
 
-// Angular velocity of one wheel from stamped joint positions: the slope over the last
-// `window` position steps. First reading, NaN and non-increasing stamps as in the odometry.
-class WheelEncoder
-{
-public:
-  explicit WheelEncoder(std::size_t window = 1, double period = 0.0);
-  bool update(double position, double t);
-  void reset();
-  bool valid() const { return samples_.size() >= 2; }
-  double velocity() const { return velocity_; }  // rad/s
-  double lastStamp() const { return samples_.empty() ? 0.0 : samples_.back().t; }
-
-private:
-  struct Sample
-  {
-    double t, position;  // position unwrapped
-  };
-  std::size_t window_;
-  double period_;
-  std::deque<Sample> samples_;
-  double raw_previous_ = 0.0;
-  double velocity_ = 0.0;
-};
-
-// Stamped joint readings as the odometries take them: one with a NaN or inf, or stamped no later
+// Stamped joint readings as the encoder and the odometries take them: one with a NaN or inf, or stamped no later
 // than the last, is rejected; the first after a reset only sets the reference, so the pose does
 // not jump by where the encoders happened to start. A step keeps the readings before it.
 template <std::size_t N>
@@ -97,6 +73,30 @@ private:
   bool have_reference_ = false;
   std::array<double, N> last_{}, before_{};
   double t_last_ = 0.0, dt_ = 0.0;
+};
+
+// Angular velocity of one wheel from stamped joint positions: the slope over the last
+// `window` position steps. Readings are taken by EncoderReadings' rules, as the odometries take them.
+class WheelEncoder
+{
+public:
+  explicit WheelEncoder(std::size_t window = 1, double period = 0.0);
+  bool update(double position, double t);
+  void reset();
+  bool valid() const { return samples_.size() >= 2; }
+  double velocity() const { return velocity_; }  // rad/s
+  double lastStamp() const { return samples_.empty() ? 0.0 : samples_.back().t; }
+
+private:
+  struct Sample
+  {
+    double t, position;  // position unwrapped
+  };
+  std::size_t window_;
+  double period_;
+  EncoderReadings<1> readings_;
+  std::deque<Sample> samples_;
+  double velocity_ = 0.0;
 };
 
 // What every wheeled odometry shares under its own kinematics, as wpimath's Odometry does under

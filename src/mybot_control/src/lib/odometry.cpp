@@ -46,19 +46,15 @@ WheelEncoder::WheelEncoder(std::size_t window, double period) : window_(window =
 
 bool WheelEncoder::update(double position, double t)
 {
-  if (!std::isfinite(position) || !std::isfinite(t))
+  const auto r = readings_.take({position}, t);
+  if (r == EncoderReadings<1>::REJECTED)
     return false;
-  if (samples_.empty())
+  if (r == EncoderReadings<1>::REFERENCE)
   {
     samples_.push_back({t, position});
-    raw_previous_ = position;
     return true;
   }
-  if (t <= samples_.back().t)
-    return false;
-  const double unwrapped = samples_.back().position + unwrappedDelta(raw_previous_, position, period_);
-  raw_previous_ = position;
-  samples_.push_back({t, unwrapped});
+  samples_.push_back({t, samples_.back().position + unwrappedDelta(readings_.before()[0], position, period_)});
   if (samples_.size() > window_ + 1)
     samples_.pop_front();
   velocity_ = (samples_.back().position - samples_.front().position) / (samples_.back().t - samples_.front().t);
@@ -67,6 +63,7 @@ bool WheelEncoder::update(double position, double t)
 
 void WheelEncoder::reset()
 {
+  readings_.reset();
   samples_.clear();
   velocity_ = 0.0;
 }
