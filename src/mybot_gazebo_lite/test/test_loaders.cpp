@@ -1,6 +1,7 @@
 // Loading URDF, SDF worlds, image worlds and model.config: errors name the element.
 #include "mybot_common/temp_dir.h"
 #include "mybot_gazebo_lite/parsing.h"
+#include "mybot_gazebo_lite/physics.h"
 #include "load_error.h"
 
 #include <gtest/gtest.h>
@@ -8,9 +9,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <sstream>
 
 using namespace mybot_gazebo_lite;
 
@@ -621,4 +624,50 @@ TEST(Loaders, PackageUrisResolveWithoutRoslib)
             d + "/ws/src/group/my_robot_description/meshes/wheel.stl");
   EXPECT_EQ(defaultResolveUri("package://my_robot_description/meshes/nope.stl", ""), "");
   setenv("ROS_PACKAGE_PATH", saved.c_str(), 1);
+}
+
+// What scripts/fuzz found, kept in test/fuzz_findings: each file's first line says what the loader
+// must do with it, "EXPECT refused: TEXT" (a LoadError naming the file and saying TEXT) or
+// "EXPECT simulated" (loaded, and finite after 0.2 s on the ground). Before 2026-12-02 every one of
+// them loaded and turned the robot to NaN within 0.2 s; the fuzzer's sanitizer build replays them
+// too (scripts/fuzz --replay), for what only a sanitizer sees.
+TEST(Loaders, FuzzFindings)
+{
+  const std::string dir = std::string(FIXTURE_DIR) + "/../fuzz_findings";
+  int checked = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+  {
+    const std::string path = entry.path().string(), name = entry.path().filename().string();
+    std::ifstream f(path);
+    std::stringstream text;
+    text << f.rdbuf();
+    const std::string xml = text.str(), first = xml.substr(0, xml.find('\n'));
+    const auto expect = first.find("EXPECT ");
+    ASSERT_NE(expect, std::string::npos) << name << ": its first line says nothing it expects";
+    const std::string what = first.substr(expect + 7, first.rfind(" -->") - expect - 7);
+    SCOPED_TRACE(name + ": " + what);
+    const std::string refused = "refused: ";
+    if (what.rfind(refused, 0) == 0)
+    {
+      const std::string error = loadErrorOf([&] { parseUrdf(xml, name); });
+      EXPECT_NE(error.find(name + ": "), std::string::npos) << error;
+      EXPECT_NE(error.find(what.substr(refused.size())), std::string::npos) << error;
+    }
+    else
+    {
+      ASSERT_EQ(what.rfind("simulated", 0), 0u);
+      auto spec = std::make_shared<RobotSpec>(parseUrdf(xml, name));
+      WorldSpec ground;
+      ground.ground_plane = true;
+      PhysicsWorld world(ground, {});
+      world.addRobot(spec, "bot", "", btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.05)));
+      for (int i = 0; i < 200; ++i)
+        world.step();
+      for (const auto& [link, pose] : world.linkStates())
+        EXPECT_TRUE(std::isfinite(pose.tf.getOrigin().length()) && std::isfinite(pose.linear.length()))
+            << link << " is not finite after 0.2 s";
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 6);
 }

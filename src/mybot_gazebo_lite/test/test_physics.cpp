@@ -1291,3 +1291,43 @@ TEST(Physics, AKeptFixedJointHoldsItsChildAndReadsItsWeight)
   ASSERT_EQ(w.jointProperties("wrist", jp), "");
   EXPECT_EQ(jp.type, JointSpec::FIXED);
 }
+
+// Joint damping holds whatever the ratio of damping to the link's inertia. A 10 g arm 5 cm long
+// with damping 0.1 N m s/rad is over-damped a thousandfold: it creeps down at the rate where
+// damping balances gravity's torque, w = m g r cos(q) / d. As the explicit torque -d w it was before
+// (d dt / I = 12 at 1 ms), the arm swung ever wider: -0.34 rad and -1000 rad/s after 1 s; damping
+// 1e308 (scripts/fuzz) made it NaN. Damping that large holds the arm where it is.
+TEST(Physics, StiffJointDampingIsStable)
+{
+  auto spec = std::make_shared<RobotSpec>(parseUrdf(R"(<robot name="light">
+    <link name="world"/>
+    <joint name="world_joint" type="fixed"><parent link="world"/><child link="base_link"/>
+      <origin xyz="0 0 1.0"/></joint>
+    <link name="base_link">
+      <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+      <inertial><mass value="1"/><inertia ixx="0.002" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.002"/></inertial>
+    </link>
+    <link name="arm_link">
+      <inertial><origin xyz="0.025 0 0"/><mass value="0.01"/>
+        <inertia ixx="1e-7" ixy="0" ixz="0" iyy="2e-6" iyz="0" izz="2e-6"/></inertial>
+    </link>
+    <joint name="shoulder" type="continuous"><parent link="base_link"/><child link="arm_link"/>
+      <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><dynamics damping="0.1"/></joint></robot>)",
+                                                    "light.urdf"));
+  PhysicsWorld w(WorldSpec{}, {});
+  Robot& r = w.addRobot(spec, "light", "", btTransform::getIdentity());
+  run(w, 1.0);
+  const double creep = 0.01 * 9.8 * 0.025 / 0.1;  // rad/s at q = 0; cos(q) stays above 0.9997
+  std::printf("damped arm: %.5f rad after 1 s (creep %.5f rad/s), rate %.5f rad/s\n", r.jointPosition("shoulder"),
+              creep, r.jointVelocity("shoulder"));
+  EXPECT_NEAR(r.jointVelocity("shoulder"), creep, 0.01 * creep);
+  EXPECT_NEAR(r.jointPosition("shoulder"), creep, 0.01 * creep);
+
+  JointSettings huge;
+  huge.damping = {1e308};
+  EXPECT_EQ(w.setJointProperties("shoulder", huge), "");
+  const double held = r.jointPosition("shoulder");
+  run(w, 1.0);
+  EXPECT_NEAR(r.jointPosition("shoulder"), held, 1e-9);
+  EXPECT_NEAR(r.jointVelocity("shoulder"), 0.0, 1e-9);
+}

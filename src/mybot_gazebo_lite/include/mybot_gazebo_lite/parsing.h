@@ -74,6 +74,20 @@ std::string loadMeshShape(Shape& shape, const std::string& uri, const std::strin
 // warning naming the link.
 void checkInertia(const std::string& source, LinkSpec& link, const std::string& where,
                   std::vector<std::string>& warnings);
+// The largest length (m), and mass (kg) or moment of inertia (kg m^2), that the loaders take. No
+// world is 1000 km across and nothing in one outweighs 1e12 kg; far beyond them the physics' products
+// lose the digits that matter or overflow: a wheel joint 1e8 m from its base turned the whole robot
+// to NaN within 0.2 s, and a mass of 1e308 overflowed its weight (scripts/fuzz, 2026-12-02).
+constexpr double kMaxLength = 1e6;
+constexpr double kMaxMass = 1e12;
+// Refuse (LoadError naming `source`, the link or joint and the element) any frame offset, shape
+// extent, mass or moment beyond those limits. Every loader calls them on what it built.
+void checkMagnitudes(const RobotSpec& spec, const std::string& source);
+void checkMagnitudes(const WorldModel& model, const std::string& source);
+void checkLength(const btVector3& v, const std::string& source, const std::string& what);
+// `v` as a unit vector; false when no component reaches 1e-9 (a zero axis). It is scaled by its
+// largest component first, so that an axis of "0 1e308 0" is the y axis and not an overflow to NaN.
+bool normalizeDirection(btVector3& v);
 // Every link's sensor plugins into spec.plugins, each with a copy of its <sensor> block; a plugin
 // without a filename is refused, naming the link as `link_tag` + name + "'>" ("<link name='").
 void addSensorPlugins(RobotSpec& spec, const std::string& link_tag);

@@ -69,7 +69,10 @@ public:
     const JointSpec* spec = nullptr;
     int link = -1;  // btMultiBody link index
     btMultiBodyJointMotor* motor = nullptr;
-    btMultiBodyJointMotor* friction = nullptr;
+    btMultiBodyJointMotor* friction = nullptr;  // Coulomb: at most friction dt of impulse a step
+    // Viscous damping, as a solver row (DamperRow in physics.cpp); made when the joint has damping,
+    // at load or when set_joint_properties gives it some.
+    btMultiBodyJointMotor* damper = nullptr;
     Mode mode = Mode::NONE;
     double target = 0, max_effort = 0, target_velocity = 0;
     double motor_effort = 0;  // what the motor exerted over the last step (N m or N)
@@ -273,7 +276,8 @@ public:
   // Throws LoadError (naming the element) for a model Bullet cannot build.
   Robot& addRobot(std::shared_ptr<const RobotSpec> spec, const std::string& name, const std::string& ns,
                   const btTransform& pose);
-  bool removeRobot(const std::string& name);
+  // By value: the name may be the robot's own, which the removal frees.
+  bool removeRobot(std::string name);
   Robot* robot(const std::string& name);
   std::vector<Robot*> robots();
 
@@ -310,7 +314,7 @@ public:
   void addModel(const WorldModel& m);
   // Removes a world model added at load or since (delete_model); false when there is none of
   // that name. `was_static`: whether it was static (the static world's caches must be rebuilt).
-  bool removeModel(const std::string& name, bool* was_static = nullptr);
+  bool removeModel(std::string name, bool* was_static = nullptr);  // by value, as removeRobot
   // Every model's name and state, as Gazebo's /gazebo/model_states lists them: in the order they
   // came into the world (the world file's, then spawned robots and models).
   std::vector<std::pair<std::string, Pose>> modelStates() const;
@@ -388,6 +392,7 @@ private:
   void buildMultiBody(const std::vector<LumpedBody>& bodies, Robot& r);
   void addColliders(const std::vector<LumpedBody>& bodies, Robot& r);
   void addJointConstraints(const std::vector<LumpedBody>& bodies, Robot& r);
+  void addDamper(Robot& r, Robot::Joint& j);
   void addWorldModel(const WorldModel& m);
   void updateContacts();
   // The watched joints' wrenches (Robot::watchJointWrench) from the step just taken.

@@ -378,6 +378,91 @@ void checkInertia(const std::string& source, LinkSpec& link, const std::string& 
   in.ixy = in.ixz = in.iyz = 0;
 }
 
+namespace
+{
+// Throws when |value| exceeds `max` (in `unit`).
+void checkMagnitude(double value, double max, const char* unit, const std::string& source, const std::string& what)
+{
+  if (std::fabs(value) <= max)
+    return;
+  char msg[160];
+  std::snprintf(msg, sizeof msg, " is %g %s, beyond the %g %s the simulator takes (a typo?)", value, unit, max, unit);
+  throw LoadError(source + ": " + what + msg);
+}
+
+}  // namespace
+
+void checkLength(const btVector3& v, const std::string& source, const std::string& what)
+{
+  for (int i = 0; i < 3; ++i)
+    checkMagnitude(v[i], kMaxLength, "m", source, what);
+}
+
+namespace
+{
+void checkShapes(const std::vector<Shape>& shapes, const std::string& source, const std::string& where)
+{
+  for (const Shape& s : shapes)
+  {
+    const std::string w = where + " <collision" + (s.name.empty() ? "" : " name='" + s.name + "'") + ">";
+    checkLength(s.pose.getOrigin(), source, w + "'s offset from its link");
+    checkLength(s.size, source, w + " <box size>");
+    checkMagnitude(s.radius, kMaxLength, "m", source, w + " radius");
+    checkMagnitude(s.length, kMaxLength, "m", source, w + " length");
+    // A mesh is scaled into its triangles: their extent is what the physics meets.
+    if (s.triangles)
+      for (const Triangle& t : *s.triangles)
+        for (const btVector3& corner : {t.a, t.b, t.c})
+          checkLength(corner, source, w + " <mesh> at its scale");
+  }
+}
+}  // namespace
+
+void checkMagnitudes(const RobotSpec& spec, const std::string& source)
+{
+  for (const LinkSpec& l : spec.links)
+  {
+    const std::string w = "<link name='" + l.name + "'>";
+    // The shapes first: an inertia the loader made from a shape (checkInertia) tells of the shape.
+    checkShapes(l.collisions, source, w);
+    const Inertial& i = l.inertial;
+    checkMagnitude(i.mass, kMaxMass, "kg", source, w + " <mass>");
+    for (double moment : {i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz})
+      checkMagnitude(moment, kMaxMass, "kg m^2", source, w + " <inertia>");
+    checkLength(i.origin.getOrigin(), source, w + " <inertial>'s offset from its link");
+  }
+  for (const JointSpec& j : spec.joints)
+  {
+    const std::string w = "<joint name='" + j.name + "'>";
+    checkLength(j.origin.getOrigin(), source, w + "'s offset from its parent link");
+    checkLength(j.pivot.getOrigin(), source, w + "'s offset from its child link");
+  }
+}
+
+void checkMagnitudes(const WorldModel& model, const std::string& source)
+{
+  const std::string mw = "<model name='" + model.name + "'>";
+  checkLength(model.pose.getOrigin(), source, mw + " <pose>");
+  for (const WorldLink& l : model.links)
+  {
+    const std::string w = mw + " <link name='" + l.name + "'>";
+    checkLength(l.pose.getOrigin(), source, w + " <pose>");
+    checkMagnitude(l.mass, kMaxMass, "kg", source, w + " <mass>");
+    checkShapes(l.shapes, source, w);
+  }
+}
+
+bool normalizeDirection(btVector3& v)
+{
+  const btVector3 a = v.absolute();
+  const double largest = a[a.maxAxis()];
+  if (!(largest >= 1e-9))  // zero, or a denormal whose reciprocal overflows
+    return false;
+  v = btVector3(v.x() / largest, v.y() / largest, v.z() / largest);
+  v.normalize();
+  return true;
+}
+
 void addSensorPlugins(RobotSpec& spec, const std::string& link_tag)
 {
   for (const auto& l : spec.links)

@@ -32,6 +32,38 @@ public:
   double lastImpulse() { return m_data.size() > 0 ? getAppliedImpulse(0) : 0.0; }
 };
 
+// A joint's viscous damping d, integrated implicitly: one solver row whose impulse turns the joint's
+// velocity v (the step's gravity and torques already in it) into v I / (I + d dt), I being the
+// joint's effective inertia as the solver computes it for the row (1 / J M^-1 J^T: the whole
+// multibody's response, not only its link's). That is stable for any d, and an over-damped joint
+// creeps at the rate where damping balances the load. The explicit torque -d v it replaces made
+// the joint's velocity change sign and grow once d dt exceeded twice its inertia: a 10 g link with
+// damping 0.1 went to NaN. The row's impulse is bounded by that value, so contacts and other rows
+// can still move the joint within the step as an explicit damper would let them.
+class DamperRow : public btMultiBodyJointMotor
+{
+public:
+  // Any nonzero impulse: Bullet's motor makes no row with 0 (it is how a motor is switched off).
+  DamperRow(btMultiBody* mb, int link) : btMultiBodyJointMotor(mb, link, 0, 1) {}
+  double damping = 0;
+
+  void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
+                            const btContactSolverInfo& info) override
+  {
+    const int first = rows.size();
+    btMultiBodyJointMotor::createConstraintRows(rows, data, info);  // the joint's row, target velocity 0
+    if (rows.size() != first + 1)
+      return;
+    btMultiBodySolverConstraint& row = rows[first];
+    // I d dt / (I + d dt), written so that neither a huge damping nor a huge inertia overflows it.
+    const double inertia = row.m_jacDiagABInv, d_dt = damping * info.m_timeStep;
+    const double impulse = -m_bodyA->getJointVel(m_linkA) * inertia / (1 + inertia / d_dt);
+    row.m_rhs = impulse;
+    row.m_lowerLimit = -std::fabs(impulse);
+    row.m_upperLimit = std::fabs(impulse);
+  }
+};
+
 constexpr int kStaticGroup = btBroadphaseProxy::StaticFilter;
 constexpr int kDynamicGroup = btBroadphaseProxy::DefaultFilter;
 
@@ -385,7 +417,7 @@ void PhysicsWorld::addModel(const WorldModel& m)
   addWorldModel(spec_.models.back());
 }
 
-bool PhysicsWorld::removeModel(const std::string& name, bool* was_static)
+bool PhysicsWorld::removeModel(std::string name, bool* was_static)
 {
   bool found = false;
   for (auto it = world_bodies_.begin(); it != world_bodies_.end();)
@@ -722,7 +754,14 @@ void PhysicsWorld::addColliders(const std::vector<LumpedBody>& bodies, Robot& r)
   }
 }
 
-// Joints: a motor for commands, one for Coulomb friction, limits.
+void PhysicsWorld::addDamper(Robot& r, Robot::Joint& j)
+{
+  j.damper = new DamperRow(r.mb_, j.link);
+  world_->addMultiBodyConstraint(j.damper);
+  r.constraints_.push_back(j.damper);
+}
+
+// Joints: a motor for commands, one for Coulomb friction, a damper, limits.
 void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Robot& r)
 {
   btMultiBody* mb = r.mb_;
@@ -756,6 +795,8 @@ void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Ro
       world_->addMultiBodyConstraint(j.friction);
       r.constraints_.push_back(j.friction);
     }
+    if (js->damping > 0)
+      addDamper(r, j);
     if (j.limited)
     {
       j.limit = new btMultiBodyJointLimitConstraint(mb, i - 1, j.lower, j.upper);
@@ -787,7 +828,7 @@ void PhysicsWorld::syncRobotTransforms(Robot& r)
     world_->updateSingleAabb(c);
 }
 
-bool PhysicsWorld::removeRobot(const std::string& name)
+bool PhysicsWorld::removeRobot(std::string name)
 {
   for (auto it = robots_.begin(); it != robots_.end(); ++it)
   {
@@ -840,9 +881,10 @@ void PhysicsWorld::step()
     btMultiBody* mb = r.mb_;
     for (auto& j : r.joints_)
     {
-      double qd = mb->getJointVel(j.link);
-      if (j.damping > 0)
-        mb->addJointTorque(j.link, -j.damping * qd);
+      if (j.damping > 0 && !j.damper)
+        addDamper(r, j);
+      if (j.damper)
+        static_cast<DamperRow*>(j.damper)->damping = j.damping;
       switch (j.mode)
       {
         case Robot::Mode::NONE:

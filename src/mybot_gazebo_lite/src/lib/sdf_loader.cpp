@@ -164,9 +164,8 @@ Shape parseSdfGeometry(const SdfCtx& c, const XMLElement* g, const std::string& 
     {
       c.fail(w, e.what());
     }
-    if (shape.normal.length() < 1e-9)
+    if (!normalizeDirection(shape.normal))
       c.fail(w, "zero normal");
-    shape.normal.normalize();
   }
   else if (t == "mesh")
   {
@@ -642,9 +641,8 @@ bool parseSdfRobot(const SdfCtx& c, const XMLElement* m, const std::string& wher
             frame = s.in_root;
           js.axis = joint_in_root.getBasis().transpose() * frame.getBasis() * js.axis;
         }
-        if (js.axis.length() < 1e-9)
+        if (!normalizeDirection(js.axis))
           sc.fail(aw + " <xyz>", "zero axis");
-        js.axis.normalize();
         if (const XMLElement* lim = ax->FirstChildElement("limit"))
         {
           // SDF's defaults: +-1e16 (no limits), -1 (no effort or velocity limit).
@@ -957,6 +955,13 @@ WorldSpec parseSdfWorld(const std::string& xml, const std::string& source, const
       }
     }
   }
+  for (const WorldModel& m : world.models)
+    checkMagnitudes(m, source);
+  for (const WorldRobot& r : world.robots)
+  {
+    checkLength(r.model_pose.getOrigin(), source, "<model name='" + r.name + "'> <pose>");
+    checkMagnitudes(*r.spec, source + " <model name='" + r.name + "'>");
+  }
   return world;
 }
 
@@ -1009,7 +1014,9 @@ WorldModel parseSdfDocument(const SdfCtx& c, const std::string& xml, SdfSpawn* s
 WorldModel parseSdfModel(const std::string& xml, const std::string& source, const std::string& base_dir,
                          const UriResolver& resolver)
 {
-  return parseSdfDocument(SdfCtx{source, base_dir, &resolver, {}}, xml, nullptr);
+  WorldModel model = parseSdfDocument(SdfCtx{source, base_dir, &resolver, {}}, xml, nullptr);
+  checkMagnitudes(model, source);
+  return model;
 }
 
 SdfSpawn parseSdfSpawn(const std::string& xml, const std::string& source, const std::string& base_dir,
@@ -1018,7 +1025,11 @@ SdfSpawn parseSdfSpawn(const std::string& xml, const std::string& source, const 
   SdfSpawn out;
   out.model = parseSdfDocument(SdfCtx{source, base_dir, &resolver, {}}, xml, &out);
   if (out.robot)
+  {
     out.robot->name = out.model.name;
+    checkMagnitudes(*out.robot, source + " <model name='" + out.model.name + "'>");
+  }
+  checkMagnitudes(out.model, source);
   return out;
 }
 }  // namespace mybot_gazebo_lite

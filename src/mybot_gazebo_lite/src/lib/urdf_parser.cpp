@@ -348,9 +348,8 @@ JointSpec parseJoint(const Ctx& c, const XMLElement* j, const std::set<std::stri
         c.fail(where, e.what());
       }
     }
-    if (js.axis.length() < 1e-9)
+    if (!normalizeDirection(js.axis))
       c.fail(where + " <axis>", "zero axis");
-    js.axis.normalize();
   }
   if (const XMLElement* lim = j->FirstChildElement("limit"))
   {
@@ -556,6 +555,7 @@ RobotSpec parseUrdf(const std::string& xml, const std::string& source, const Uri
   spec.root = findRoot(c, spec, children);
   parseGazeboExtensions(c, robot, joints, spec);
   warnUnheldMimics(spec);
+  checkMagnitudes(spec, source);
   return spec;
 }
 

@@ -1,0 +1,284 @@
+// Mutation fuzzing of the model loaders and of the physics they build (scripts/fuzz runs it,
+// built with AddressSanitizer and UBSan; not a gate test: what it finds depends on its seed and
+// its time, and what it found becomes a gtest in test_loaders.cpp or test_physics.cpp).
+//
+//   fuzz_loaders KIND SECONDS SEED OUT_DIR INPUT...      KIND: urdf | world | sdf_model
+//   (SECONDS 0: each input once, unmutated: the kept findings' replay)
+//
+// Each round takes one of the inputs, mutates it one to four times where a hand edit or a broken
+// generator would (a number becomes nan, -1, 0 or 1e308; an attribute takes another one's value;
+// a line is lost, doubled or moved; the file is cut short; a byte flips), writes it to
+// OUT_DIR/current.KIND, loads it and, when the loader takes it, builds it in a PhysicsWorld and
+// steps it for 0.2 s. What it checks:
+//  - no crash, no sanitizer report, no hang (20 s a round): the process dies, current.KIND stays
+//    for scripts/fuzz to keep;
+//  - a refusal is a std::exception (replayed, its message is printed);
+//  - a model the loader took stays finite in the simulation: otherwise OUT_DIR/nonfinite-N.KIND.
+// Structured mutations find more than byte flips: the loaders reject most non-XML at once.
+#include "mybot_gazebo_lite/parsing.h"
+#include "mybot_gazebo_lite/physics.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace mybot_gazebo_lite;
+
+namespace
+{
+const char* const kSpecials[] = {"nan",    "inf",        "-inf", "-1", "0",   "1e308",      "-1e308",
+                                 "1e-310", "1e9",        "-0",   "x",  "",    "1 2",        "0 0 0",
+                                 "1e400",  "4294967296", "1e-9", "2",  "0.5", "3.14159265", "100000"};
+
+std::string slurp(const std::string& path)
+{
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+void spit(const std::string& path, const std::string& text)
+{
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  f << text;
+}
+
+std::vector<std::string> splitLines(const std::string& s)
+{
+  std::vector<std::string> lines;
+  std::istringstream in(s);
+  for (std::string l; std::getline(in, l);)
+    lines.push_back(l);
+  return lines;
+}
+
+std::string joinLines(const std::vector<std::string>& lines)
+{
+  std::string s;
+  for (const auto& l : lines)
+    s += l + "\n";
+  return s;
+}
+
+// Every match of `re` in `s` as (position, length).
+std::vector<std::pair<size_t, size_t>> matches(const std::string& s, const std::regex& re)
+{
+  std::vector<std::pair<size_t, size_t>> out;
+  for (auto it = std::sregex_iterator(s.begin(), s.end(), re); it != std::sregex_iterator(); ++it)
+    out.emplace_back(it->position(), it->length());
+  return out;
+}
+
+class Mutator
+{
+public:
+  explicit Mutator(unsigned seed) : rng_(seed) {}
+
+  std::string mutate(std::string s)
+  {
+    const int n = 1 + pick(4);
+    for (int i = 0; i < n && !s.empty(); ++i)
+      s = once(s);
+    return s;
+  }
+
+private:
+  size_t pick(size_t n) { return n == 0 ? 0 : std::uniform_int_distribution<size_t>(0, n - 1)(rng_); }
+
+  std::string once(const std::string& s)
+  {
+    static const std::regex number(R"(-?[0-9]*\.?[0-9]+([eE][-+]?[0-9]+)?)");
+    static const std::regex quoted(R"("[^"<>]*")");
+    static const std::regex text(R"(>[^<>]+<)");
+    switch (pick(8))
+    {
+      case 0:
+      case 1:  // a number becomes a special value
+      {
+        const auto m = matches(s, number);
+        if (m.empty())
+          return s;
+        const auto [at, len] = m[pick(m.size())];
+        return s.substr(0, at) + kSpecials[pick(std::size(kSpecials))] + s.substr(at + len);
+      }
+      case 2:  // an attribute value or element text takes another one's
+      {
+        const auto m = matches(s, pick(2) ? quoted : text);
+        if (m.size() < 2)
+          return s;
+        const auto [at, len] = m[pick(m.size())];
+        const auto [from, from_len] = m[pick(m.size())];
+        return s.substr(0, at) + s.substr(from, from_len) + s.substr(at + len);
+      }
+      case 3:  // a line lost
+      {
+        auto lines = splitLines(s);
+        lines.erase(lines.begin() + pick(lines.size()));
+        return joinLines(lines);
+      }
+      case 4:  // a line doubled
+      {
+        auto lines = splitLines(s);
+        const size_t i = pick(lines.size());
+        lines.insert(lines.begin() + pick(lines.size()), lines[i]);
+        return joinLines(lines);
+      }
+      case 5:  // a line moved
+      {
+        auto lines = splitLines(s);
+        std::swap(lines[pick(lines.size())], lines[pick(lines.size())]);
+        return joinLines(lines);
+      }
+      case 6:  // cut short
+        return s.substr(0, pick(s.size()));
+      default:  // a byte flips
+      {
+        std::string t = s;
+        t[pick(t.size())] ^= static_cast<char>(1 << pick(8));
+        return t;
+      }
+    }
+  }
+
+  std::mt19937 rng_;
+};
+
+bool finite(const btTransform& tf)
+{
+  const btVector3& p = tf.getOrigin();
+  const btQuaternion q = tf.getRotation();
+  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()) && std::isfinite(q.w()) &&
+         std::isfinite(q.x()) && std::isfinite(q.y()) && std::isfinite(q.z());
+}
+
+// Steps the world for 0.2 s and tells whether every link and model stayed finite.
+bool simulatesFinitely(PhysicsWorld& world)
+{
+  for (int i = 0; i < 200; ++i)
+    world.step();
+  for (const auto& [name, pose] : world.linkStates())
+    if (!finite(pose.tf) || !std::isfinite(pose.linear.length2()) || !std::isfinite(pose.angular.length2()))
+    {
+      std::fprintf(stderr, "  link %s is not finite after 0.2 s\n", name.c_str());
+      return false;
+    }
+  return true;
+}
+
+WorldSpec ground()
+{
+  WorldSpec w;
+  w.ground_plane = true;
+  return w;
+}
+
+// Loads one input as KIND; returns whether the simulation stayed finite (true for a refusal, whose
+// message goes to `refusal`).
+bool run(const std::string& kind, const std::string& text, const std::string& base_dir, std::string* refusal = nullptr)
+{
+  const std::string source = "fuzz." + kind;
+  try
+  {
+    if (kind == "urdf")
+    {
+      auto spec = std::make_shared<RobotSpec>(parseUrdf(text, source));
+      PhysicsWorld world(ground(), {});
+      world.addRobot(spec, "bot", "", btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.05)));
+      return simulatesFinitely(world);
+    }
+    if (kind == "world")
+    {
+      PhysicsWorld world(parseSdfWorld(text, source, base_dir), {});
+      return simulatesFinitely(world);
+    }
+    SdfSpawn spawn = parseSdfSpawn(text, source, base_dir);
+    PhysicsWorld world(ground(), {});
+    if (spawn.robot)
+      world.addRobot(spawn.robot, "m", "", spawn.root_in_model);
+    else
+      world.addModel(spawn.model);
+    return simulatesFinitely(world);
+  }
+  catch (const std::exception& e)
+  {
+    if (refusal)
+      *refusal = e.what();
+    return true;
+  }
+}
+
+std::string dirOfPath(const std::string& p)
+{
+  const auto slash = p.rfind('/');
+  return slash == std::string::npos ? "." : p.substr(0, slash);
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  if (argc < 6)
+  {
+    std::fprintf(stderr, "usage: fuzz_loaders urdf|world|sdf_model SECONDS SEED OUT_DIR INPUT...\n");
+    return 2;
+  }
+  const std::string kind = argv[1], out = argv[4];
+  if (kind != "urdf" && kind != "world" && kind != "sdf_model")
+  {
+    std::fprintf(stderr, "fuzz_loaders: KIND is urdf, world or sdf_model, not '%s'\n", kind.c_str());
+    return 2;
+  }
+  const double seconds = std::atof(argv[2]);
+  const std::string current = out + "/current." + kind;
+  Mutator mutator(static_cast<unsigned>(std::atol(argv[3])));
+  std::vector<std::pair<std::string, std::string>> inputs;  // (text, folder for relative URIs)
+  for (int i = 5; i < argc; ++i)
+    inputs.emplace_back(slurp(argv[i]), dirOfPath(argv[i]));
+
+  if (seconds <= 0)  // replay: each input once, as it is
+  {
+    int failed = 0;
+    for (int i = 5; i < argc; ++i)
+    {
+      alarm(20);
+      spit(current, inputs[i - 5].first);
+      std::string refusal;
+      if (!run(kind, inputs[i - 5].first, inputs[i - 5].second, &refusal))
+      {
+        std::printf("%s: not finite in the simulation\n", argv[i]);
+        ++failed;
+      }
+      else
+        std::printf("%s: %s\n", argv[i], refusal.empty() ? "simulated" : refusal.c_str());
+    }
+    std::remove(current.c_str());
+    std::printf("%s: %d inputs replayed, %d non-finite\n", kind.c_str(), argc - 5, failed);
+    return failed ? 1 : 0;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  std::mt19937 pick(static_cast<unsigned>(std::atol(argv[3])) + 1);
+  long rounds = 0, nonfinite = 0;
+  while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < seconds)
+  {
+    const auto& [text, dir] = inputs[std::uniform_int_distribution<size_t>(0, inputs.size() - 1)(pick)];
+    const std::string mutated = mutator.mutate(text);
+    spit(current, mutated);
+    alarm(20);  // a hang dies of SIGALRM with current.KIND kept
+    if (!run(kind, mutated, dir) && nonfinite < 50)
+      spit(out + "/nonfinite-" + std::to_string(nonfinite++) + "." + kind, mutated);
+    ++rounds;
+  }
+  alarm(0);
+  std::remove(current.c_str());
+  std::printf("%s: %ld rounds, %ld non-finite simulations\n", kind.c_str(), rounds, nonfinite);
+  return 0;
+}
