@@ -1331,3 +1331,28 @@ TEST(Physics, StiffJointDampingIsStable)
   EXPECT_NEAR(r.jointPosition("shoulder"), held, 1e-9);
   EXPECT_NEAR(r.jointVelocity("shoulder"), 0.0, 1e-9);
 }
+
+// The same for an SDF ball joint, damped about each of its axes: a 10 g bob 5 cm from its pivot,
+// let go level with it, creeps down at m g r / d about the horizontal axis across its rod.
+TEST(Physics, StiffBallJointDampingIsStable)
+{
+  const std::string pendulum = R"(<sdf version="1.6"><model name="light">
+      <link name="post"><pose>0 0 1 0 0 0</pose>
+        <collision name="c"><geometry><box><size>0.05 0.05 0.05</size></box></geometry></collision></link>
+      <link name="bob"><pose>0.05 0 1 0 0 0</pose>
+        <inertial><mass>0.01</mass><inertia><ixx>1e-7</ixx><iyy>1e-7</iyy><izz>1e-7</izz></inertia></inertial></link>
+      <joint name="anchor" type="fixed"><parent>world</parent><child>post</child></joint>
+      <joint name="swivel" type="ball"><pose>-0.05 0 0 0 0 0</pose><parent>post</parent><child>bob</child>
+        <axis><xyz>0 0 1</xyz><dynamics><damping>0.1</damping></dynamics></axis></joint></model></sdf>)";
+  SdfSpawn sdf = parseSdfSpawn(pendulum, "light.sdf", ".");
+  ASSERT_TRUE(sdf.robot);
+  PhysicsWorld w(flatWorld(), {});
+  Robot& r = w.addRobot(sdf.robot, "light", "", sdf.model.pose * sdf.root_in_model);
+  run(w, 1.0);
+  const btVector3 rod = r.linkPose("bob").getOrigin() - btVector3(0, 0, 1);
+  const double angle = std::atan2(-rod.z(), rod.x()), creep = 0.01 * 9.8 * 0.05 / 0.1;  // rad/s
+  std::printf("damped ball joint: %.5f rad after 1 s (creep %.5f rad/s)\n", angle, creep);
+  EXPECT_NEAR(rod.length(), 0.05, 1e-6);
+  EXPECT_NEAR(angle, creep, 0.01 * creep);
+  EXPECT_NEAR(rod.y(), 0.0, 1e-9);
+}

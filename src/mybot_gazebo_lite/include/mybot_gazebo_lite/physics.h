@@ -195,9 +195,6 @@ private:
   std::vector<btMultiBodyConstraint*> constraints_;
   std::vector<std::unique_ptr<std::vector<Surface>>> child_mu_;
   std::vector<char> gravity_off_;  // by body (index body + 1): set_link_properties' gravity_mode false
-  // Ball joints (SDF): their multibody link and their <damping> (N m per rad/s, on each axis). They
-  // are not among the movable joints: nothing commands or reports them, as a caster's.
-  std::vector<std::pair<int, double>> ball_joints_;
   // addWrench's sums by body (index body + 1): for the coming step, and over the last one.
   std::vector<std::pair<btVector3, btVector3>> pending_wrench_, last_wrench_;
   // watchJointWrench's joints and their wrench over the last step; the bodies' motion before the step.

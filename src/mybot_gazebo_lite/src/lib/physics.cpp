@@ -5,6 +5,7 @@
 #include <BulletCollision/CollisionShapes/btTriangleMesh.h>
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodySphericalJointMotor.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
@@ -32,14 +33,34 @@ public:
   double lastImpulse() { return m_data.size() > 0 ? getAppliedImpulse(0) : 0.0; }
 };
 
-// A joint's viscous damping d, integrated implicitly: one solver row whose impulse turns the joint's
-// velocity v (the step's gravity and torques already in it) into v I / (I + d dt), I being the
-// joint's effective inertia as the solver computes it for the row (1 / J M^-1 J^T: the whole
-// multibody's response, not only its link's). That is stable for any d, and an over-damped joint
-// creeps at the rate where damping balances the load. The explicit torque -d v it replaces made
-// the joint's velocity change sign and grow once d dt exceeded twice its inertia: a 10 g link with
-// damping 0.1 went to NaN. The row's impulse is bounded by that value, so contacts and other rows
-// can still move the joint within the step as an explicit damper would let them.
+// Viscous joint damping d, integrated implicitly: a soft solver row on the joint's velocity, whose
+// impulse is -d dt v_new, v_new being the velocity at the end of the step. Bullet's solver drives a
+// row to (rhs - cfm impulse) / jacDiagABInv = J dv; with the row's J M^-1 J^T = a (the joint's
+// inverse effective inertia, the whole multibody's) and the compliance c = 1 / (d dt), the fixed
+// point is impulse = -(v + a impulse) / c: implicit Euler, solved together with the contacts and the
+// other joints' rows (a ball joint's three rows, coupled by the bob's inertia, keep its swing in its
+// plane). An isolated joint's velocity becomes v / (1 + a d dt): stable for any d, and an
+// over-damped joint creeps at the rate where damping balances its load. The explicit torque -d v it
+// replaces made the joint's velocity change sign and grow once d dt exceeded twice its inertia: a
+// 10 g link with damping 0.1 went to NaN.
+void dampRow(btMultiBodySolverConstraint& row, double velocity, double damping, double dt)
+{
+  const double a = 1 / row.m_jacDiagABInv;  // inf for a row without inertia: then no impulse
+  row.m_rhsPenetration = 0;
+  if (!(damping > 0) || !std::isfinite(a))
+  {
+    row.m_jacDiagABInv = row.m_rhs = row.m_cfm = row.m_lowerLimit = row.m_upperLimit = 0;
+    return;
+  }
+  const double c = 1 / (damping * dt);
+  row.m_jacDiagABInv = 1 / (a + c);
+  row.m_cfm = c * row.m_jacDiagABInv;
+  row.m_rhs = -velocity * row.m_jacDiagABInv;
+  row.m_lowerLimit = -BT_LARGE_FLOAT;
+  row.m_upperLimit = BT_LARGE_FLOAT;
+}
+
+// A revolute or prismatic joint's damper: Bullet's motor row, its impulse set by dampRow.
 class DamperRow : public btMultiBodyJointMotor
 {
 public:
@@ -51,17 +72,36 @@ public:
                             const btContactSolverInfo& info) override
   {
     const int first = rows.size();
-    btMultiBodyJointMotor::createConstraintRows(rows, data, info);  // the joint's row, target velocity 0
-    if (rows.size() != first + 1)
-      return;
-    btMultiBodySolverConstraint& row = rows[first];
-    // I d dt / (I + d dt), written so that neither a huge damping nor a huge inertia overflows it.
-    const double inertia = row.m_jacDiagABInv, d_dt = damping * info.m_timeStep;
-    const double impulse = -m_bodyA->getJointVel(m_linkA) * inertia / (1 + inertia / d_dt);
-    row.m_rhs = impulse;
-    row.m_lowerLimit = -std::fabs(impulse);
-    row.m_upperLimit = std::fabs(impulse);
+    btMultiBodyJointMotor::createConstraintRows(rows, data, info);
+    if (rows.size() == first + 1)
+      dampRow(rows[first], m_bodyA->getJointVel(m_linkA), damping, info.m_timeStep);
   }
+};
+
+// A ball joint's damper: one row about each axis of the child link, which are the joint's three
+// velocity coordinates.
+class BallDamperRows : public btMultiBodySphericalJointMotor
+{
+public:
+  BallDamperRows(btMultiBody* mb, int link, double damping)
+      : btMultiBodySphericalJointMotor(mb, link, 1), damping_(damping)
+  {
+  }
+
+  void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
+                            const btContactSolverInfo& info) override
+  {
+    const int first = rows.size();
+    btMultiBodySphericalJointMotor::createConstraintRows(rows, data, info);
+    if (rows.size() != first + 3)
+      return;
+    const btScalar* w = m_bodyA->getJointVelMultiDof(m_linkA);
+    for (int i = 0; i < 3; ++i)
+      dampRow(rows[first + i], w[i], damping_, info.m_timeStep);
+  }
+
+private:
+  double damping_;
 };
 
 constexpr int kStaticGroup = btBroadphaseProxy::StaticFilter;
@@ -775,7 +815,12 @@ void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Ro
     }
     if (js->type == JointSpec::BALL)
     {
-      r.ball_joints_.emplace_back(i - 1, js->damping);
+      if (js->damping > 0)
+      {
+        auto* damper = new BallDamperRows(mb, i - 1, js->damping);
+        world_->addMultiBodyConstraint(damper);
+        r.constraints_.push_back(damper);
+      }
       continue;
     }
     Robot::Joint j;
@@ -912,14 +957,6 @@ void PhysicsWorld::step()
       }
     }
   }
-  for (auto& rp : robots_)
-    for (const auto& [link, damping] : rp->ball_joints_)
-      if (damping > 0)
-      {
-        const btScalar* w = rp->mb_->getJointVelMultiDof(link);
-        const btScalar torque[3] = {-damping * w[0], -damping * w[1], -damping * w[2]};
-        rp->mb_->addJointTorqueMultiDof(link, torque);
-      }
   applyWrenches();
   applyEfforts();
   cancelGravity();
