@@ -24,6 +24,7 @@ TEST(Checks, NamesAValueBeyondTheLimit)
 }
 
 using mybot_common::scanGeometryError;
+using mybot_common::scanRangeError;
 
 TEST(Checks, NumbersAreShownShort)
 {
@@ -54,4 +55,16 @@ TEST(Checks, ScanThatIsNoSweepIsRefused)
   EXPECT_NE(scanGeometryError(0.0, 1.0, -0.1, 11), "");
   EXPECT_NE(scanGeometryError(std::nan(""), 1.0, 0.1, 11), "");
   EXPECT_NE(scanGeometryError(0.0, 1.0, 1e-30, 11), "");  // 1e30 beams: no overflow
+}
+
+TEST(Checks, ScanRangeLimitsThatAreNoRangeAreRefused)
+{
+  EXPECT_EQ(scanRangeError(0.1, 30.0), "");
+  EXPECT_EQ(scanRangeError(0.0, INFINITY), "");  // no upper limit
+  EXPECT_EQ(scanRangeError(0.1, std::nan("")),
+            "has range_min 0.1, range_max nan: not a range (range_min finite and >= 0, range_max above it)");
+  EXPECT_NE(scanRangeError(-1.0, 30.0), "");  // a negative range would be a wall behind the laser
+  EXPECT_NE(scanRangeError(std::nan(""), 30.0), "");
+  EXPECT_NE(scanRangeError(5.0, 5.0), "");
+  EXPECT_NE(scanRangeError(5.0, 0.0), "");
 }

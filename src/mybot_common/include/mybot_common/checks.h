@@ -32,4 +32,10 @@ std::string formatNumber(double v);
 // contradicts itself would be drawn into maps and costmaps at the wrong bearings.
 std::string scanGeometryError(double angle_min, double angle_max, double angle_increment, std::size_t ranges);
 
+// A LaserScan's range limits: range_min finite and >= 0, range_max above it (+inf: no limit). "" if
+// they hold, else a message naming the field ("has range_max nan ..."). A NaN range_max put every
+// no-return reading's free space at NaN metres, into the map and the costmap; a negative range_min
+// let a negative range through as a wall behind the laser.
+std::string scanRangeError(double range_min, double range_max);
+
 }  // namespace mybot_common

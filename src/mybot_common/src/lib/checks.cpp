@@ -61,4 +61,15 @@ std::string scanGeometryError(double angle_min, double angle_max, double angle_i
   return text;
 }
 
+std::string scanRangeError(double range_min, double range_max)
+{
+  if (std::isfinite(range_min) && range_min >= 0.0 && range_max > range_min)
+    return "";
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "has range_min %g, range_max %g: not a range (range_min finite and >= 0, range_max above it)",
+                range_min, range_max);
+  return text;
+}
+
 }  // namespace mybot_common

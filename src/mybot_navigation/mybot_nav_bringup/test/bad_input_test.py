@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Bad input to the navigation nodes, no simulator: a LaserScan whose number of ranges contradicts
-its angles is dropped by slam_node, amcl and move_base, each warning with the topic and both
-numbers, and a consistent scan is still used; an initial pose with NaN, 1e30 or a zero quaternion
+its angles, or whose range_max is NaN, is dropped by slam_node, amcl and move_base, each warning
+with the topic and the numbers, and a consistent scan is still used; an initial pose with NaN, 1e30 or a zero quaternion
 is refused by amcl naming the field, and its pose stays where it was."""
 import math
 import sys
@@ -90,14 +90,21 @@ class BadInput(unittest.TestCase):
         self.assertFalse(any(n == "/amcl" and "setting pose" in m for n, m in self.logs))
 
     def test_contradicting_scans_are_dropped_naming_topic_and_numbers(self):
-        want = "has 100 ranges where its angles (angle_min -1.5708, angle_max 1.5708, angle_increment 0.00872665) make 361"
-        warned = lambda node: any(n == node and "/scan" in m and want in m for n, m in self.logs)  # noqa: E731
+        no_range = scan(361)
+        no_range.range_max = float("nan")  # it put every no-return beam's free space at NaN metres
+        cases = [(scan(100), "has 100 ranges where its angles (angle_min -1.5708, angle_max 1.5708, "
+                             "angle_increment 0.00872665) make 361"),
+                 (no_range, "has range_min 0.1, range_max nan: not a range")]
         rate = rospy.Rate(10)
-        deadline = time.monotonic() + WALL_TIMEOUT
-        while not all(warned(n) for n in ("/slam_ns/slam", "/amcl", "/move_base")):
-            self.assertLess(time.monotonic(), deadline, "warnings so far: %s" % [l for l in self.logs if "ranges" in l[1]])
-            self.pub.publish(scan(100))
-            rate.sleep()
+        for bad, want in cases:
+            warned = lambda node: any(n == node and "/scan" in m and want in m for n, m in self.logs)  # noqa: E731
+            deadline = time.monotonic() + WALL_TIMEOUT  # the warnings are throttled to one in 5 s
+            while not all(warned(n) for n in ("/slam_ns/slam", "/amcl", "/move_base")):
+                self.assertLess(time.monotonic(), deadline,
+                                "warnings so far: %s" % [l for l in self.logs if "dropping" in l[1]])
+                bad.header.stamp = rospy.Time.now()
+                self.pub.publish(bad)
+                rate.sleep()
         # Nothing of them reached SLAM's map: it has not published one yet.
         self.assertEqual(self.slam_maps, [])
         # A consistent scan is used: SLAM makes its first map from it.

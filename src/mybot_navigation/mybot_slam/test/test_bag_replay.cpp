@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 
 #include <nav_msgs/Odometry.h>
@@ -202,7 +203,9 @@ namespace
 {
 // A small bag of the layout the benchmark's bags have: /odom, then /scan at the same instant, a
 // robot driving 1 m along a 4 x 3 m room. BZ2 chunks of a few kB, as rosbag record -j writes them.
-std::string writeRoomBag(const std::string& path)
+// `spoil` may change scan i before it is written.
+std::string writeRoomBag(const std::string& path,
+                         const std::function<void(int, sensor_msgs::LaserScan&)>& spoil = nullptr)
 {
   rosbag::Bag bag(path, rosbag::bagmode::Write);
   bag.setCompression(rosbag::compression::BZ2);
@@ -232,10 +235,22 @@ std::string writeRoomBag(const std::string& path)
       const double to_y = std::abs(s) > 1e-9 ? 1.5 / std::abs(s) : 1e9;
       scan.ranges.push_back(static_cast<float>(std::min(to_x, to_y)));
     }
+    if (spoil)
+      spoil(i, scan);
     bag.write("/scan", stamp, scan);
   }
   bag.close();
   return path;
+}
+
+// The bag replayed with config/slam.yaml's parameters.
+BagReplayResult replayWithDefaults(const std::string& bag)
+{
+  const SlamRunParams params = loadSlamParams(MYBOT_SLAM_SOURCE "/config/slam.yaml");
+  Slam slam(params.slam);
+  BagReplayOptions options;
+  options.bag = bag;
+  return replayBag(options, slam, params);
 }
 
 std::string replayError(const std::string& bag)
@@ -273,11 +288,7 @@ TEST(BagReplay, BadBagsAreNamedWithWhatWentWrong)
   std::filesystem::create_directories(dir);
   const std::string good = writeRoomBag(dir + "/room.bag");
   {
-    const SlamRunParams params = loadSlamParams(MYBOT_SLAM_SOURCE "/config/slam.yaml");
-    Slam slam(params.slam);
-    BagReplayOptions options;
-    options.bag = good;
-    const BagReplayResult r = replayBag(options, slam, params);
+    const BagReplayResult r = replayWithDefaults(good);
     EXPECT_EQ(r.scans, 100u);
     ASSERT_EQ(r.trajectory.size(), 100u);
     EXPECT_NEAR(r.trajectory.back().pose.x - r.trajectory.front().pose.x, 0.99, 0.02);
@@ -311,5 +322,34 @@ TEST(BagReplay, BadBagsAreNamedWithWhatWentWrong)
   e = replayError(dir + "/missing.bag");
   EXPECT_NE(e.find(dir + "/missing.bag: cannot open the file (No such file or directory)"), std::string::npos) << e;
 
+  std::filesystem::remove_all(dir);
+}
+
+// Scans that contradict themselves are skipped as slam_node drops them (scanGeometryOk), counted,
+// and the first one's fault is told: a NaN range_max (it put every no-return beam's free space at
+// NaN metres), a negative range_min, ranges that do not fit the angles. The others map the room.
+TEST(BagReplay, ScansThatContradictThemselvesAreSkipped)
+{
+  const std::string dir = std::filesystem::temp_directory_path() / ("test_bag_spoilt_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string bag = writeRoomBag(dir + "/spoilt.bag",
+                                       [](int i, sensor_msgs::LaserScan& scan)
+                                       {
+                                         if (i % 10 == 3)
+                                           scan.range_max = std::nanf("");
+                                         else if (i % 10 == 6)
+                                           scan.range_min = -1.0f;
+                                         else if (i % 10 == 9)
+                                           scan.ranges.resize(100);
+                                       });
+  const BagReplayResult r = replayWithDefaults(bag);
+  EXPECT_EQ(r.scans_refused, 30u);
+  EXPECT_EQ(r.scans, 70u);
+  ASSERT_EQ(r.trajectory.size(), 70u);
+  EXPECT_NE(r.first_refusal.find("the scan at 100.3"), std::string::npos) << r.first_refusal;
+  EXPECT_NE(r.first_refusal.find("range_max nan"), std::string::npos) << r.first_refusal;
+  for (const StampedPose& p : r.trajectory)
+    ASSERT_TRUE(std::isfinite(p.pose.x) && std::isfinite(p.pose.y) && std::isfinite(p.pose.theta));
+  EXPECT_NEAR(r.trajectory.back().pose.x - r.trajectory.front().pose.x, 0.98, 0.02);
   std::filesystem::remove_all(dir);
 }

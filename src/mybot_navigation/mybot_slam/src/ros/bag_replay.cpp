@@ -20,6 +20,7 @@
 #include <tf2_msgs/TFMessage.h>
 #include <yaml-cpp/yaml.h>
 
+#include "mybot_common/checks.h"
 #include "mybot_nav_common/range_scan.h"
 #include "mybot_nav_common/ros/conversions.h"
 
@@ -179,6 +180,18 @@ BagReplayResult replayOpenBag(rosbag::Bag& bag, const BagReplayOptions& opt, Sla
     auto scan = m.instantiate<sensor_msgs::LaserScan>();
     if (!scan || scan->ranges.empty() || (!from_tf && next_odom == 0))
       continue;
+    // As slam_node drops them (scanGeometryOk): a scan whose ranges contradict its angles, or whose
+    // range limits are no range, would put walls at wrong bearings or at NaN.
+    std::string refusal =
+        mybot_common::scanGeometryError(scan->angle_min, scan->angle_max, scan->angle_increment, scan->ranges.size());
+    if (refusal.empty())
+      refusal = mybot_common::scanRangeError(scan->range_min, scan->range_max);
+    if (!refusal.empty())
+    {
+      if (result.scans_refused++ == 0)
+        result.first_refusal = "the scan at " + std::to_string(scan->header.stamp.toSec()) + " " + refusal;
+      continue;
+    }
     const double stamp = scan->header.stamp.toSec();
     Pose2D odom;
     ScanGeometry g;

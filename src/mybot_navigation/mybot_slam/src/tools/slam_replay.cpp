@@ -277,7 +277,10 @@ int main(int argc, char** argv)
     std::fprintf(stderr, "\n");
   if (slam.keyframes().empty())
   {
-    if (opt.odom_frame.empty())
+    if (r.scans_refused > 0 && r.scans == 0)
+      std::fprintf(stderr, "slam_replay: %s: all %zu scans on %s contradict themselves: %s\n", opt.bag.c_str(),
+                   r.scans_refused, opt.scan_topic.c_str(), r.first_refusal.c_str());
+    else if (opt.odom_frame.empty())
       std::fprintf(stderr, "slam_replay: %s: no scans on %s with odometry on %s before them\n", opt.bag.c_str(),
                    opt.scan_topic.c_str(), opt.odom_topic.c_str());
     else
@@ -289,6 +292,9 @@ int main(int argc, char** argv)
     std::fprintf(stderr,
                  "slam_replay: %zu scans on %s had no tf %s -> %s at their stamp (or no laser mounting): skipped\n",
                  r.scans_without_odometry, opt.scan_topic.c_str(), opt.odom_frame.c_str(), opt.base_frame.c_str());
+  if (r.scans_refused > 0)
+    std::fprintf(stderr, "slam_replay: %zu scans on %s were skipped, as slam_node drops them: %s\n", r.scans_refused,
+                 opt.scan_topic.c_str(), r.first_refusal.c_str());
   // Not acted on, only said: a bag may declare such angles and mean them.
   if (r.scans_converter_angles > 0)
     std::fprintf(stderr,

@@ -24,13 +24,15 @@ namespace mybot_navigation
 using mybot_common::fatalParam;
 using mybot_common::readParam;
 
-// False for a scan that contradicts its own geometry (ranges not matching its angles), with a
-// throttled warning naming the topic and both numbers: drawn in, it would put walls at the wrong
-// bearings in the map, the particle weights and the costmap.
+// False for a scan that contradicts its own geometry (ranges not matching its angles, or range limits
+// that are no range), with a throttled warning naming the topic and the numbers: drawn in, it would
+// put walls at the wrong bearings or at NaN in the map, the particle weights and the costmap.
 inline bool scanGeometryOk(const std::string& node, const std::string& topic, const sensor_msgs::LaserScan& scan)
 {
-  const std::string error =
+  std::string error =
       mybot_common::scanGeometryError(scan.angle_min, scan.angle_max, scan.angle_increment, scan.ranges.size());
+  if (error.empty())
+    error = mybot_common::scanRangeError(scan.range_min, scan.range_max);
   if (error.empty())
     return true;
   ROS_WARN_THROTTLE(5.0, "%s: dropping scans on %s: one %s", node.c_str(), topic.c_str(), error.c_str());

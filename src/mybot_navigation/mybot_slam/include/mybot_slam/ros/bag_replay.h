@@ -54,6 +54,8 @@ struct BagReplayResult
   std::vector<LoopClosureRecord> closures;  // every closure matched, held, dropped or rejected, in order
   std::size_t scans = 0;
   std::size_t scans_without_odometry = 0;  // odom_frame: no transform at their stamp, skipped
+  std::size_t scans_refused = 0;           // contradicting their angles or range limits, skipped as slam_node does
+  std::string first_refusal;               // what was wrong with the first of them
   std::size_t scans_reangled = 0;          // carmen_angles: scans given CARMEN's beam angles
   std::size_t scans_converter_angles = 0;  // without it: scans that have a converter's derived angles
   double first_stamp = 0.0, last_stamp = 0.0;
