@@ -40,6 +40,9 @@ TEST(Checks, ScanWhoseRangesMatchItsAnglesPasses)
   EXPECT_EQ(scanGeometryError(-1.5707964f, 1.5620697f, 0.0087266462f, 360), "");
   EXPECT_EQ(scanGeometryError(1.0, -1.0, -0.5, 5), "");  // sweeping clockwise
   EXPECT_EQ(scanGeometryError(0.0, 0.0, 0.01, 1), "");   // one beam
+  // The Freiburg hospital log: 180 beams, angle_max one increment past the last one.
+  EXPECT_EQ(scanGeometryError(-1.5577142f, 1.5838941f, 0.017453292f, 180), "");
+  EXPECT_NE(scanGeometryError(-1.5577142f, 1.5838941f, 0.017453292f, 179), "");
 }
 
 TEST(Checks, ScanWithTooFewRangesGivesBothNumbers)

@@ -2,7 +2,9 @@
 // built with AddressSanitizer and UBSan; not a gate test: what it finds depends on its seed and
 // its time, and what it found becomes a gtest in test_loaders.cpp or test_physics.cpp).
 //
-//   fuzz_loaders KIND SECONDS SEED OUT_DIR INPUT...      KIND: urdf | world | sdf_model
+//   fuzz_loaders KIND SECONDS SEED OUT_DIR INPUT...
+//   KIND: urdf | world | sdf_model | image_world (a map_server YAML naming its image by an absolute
+//   path) | pgm (an image, loaded through a fixed YAML)
 //   (SECONDS 0: each input once, unmutated: the kept findings' replay)
 //
 // Each round takes one of the inputs, mutates it one to four times where a hand edit or a broken
@@ -201,6 +203,21 @@ bool run(const std::string& kind, const std::string& text, const std::string& ba
       PhysicsWorld world(parseSdfWorld(text, source, base_dir), {});
       return simulatesFinitely(world);
     }
+    if (kind == "image_world" || kind == "pgm")
+    {
+      // image_world: a map_server YAML, its image's path made absolute in the seed; pgm: an image,
+      // read through a fixed YAML. Both as the simulator loads a floor plan, header check first.
+      const std::string yaml = base_dir + "/current." + kind + ".yaml";
+      if (kind == "image_world")
+        spit(yaml, text);
+      else
+      {
+        spit(base_dir + "/current.pgm", text);
+        spit(yaml, "image: current.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\n");
+      }
+      PhysicsWorld world(loadWorldFile(yaml), {});
+      return simulatesFinitely(world);
+    }
     SdfSpawn spawn = parseSdfSpawn(text, source, base_dir);
     PhysicsWorld world(ground(), {});
     if (spawn.robot)
@@ -228,21 +245,22 @@ int main(int argc, char** argv)
 {
   if (argc < 6)
   {
-    std::fprintf(stderr, "usage: fuzz_loaders urdf|world|sdf_model SECONDS SEED OUT_DIR INPUT...\n");
+    std::fprintf(stderr, "usage: fuzz_loaders urdf|world|sdf_model|image_world|pgm SECONDS SEED OUT_DIR INPUT...\n");
     return 2;
   }
   const std::string kind = argv[1], out = argv[4];
-  if (kind != "urdf" && kind != "world" && kind != "sdf_model")
+  if (kind != "urdf" && kind != "world" && kind != "sdf_model" && kind != "image_world" && kind != "pgm")
   {
-    std::fprintf(stderr, "fuzz_loaders: KIND is urdf, world or sdf_model, not '%s'\n", kind.c_str());
+    std::fprintf(stderr, "fuzz_loaders: KIND is urdf, world, sdf_model, image_world or pgm, not '%s'\n", kind.c_str());
     return 2;
   }
   const double seconds = std::atof(argv[2]);
   const std::string current = out + "/current." + kind;
   Mutator mutator(static_cast<unsigned>(std::atol(argv[3])));
-  std::vector<std::pair<std::string, std::string>> inputs;  // (text, folder for relative URIs)
+  std::vector<std::pair<std::string, std::string>> inputs;    // (text, folder for relative URIs)
+  const bool image = kind == "image_world" || kind == "pgm";  // loaded from files written to OUT_DIR
   for (int i = 5; i < argc; ++i)
-    inputs.emplace_back(slurp(argv[i]), dirOfPath(argv[i]));
+    inputs.emplace_back(slurp(argv[i]), image ? out : dirOfPath(argv[i]));
 
   if (seconds <= 0)  // replay: each input once, as it is
   {

@@ -27,9 +27,12 @@ std::string formatNumber(double v);
 
 // A LaserScan's own geometry (REP 117 / sensor_msgs): finite angles, a non-zero increment with
 // the sign of angle_max - angle_min, and round((angle_max - angle_min) / angle_increment) + 1
-// ranges. "" if it holds, else a message with both numbers ("has 100 ranges where its angles
-// (angle_min -1.5708, angle_max 1.5708, angle_increment 0.00873) make 361"): a scan that
-// contradicts itself would be drawn into maps and costmaps at the wrong bearings.
+// ranges, or one fewer: an angle_max at the end of the sweep, one increment past the last beam,
+// as 5169 of the 6917 scans of the Freiburg hospital log have it (beam i is still at angle_min +
+// i angle_increment, as every consumer draws it). "" if it holds, else a message with both numbers
+// ("has 100 ranges where its angles (angle_min -1.5708, angle_max 1.5708, angle_increment 0.00873)
+// make 361"): a scan that contradicts itself would be drawn into maps and costmaps at the wrong
+// bearings.
 std::string scanGeometryError(double angle_min, double angle_max, double angle_increment, std::size_t ranges);
 
 // A LaserScan's range limits: range_min finite and >= 0, range_max above it (+inf: no limit). "" if

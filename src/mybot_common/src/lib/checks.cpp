@@ -53,7 +53,7 @@ std::string scanGeometryError(double angle_min, double angle_max, double angle_i
     return text;
   }
   const auto expected = static_cast<std::size_t>(std::llround(steps)) + 1;
-  if (expected == ranges)
+  if (expected == ranges || expected == ranges + 1)
     return "";
   std::snprintf(text, sizeof text,
                 "has %zu ranges where its angles (angle_min %g, angle_max %g, angle_increment %g) make %zu", ranges,
