@@ -669,5 +669,5 @@ TEST(Loaders, FuzzFindings)
     }
     ++checked;
   }
-  EXPECT_GE(checked, 6);
+  EXPECT_GE(checked, 7);
 }

@@ -46,13 +46,13 @@ public:
 void dampRow(btMultiBodySolverConstraint& row, double velocity, double damping, double dt)
 {
   const double a = 1 / row.m_jacDiagABInv;  // inf for a row without inertia: then no impulse
+  const double c = 1 / (damping * dt);      // inf for no damping, or one so small (1e-310) that d dt is 0
   row.m_rhsPenetration = 0;
-  if (!(damping > 0) || !std::isfinite(a))
+  if (!std::isfinite(a) || !std::isfinite(c) || !(c > 0))
   {
     row.m_jacDiagABInv = row.m_rhs = row.m_cfm = row.m_lowerLimit = row.m_upperLimit = 0;
     return;
   }
-  const double c = 1 / (damping * dt);
   row.m_jacDiagABInv = 1 / (a + c);
   row.m_cfm = c * row.m_jacDiagABInv;
   row.m_rhs = -velocity * row.m_jacDiagABInv;
