@@ -41,4 +41,8 @@ std::string scanGeometryError(double angle_min, double angle_max, double angle_i
 // let a negative range through as a wall behind the laser.
 std::string scanRangeError(double range_min, double range_max);
 
+// Both: what makes a scan usable, for every node and tool that takes scans ("" if it is).
+std::string scanError(double angle_min, double angle_max, double angle_increment, std::size_t ranges, double range_min,
+                      double range_max);
+
 }  // namespace mybot_common

@@ -72,4 +72,11 @@ std::string scanRangeError(double range_min, double range_max)
   return text;
 }
 
+std::string scanError(double angle_min, double angle_max, double angle_increment, std::size_t ranges, double range_min,
+                      double range_max)
+{
+  const std::string geometry = scanGeometryError(angle_min, angle_max, angle_increment, ranges);
+  return geometry.empty() ? scanRangeError(range_min, range_max) : geometry;
+}
+
 }  // namespace mybot_common

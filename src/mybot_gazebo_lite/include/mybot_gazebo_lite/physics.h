@@ -389,7 +389,9 @@ private:
   void buildMultiBody(const std::vector<LumpedBody>& bodies, Robot& r);
   void addColliders(const std::vector<LumpedBody>& bodies, Robot& r);
   void addJointConstraints(const std::vector<LumpedBody>& bodies, Robot& r);
-  void addDamper(Robot& r, Robot::Joint& j);
+  // The joint's damping; its damper row is made the first time it has some (at load or by
+  // set_joint_properties), not looked for at every step.
+  void setDamping(Robot& r, Robot::Joint& j, double damping);
   void addWorldModel(const WorldModel& m);
   void updateContacts();
   // The watched joints' wrenches (Robot::watchJointWrench) from the step just taken.

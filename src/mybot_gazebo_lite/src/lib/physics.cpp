@@ -794,11 +794,17 @@ void PhysicsWorld::addColliders(const std::vector<LumpedBody>& bodies, Robot& r)
   }
 }
 
-void PhysicsWorld::addDamper(Robot& r, Robot::Joint& j)
+void PhysicsWorld::setDamping(Robot& r, Robot::Joint& j, double damping)
 {
-  j.damper = new DamperRow(r.mb_, j.link);
-  world_->addMultiBodyConstraint(j.damper);
-  r.constraints_.push_back(j.damper);
+  j.damping = damping;
+  if (damping > 0 && !j.damper)
+  {
+    j.damper = new DamperRow(r.mb_, j.link);
+    world_->addMultiBodyConstraint(j.damper);
+    r.constraints_.push_back(j.damper);
+  }
+  if (j.damper)
+    static_cast<DamperRow*>(j.damper)->damping = damping;
 }
 
 // Joints: a motor for commands, one for Coulomb friction, a damper, limits.
@@ -826,7 +832,6 @@ void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Ro
     Robot::Joint j;
     j.spec = js;
     j.link = i - 1;
-    j.damping = js->damping;
     j.limited = js->has_limits && js->type != JointSpec::CONTINUOUS;
     j.lower = js->lower;
     j.upper = js->upper;
@@ -840,8 +845,7 @@ void PhysicsWorld::addJointConstraints(const std::vector<LumpedBody>& bodies, Ro
       world_->addMultiBodyConstraint(j.friction);
       r.constraints_.push_back(j.friction);
     }
-    if (js->damping > 0)
-      addDamper(r, j);
+    setDamping(r, j, js->damping);
     if (j.limited)
     {
       j.limit = new btMultiBodyJointLimitConstraint(mb, i - 1, j.lower, j.upper);
@@ -926,10 +930,6 @@ void PhysicsWorld::step()
     btMultiBody* mb = r.mb_;
     for (auto& j : r.joints_)
     {
-      if (j.damping > 0 && !j.damper)
-        addDamper(r, j);
-      if (j.damper)
-        static_cast<DamperRow*>(j.damper)->damping = j.damping;
       switch (j.mode)
       {
         case Robot::Mode::NONE:
@@ -1800,7 +1800,7 @@ std::string PhysicsWorld::setJointProperties(const std::string& joint, const Joi
     return "fmax[0] must be >= 0 and vel[0] finite";
   if (!s.vel.empty() && s.fmax.empty() && fmax == 0)
     return "vel without fmax: joint '" + joint + "' has no motor running (give fmax, its maximum effort)";
-  j.damping = damping;
+  setDamping(r, j, damping);
   if (!s.lower.empty() || !s.upper.empty())
   {
     j.limited = std::isfinite(lower) || std::isfinite(upper);

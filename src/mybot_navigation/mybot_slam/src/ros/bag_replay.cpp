@@ -182,10 +182,8 @@ BagReplayResult replayOpenBag(rosbag::Bag& bag, const BagReplayOptions& opt, Sla
       continue;
     // As slam_node drops them (scanGeometryOk): a scan whose ranges contradict its angles, or whose
     // range limits are no range, would put walls at wrong bearings or at NaN.
-    std::string refusal =
-        mybot_common::scanGeometryError(scan->angle_min, scan->angle_max, scan->angle_increment, scan->ranges.size());
-    if (refusal.empty())
-      refusal = mybot_common::scanRangeError(scan->range_min, scan->range_max);
+    const std::string refusal = mybot_common::scanError(scan->angle_min, scan->angle_max, scan->angle_increment,
+                                                        scan->ranges.size(), scan->range_min, scan->range_max);
     if (!refusal.empty())
     {
       if (result.scans_refused++ == 0)

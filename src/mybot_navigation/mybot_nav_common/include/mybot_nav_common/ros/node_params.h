@@ -29,10 +29,8 @@ using mybot_common::readParam;
 // put walls at the wrong bearings or at NaN in the map, the particle weights and the costmap.
 inline bool scanGeometryOk(const std::string& node, const std::string& topic, const sensor_msgs::LaserScan& scan)
 {
-  std::string error =
-      mybot_common::scanGeometryError(scan.angle_min, scan.angle_max, scan.angle_increment, scan.ranges.size());
-  if (error.empty())
-    error = mybot_common::scanRangeError(scan.range_min, scan.range_max);
+  const std::string error = mybot_common::scanError(scan.angle_min, scan.angle_max, scan.angle_increment,
+                                                    scan.ranges.size(), scan.range_min, scan.range_max);
   if (error.empty())
     return true;
   ROS_WARN_THROTTLE(5.0, "%s: dropping scans on %s: one %s", node.c_str(), topic.c_str(), error.c_str());
