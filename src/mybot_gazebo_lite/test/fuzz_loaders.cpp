@@ -213,7 +213,9 @@ bool run(const std::string& kind, const std::string& text, const std::string& ba
       else
       {
         spit(base_dir + "/current.pgm", text);
-        spit(yaml, "image: current.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\n");
+        spit(yaml,
+             "image: current.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
+             "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
       }
       PhysicsWorld world(loadWorldFile(yaml), {});
       return simulatesFinitely(world);

@@ -224,25 +224,61 @@ std::string imageWorldError(const std::string& yaml,
 }
 }  // namespace
 
-TEST(Loaders, ImageWorldFieldsAreCheckedForMeaning)
+// The fields are map_server's, read by its one reader (mybot_common::readMapYaml, tested there):
+// a file map_server refuses, the simulator refuses with the same message. `height` is ours.
+TEST(Loaders, ImageWorldFieldsAreMapServersAndCheckedForMeaning)
 {
-  EXPECT_EQ(imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n"), "no error");
-  EXPECT_NE(
-      imageWorldError("image: [a, b]\nresolution: 0.1\norigin: [0, 0, 0]\n").find("'image': expected a file name"),
-      std::string::npos);
-  EXPECT_NE(imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [.nan, 0, 0]\n").find("'origin': must be finite"),
+  const std::string fields =
+      "resolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  EXPECT_EQ(imageWorldError("image: m.pgm\n" + fields), "no error");
+  EXPECT_EQ(imageWorldError("image: m.pgm\n" + fields + "height: 2.5\n"), "no error");
+  EXPECT_NE(imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n")
+                .find("w.yaml: the map does not contain a 'negate' field"),
             std::string::npos);
-  EXPECT_NE(imageWorldError("image: m.pgm\nresolution: .inf\norigin: [0, 0, 0]\n").find("'resolution': must be finite"),
+  EXPECT_NE(imageWorldError("image: [a, b]\n" + fields).find("field 'image' must be a string"), std::string::npos);
+  EXPECT_NE(imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [.nan, 0, 0]\nnegate: 0\n"
+                            "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
+                .find("field 'origin' must be finite"),
             std::string::npos);
-  EXPECT_NE(imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\noccupied_thresh: 7\n")
-                .find("'occupied_thresh': must be in (0, 1]"),
+  EXPECT_NE(imageWorldError("image: m.pgm\nresolution: .inf\n").find("field 'resolution' must be a finite number"),
             std::string::npos);
+  EXPECT_NE(imageWorldError("image: m.pgm\nresolution: 0.1\nnegate: 0\noccupied_thresh: 7\nfree_thresh: 0.1\n")
+                .find("field 'occupied_thresh' must be in [0, 1]"),
+            std::string::npos);
+  EXPECT_NE(imageWorldError("image: m.pgm\n" + fields + "height: -1\n")
+                .find("w.yaml: field 'height' must be a positive number of metres, got -1"),
+            std::string::npos);
+  EXPECT_NE(imageWorldError("image: m.pgm\n" + fields + "height: tall\n").find("field 'height' must be a number"),
+            std::string::npos);
+}
+
+// The pixels are map_server's too: the mean of the channels against occupied_thresh, so a colour
+// floor plan has the walls map_server serves. Pure green is a wall to map_server (mean 85,
+// occupancy 0.667); the luminance the simulator took before (150, occupancy 0.41) made it none.
+TEST(Loaders, ImageWorldWallsAreTheCellsMapServerServesOccupied)
+{
+  const mybot_common::TempDir dir("image_world");
+  const std::string& d = dir.path();
+  // 2 x 1 RGB: pure green and light grey (mean 230, free).
+  std::ofstream(d + "/m.ppm", std::ios::binary) << std::string("P6\n2 1\n255\n\x00\xff\x00\xe6\xe6\xe6", 17);
+  std::ofstream(d + "/w.yaml") << "image: m.ppm\nresolution: 0.5\norigin: [1, 2, 0]\nnegate: 0\n"
+                                  "occupied_thresh: 0.65\nfree_thresh: 0.196\nheight: 2\n";
+  const WorldSpec w = loadWorldFile(d + "/w.yaml");
+  ASSERT_EQ(w.models.size(), 1u);
+  ASSERT_EQ(w.models[0].links.size(), 1u);
+  const auto& shapes = w.models[0].links[0].shapes;
+  ASSERT_EQ(shapes.size(), 1u);  // the green pixel only
+  EXPECT_DOUBLE_EQ(shapes[0].size.x(), 0.5);
+  EXPECT_DOUBLE_EQ(shapes[0].size.z(), 2.0);
+  EXPECT_DOUBLE_EQ(shapes[0].pose.getOrigin().x(), 0.25);  // in the walls' model frame, at the origin
 }
 
 TEST(Loaders, ImageWorldWithAHugeHeaderIsRefusedBeforeDecoding)
 {
-  const std::string e =
-      imageWorldError("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n", "P5\n200000 200000\n255\n");
+  const std::string e = imageWorldError(
+      "image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\n"
+      "free_thresh: 0.196\n",
+      "P5\n200000 200000\n255\n");
   EXPECT_NE(e.find("declares 200000 x 200000 pixels, more than 20000 on a side (parameter ~max_image_side)"),
             std::string::npos)
       << e;
@@ -624,6 +660,29 @@ TEST(Loaders, PackageUrisResolveWithoutRoslib)
             d + "/ws/src/group/my_robot_description/meshes/wheel.stl");
   EXPECT_EQ(defaultResolveUri("package://my_robot_description/meshes/nope.stl", ""), "");
   setenv("ROS_PACKAGE_PATH", saved.c_str(), 1);
+}
+
+// Every world the package ships loads (the office floor plan is launched by no test otherwise).
+TEST(Loaders, ShippedWorldsLoad)
+{
+  int loaded = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(FIXTURE_DIR) + "/../../worlds"))
+  {
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".world" && ext != ".yaml")
+      continue;
+    SCOPED_TRACE(entry.path().string());
+    const WorldSpec w = loadWorldFile(entry.path().string());
+    EXPECT_TRUE(w.ground_plane);
+    if (ext == ".yaml")  // a floor plan: its walls, one model of boxes
+    {
+      ASSERT_EQ(w.models.size(), 1u);
+      ASSERT_EQ(w.models[0].links.size(), 1u);
+      EXPECT_GT(w.models[0].links[0].shapes.size(), 10u);
+    }
+    ++loaded;
+  }
+  EXPECT_GE(loaded, 4);
 }
 
 // What scripts/fuzz found, kept in test/fuzz_findings: each file's first line says what the loader

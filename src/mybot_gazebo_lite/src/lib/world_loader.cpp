@@ -11,115 +11,74 @@
 #include <fstream>
 #include <sstream>
 
+#include "mybot_common/map_yaml.h"
+
 namespace mybot_gazebo_lite
 {
 
 namespace
 {
-// A map_server-style YAML's fields, checked (each error names the file and the key).
+// A floor plan: map_server's YAML (mybot_common::readMapYaml, the one reader of the format, so a
+// file map_server serves the simulator loads, with the same messages when it does not) plus our
+// one key, the walls' height.
 struct ImageWorld
 {
-  std::string image;  // absolute path
-  double resolution = 0.0;
-  double origin_x = 0.0, origin_y = 0.0, origin_yaw = 0.0;
-  double occupied_thresh = 0.65;
-  bool negate = false;
+  mybot_common::MapYaml map;
   double height = 1.0;  // m, of the extruded walls
 };
 
 ImageWorld readImageWorldYaml(const std::string& yaml_path)
 {
-  YAML::Node y;
+  ImageWorld w;
   try
   {
-    y = YAML::LoadFile(yaml_path);
+    w.map = mybot_common::readMapYaml(yaml_path);
   }
-  catch (const std::exception& e)
+  catch (const mybot_common::MapFileError& e)
   {
-    throw LoadError(yaml_path + ": YAML: " + e.what());
+    throw LoadError(e.what());
   }
-  auto fail = [&](const std::string& key, const std::string& msg) -> void
-  { throw LoadError(yaml_path + ": '" + key + "': " + msg); };
-  auto num = [&](const char* key, bool required, double def)
+  // The file parsed above: only `height` is left to read, and to check.
+  const YAML::Node height = YAML::LoadFile(yaml_path)["height"];
+  if (height)
   {
-    if (!y[key])
-    {
-      if (required)
-        fail(key, "missing");
-      return def;
-    }
-    double v = def;
     try
     {
-      v = y[key].as<double>();
+      w.height = height.as<double>();
     }
-    catch (const std::exception&)
+    catch (const YAML::Exception&)
     {
-      fail(key, "not a number");
+      throw LoadError(yaml_path + ": field 'height' must be a number, got \"" + height.Scalar() + "\"");
     }
-    if (!std::isfinite(v))
-      fail(key, "must be finite");
-    return v;
-  };
-  if (!y.IsMap())
-    throw LoadError(yaml_path + ": expected a map_server-style YAML mapping");
-  if (!y["image"])
-    fail("image", "missing");
-  if (!y["image"].IsScalar())
-    fail("image", "expected a file name");
-  ImageWorld w;
-  w.image = y["image"].as<std::string>();
-  if (w.image.empty() || w.image[0] != '/')
-    w.image = dirOf(yaml_path) + "/" + w.image;
-  w.resolution = num("resolution", true, 0);
-  if (!(w.resolution > 0))
-    fail("resolution", "must be positive");
-  if (!y["origin"] || !y["origin"].IsSequence() || y["origin"].size() != 3)
-    fail("origin", "expected [x, y, yaw]");
-  try
-  {
-    w.origin_x = y["origin"][0].as<double>();
-    w.origin_y = y["origin"][1].as<double>();
-    w.origin_yaw = y["origin"][2].as<double>();
+    if (!(w.height > 0) || !std::isfinite(w.height))
+      throw LoadError(yaml_path + ": field 'height' must be a positive number of metres, got " + height.Scalar());
   }
-  catch (const std::exception&)
-  {
-    fail("origin", "expected [x, y, yaw] numbers");
-  }
-  if (!std::isfinite(w.origin_x) || !std::isfinite(w.origin_y) || !std::isfinite(w.origin_yaw))
-    fail("origin", "must be finite");
-  w.occupied_thresh = num("occupied_thresh", false, 0.65);
-  if (!(w.occupied_thresh > 0 && w.occupied_thresh <= 1))
-    fail("occupied_thresh", "must be in (0, 1]");
-  w.negate = static_cast<int>(num("negate", false, 0)) != 0;
-  w.height = num("height", false, 1.0);
-  if (!(w.height > 0))
-    fail("height", "must be positive");
   return w;
 }
 
 cv::Mat readImageWorldImage(const std::string& yaml_path, const ImageWorld& w, long max_image_side)
 {
-  auto fail = [&](const std::string& msg) { throw LoadError(yaml_path + ": 'image': " + msg); };
+  auto fail = [&](const std::string& msg) { throw LoadError(yaml_path + ": field 'image': " + msg); };
   // The header first: a file claiming 200000 x 200000 pixels is refused before decoding.
-  std::string too_large = mybot_common::declaredImageSizeError(w.image, max_image_side, "~max_image_side");
+  std::string too_large = mybot_common::declaredImageSizeError(w.map.image, max_image_side, "~max_image_side");
   if (!too_large.empty())
     fail(too_large);
   cv::Mat img;
   try
   {
-    img = cv::imread(w.image, cv::IMREAD_GRAYSCALE);
+    img = cv::imread(w.map.image, cv::IMREAD_UNCHANGED);  // as map_server: every channel counts
   }
   catch (const cv::Exception& e)
   {
-    fail("cannot read image '" + w.image + "': " + e.what());
+    fail("cannot read image '" + w.map.image + "': " + e.what());
   }
   if (img.empty())
-    fail("cannot read image '" + w.image + "'");
-  too_large = mybot_common::imageSizeError(w.image, img.cols, img.rows, max_image_side, "~max_image_side");
+    fail("cannot read image '" + w.map.image + "'");
+  too_large = mybot_common::imageSizeError(w.map.image, img.cols, img.rows, max_image_side, "~max_image_side");
   if (!too_large.empty())
     fail(too_large);
-
+  if (img.depth() != CV_8U)
+    fail("image '" + w.map.image + "' is not 8 bits per channel");
   return img;
 }
 
@@ -128,12 +87,10 @@ std::vector<Shape> mergeOccupiedCellsIntoBoxes(const cv::Mat& img, const ImageWo
 {
   std::vector<Shape> boxes;
   const int W = img.cols, H = img.rows;
+  const int channels = img.channels();
+  // A wall where map_server serves an occupied cell (in raw mode: a pixel mean of 100).
   auto occupied = [&](int r, int col)
-  {
-    double v = img.at<uint8_t>(r, col) / 255.0;
-    double p = w.negate ? v : 1.0 - v;
-    return p > w.occupied_thresh;
-  };
+  { return mybot_common::mapCellValue(w.map, img.ptr<uint8_t>(r) + col * channels, channels) == 100; };
   struct Run
   {
     int x0, x1, r0;
@@ -142,7 +99,7 @@ std::vector<Shape> mergeOccupiedCellsIntoBoxes(const cv::Mat& img, const ImageWo
   auto emit = [&](const Run& run, int r_end)
   {
     // Image row 0 is the top (largest y).
-    const double res = w.resolution;
+    const double res = w.map.resolution;
     double x0 = run.x0 * res, x1 = (run.x1 + 1) * res;
     double ytop = (H - run.r0) * res, ybot = (H - r_end) * res;
     Shape s;
@@ -200,7 +157,7 @@ WorldSpec loadImageWorld(const std::string& yaml_path, long max_image_side)
   WorldModel walls;
   walls.name = "floor_plan_walls";
   walls.is_static = true;
-  walls.pose = makeTransform(btVector3(w.origin_x, w.origin_y, 0), btVector3(0, 0, w.origin_yaw));
+  walls.pose = makeTransform(btVector3(w.map.origin_x, w.map.origin_y, 0), btVector3(0, 0, w.map.origin_yaw));
   WorldLink link;
   link.name = "walls";
   link.shapes = mergeOccupiedCellsIntoBoxes(img, w);

@@ -4,8 +4,8 @@
 #pragma once
 
 #include "mybot_common/image_header.h"
+#include "mybot_common/map_yaml.h"
 
-#include <stdexcept>
 #include <string>
 
 #include "mybot_nav_common/grid_map.h"
@@ -13,31 +13,13 @@
 namespace mybot_navigation
 {
 
-struct MapIoError : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
-};
+// readMapYaml, MapYaml and MapMode are mybot_common's (map_yaml.h): the one reader of the
+// format, which the simulator's floor-plan worlds use too.
+using MapIoError = mybot_common::MapFileError;
+using mybot_common::MapMode;
+using mybot_common::MapYaml;
+using mybot_common::readMapYaml;
 
-enum class MapMode
-{
-  Trinary,
-  Scale,
-  Raw
-};
-
-struct MapYaml
-{
-  std::string image;  // resolved path (relative names are relative to the YAML's directory)
-  double resolution = 0.0;
-  Pose2D origin;
-  bool negate = false;
-  double occupied_thresh = 0.65;
-  double free_thresh = 0.196;
-  MapMode mode = MapMode::Trinary;
-};
-
-// Throws MapIoError naming the file and the field.
-MapYaml readMapYaml(const std::string& yaml_path);
 // Loads the image and converts pixels exactly as map_server's image_loader does.
 // Images with more pixels on a side are refused (map_server's ~max_image_side): a header
 // claiming 200000 x 200000 gets an error, not a 40 GB allocation.
