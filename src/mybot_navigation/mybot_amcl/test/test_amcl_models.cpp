@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "mybot_amcl/amcl_models.h"
@@ -248,4 +249,29 @@ TEST(LikelihoodField, SensorOffsetIsApplied)
   const Pose2D base{3.0, 3.0, 0.0};
   const LaserScanData scan = scanAt(world, base, {0.3, 0.0, 0.0}, 181);
   EXPECT_GT(f.weight(base, scan), f.weight(compose(base, scan.sensor_in_base), scan));
+}
+
+// Readings that are finite but absurd (1e30 m) under a range_max of inf, which a LaserScan may
+// declare: their end points are off the map, as those of readings 1 km long. Their cells were an
+// out-of-range conversion to int (undefined behaviour, found by reading, not yet by a failure).
+TEST(LikelihoodField, AbsurdRangesAreEndPointsOffTheMap)
+{
+  const GridMap world = officeWorld(0.05);
+  LikelihoodField f;
+  f.setMap(world);
+  const Pose2D truth{3.0, 3.0, 0.4};
+  LaserScanData absurd = scanAt(world, truth, {}, 90), far = absurd;
+  absurd.range_max = far.range_max = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < absurd.readings.size(); i += 3)
+  {
+    absurd.readings[i].range = 1e30;
+    far.readings[i].range = 1000.0;
+  }
+  for (const Pose2D& p : {truth, Pose2D{1.0, 1.0, -2.0}})
+  {
+    EXPECT_DOUBLE_EQ(f.weight(p, absurd), f.weight(p, far));
+    EXPECT_DOUBLE_EQ(f.maxWeightSeenFrom(p, absurd), f.maxWeightSeenFrom(p, far));
+    EXPECT_DOUBLE_EQ(f.seeThroughShare(p, absurd, 0.2), f.seeThroughShare(p, far, 0.2));
+    EXPECT_TRUE(std::isfinite(f.weight(p, absurd)));
+  }
 }

@@ -58,6 +58,46 @@ TEST(RayCast, SegmentVisitsEveryCellItCrosses)
   EXPECT_EQ(cells, reversed);
 }
 
+// A reading that is finite but absurd (1e30 m, under a range_max of inf) makes a point 2e31 cells
+// away; its cell was an out-of-range conversion to int. It is held 2^28 cells out, and NaN is too.
+TEST(RayCast, CellIndexOfAnAbsurdPointIsFarOffTheGrid)
+{
+  constexpr int kFar = 1 << 28;
+  EXPECT_EQ(cellIndex(2.5), 2);
+  EXPECT_EQ(cellIndex(-0.5), -1);
+  EXPECT_EQ(cellIndex(2e31), kFar);
+  EXPECT_EQ(cellIndex(-2e31), -kFar);
+  EXPECT_EQ(cellIndex(std::numeric_limits<double>::infinity()), kFar);
+  EXPECT_EQ(cellIndex(std::numeric_limits<double>::quiet_NaN()), -kFar);
+  int cx = 0, cy = 0;
+  const GridMap map(MapInfo{0.05, 10, 10, {}}, GridMap::kFree);
+  EXPECT_FALSE(map.worldToCell(1e30, 0.2, cx, cy));
+  EXPECT_FALSE(map.worldToCell(std::numeric_limits<double>::quiet_NaN(), 0.2, cx, cy));
+}
+
+// A segment to such a point is walked from its start, cell by cell, until the visitor stops it
+// where its grid ends; a segment with a non-finite end crosses nothing.
+TEST(RayCast, SegmentToAnAbsurdPointIsWalkedFromItsStart)
+{
+  std::vector<std::pair<int, int>> cells;
+  auto first_five = [&](int x, int y)
+  {
+    cells.emplace_back(x, y);
+    return cells.size() < 5;
+  };
+  traceSegment(0.5, 0.5, 2e31, 0.5, first_five);
+  const std::vector<std::pair<int, int>> expected{{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}};
+  EXPECT_EQ(cells, expected);
+  cells.clear();
+  traceSegment(0.5, 0.5, -1e300, -1e300, first_five);
+  EXPECT_EQ(cells.size(), 5u);
+  EXPECT_EQ(cells[0], std::make_pair(0, 0));
+  cells.clear();
+  traceSegment(0.5, 0.5, std::numeric_limits<double>::quiet_NaN(), 0.5, first_five);
+  traceSegment(0.5, 0.5, std::numeric_limits<double>::infinity(), 0.5, first_five);
+  EXPECT_TRUE(cells.empty());
+}
+
 TEST(RayCaster, GivesCastRaysRangesWhereverTheRayStartsAndHowTheMapLies)
 {
   // The office and the factory, one with unknown cells, one rotated and shifted; rays from

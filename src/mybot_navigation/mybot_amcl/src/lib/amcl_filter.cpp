@@ -29,9 +29,9 @@ struct BinKeyHash
 BinKey binOf(const Pose2D& p, const std::array<double, 3>& size, int a_bins)
 {
   // Heading bins are indexed 0..a_bins-1 from -pi so that neighbours wrap with a modulo.
-  int a = static_cast<int>(std::floor((wrapAngle(p.theta) + M_PI) / size[2]));
+  int a = cellIndex((wrapAngle(p.theta) + M_PI) / size[2]);
   a = ((a % a_bins) + a_bins) % a_bins;
-  return {static_cast<int>(std::floor(p.x / size[0])), static_cast<int>(std::floor(p.y / size[1])), a};
+  return {cellIndex(p.x / size[0]), cellIndex(p.y / size[1]), a};
 }
 
 int headingBins(const std::array<double, 3>& size)

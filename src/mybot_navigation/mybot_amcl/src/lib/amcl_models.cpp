@@ -169,8 +169,8 @@ double LikelihoodField::gaussBehindSurface(double x, double y, double angle) con
 double LikelihoodField::distance(double x, double y) const
 {
   const Point2D local = transformPoint(inverse_origin_, {x, y});
-  const int cx = static_cast<int>(std::floor(local.x / info_.resolution));
-  const int cy = static_cast<int>(std::floor(local.y / info_.resolution));
+  const int cx = cellIndex(local.x / info_.resolution);
+  const int cy = cellIndex(local.y / info_.resolution);
   if (cx < 0 || cy < 0 || cx >= info_.width || cy >= info_.height)
     return params_.likelihood_max_dist;
   return dist_[static_cast<size_t>(cy) * info_.width + cx];
@@ -213,7 +213,7 @@ long LikelihoodField::endCell(const Pose2D& sensor, double inv_res, const LaserR
   const double ex = (sensor.x + r.range * std::cos(a)) * inv_res, ey = (sensor.y + r.range * std::sin(a)) * inv_res;
   if (x && y)
     *x = ex, *y = ey;
-  const int cx = static_cast<int>(std::floor(ex)), cy = static_cast<int>(std::floor(ey));
+  const int cx = cellIndex(ex), cy = cellIndex(ey);
   if (cx < 0 || cy < 0 || cx >= info_.width || cy >= info_.height)
     return -1;
   return static_cast<long>(cy) * info_.width + cx;

@@ -167,8 +167,8 @@ void Costmap::updateOrigin(double robot_x, double robot_y)
     return;
   const double res = info_.resolution;
   // Snap the origin to the cell lattice so cells keep their world positions when shifted.
-  const int ix = static_cast<int>(std::floor(robot_x / res)) - info_.width / 2;
-  const int iy = static_cast<int>(std::floor(robot_y / res)) - info_.height / 2;
+  const int ix = cellIndex(robot_x / res) - info_.width / 2;
+  const int iy = cellIndex(robot_y / res) - info_.height / 2;
   const int shift_x = ix - origin_ix_, shift_y = iy - origin_iy_;
   if (shift_x == 0 && shift_y == 0 && info_.origin.x == ix * res && info_.origin.y == iy * res)
     return;
@@ -189,13 +189,13 @@ void Costmap::updateOrigin(double robot_x, double robot_y)
 
 bool Costmap::worldToMap(double wx, double wy, int& cx, int& cy) const
 {
-  cx = static_cast<int>(std::floor((wx - info_.origin.x) / info_.resolution));
-  cy = static_cast<int>(std::floor((wy - info_.origin.y) / info_.resolution));
+  cx = cellIndex((wx - info_.origin.x) / info_.resolution);
+  cy = cellIndex((wy - info_.origin.y) / info_.resolution);
   if (info_.origin.theta != 0.0)
   {
     const Point2D l = transformPoint(inverse(info_.origin), {wx, wy});
-    cx = static_cast<int>(std::floor(l.x / info_.resolution));
-    cy = static_cast<int>(std::floor(l.y / info_.resolution));
+    cx = cellIndex(l.x / info_.resolution);
+    cy = cellIndex(l.y / info_.resolution);
   }
   return inside(cx, cy);
 }
@@ -253,8 +253,8 @@ void Costmap::updateWithScan(const Point2D& sensor, const std::vector<Point2D>& 
     // Cells in the local lattice (handles a rotated origin through worldToMap's maths).
     const Point2D l0 = transformPoint(inverse(info_.origin), sensor);
     const Point2D l1 = transformPoint(inverse(info_.origin), {sensor.x + dx, sensor.y + dy});
-    const int ex = static_cast<int>(std::floor(l1.x / res)), ey = static_cast<int>(std::floor(l1.y / res));
-    traceLine(static_cast<int>(std::floor(l0.x / res)), static_cast<int>(std::floor(l0.y / res)), ex, ey,
+    const int ex = cellIndex(l1.x / res), ey = cellIndex(l1.y / res);
+    traceLine(cellIndex(l0.x / res), cellIndex(l0.y / res), ex, ey,
               [&](int x, int y)
               {
                 if (!inside(x, y))
@@ -317,10 +317,9 @@ void Costmap::clearFootprint(const Pose2D& pose)
   double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
   for (const Point2D& q : poly)
     x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
-  const int cx0 = std::max(0, static_cast<int>(std::floor(x0 / res))),
-            cy0 = std::max(0, static_cast<int>(std::floor(y0 / res)));
-  const int cx1 = std::min(info_.width - 1, static_cast<int>(std::floor(x1 / res)));
-  const int cy1 = std::min(info_.height - 1, static_cast<int>(std::floor(y1 / res)));
+  const int cx0 = std::max(0, cellIndex(x0 / res)), cy0 = std::max(0, cellIndex(y0 / res));
+  const int cx1 = std::min(info_.width - 1, cellIndex(x1 / res));
+  const int cy1 = std::min(info_.height - 1, cellIndex(y1 / res));
   if (cx0 > cx1 || cy0 > cy1)
     return;
   bool changed = false;

@@ -2,6 +2,7 @@
 // lower-left corner `origin`, values 0..100 or -1 unknown), without ROS types.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -9,6 +10,19 @@
 
 namespace mybot_navigation
 {
+
+// floor(v) as a cell index, v in cells. Beyond +-2^28 cells (13000 km at 5 cm, far off any grid)
+// it is held there, and NaN is taken as -2^28: a point that an absurd but finite range puts 1e30 m
+// away is a cell off the grid, not an out-of-range conversion to int (undefined behaviour; x86
+// gives INT_MIN, and the differences a traversal takes of two such overflow). Held at 2^28, the
+// sum of four differences still fits an int.
+inline int cellIndex(double v)
+{
+  constexpr double kFar = 1 << 28;
+  if (v >= -kFar && v <= kFar)
+    return static_cast<int>(std::floor(v));
+  return v > 0 ? static_cast<int>(kFar) : -static_cast<int>(kFar);
+}
 
 struct MapInfo
 {

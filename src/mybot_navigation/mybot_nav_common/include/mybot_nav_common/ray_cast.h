@@ -43,13 +43,16 @@ void traceLine(int x0, int y0, int x1, int y1, Visitor&& visit)
 // of it, in order from the first end (Amanatides & Woo); traceLine's Bresenham line between the
 // end cells strays up to a cell off the true segment. The visitor gets the cell and where the
 // segment enters it, as a fraction of its length (0 for the first cell), and returns false to
-// stop early.
+// stop early. A segment with a non-finite end visits nothing; one that reaches beyond 2^28 cells
+// (cellIndex) is walked to its end cell there, so the visitor must stop where its grid ends.
 template <class Visit>
 void traceSegmentEntries(double x0, double y0, double x1, double y1, Visit&& visit)
 {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  int x = static_cast<int>(std::floor(x0)), y = static_cast<int>(std::floor(y0));
-  const int x_end = static_cast<int>(std::floor(x1)), y_end = static_cast<int>(std::floor(y1));
+  if (!(std::isfinite(x0) && std::isfinite(y0) && std::isfinite(x1) && std::isfinite(y1)))
+    return;  // no segment: nothing is crossed
+  int x = cellIndex(x0), y = cellIndex(y0);
+  const int x_end = cellIndex(x1), y_end = cellIndex(y1);
   const double dx = x1 - x0, dy = y1 - y0;
   const int sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
   // Parameter t (0..1 along the segment) per cell crossed, and at the next x / y cell boundary.

@@ -8,8 +8,8 @@ namespace mybot_navigation
 bool GridMap::worldToCell(double wx, double wy, int& cx, int& cy) const
 {
   const Point2D local = transformPoint(inverse(info.origin), {wx, wy});
-  cx = static_cast<int>(std::floor(local.x / info.resolution));
-  cy = static_cast<int>(std::floor(local.y / info.resolution));
+  cx = cellIndex(local.x / info.resolution);
+  cy = cellIndex(local.y / info.resolution);
   return inside(cx, cy);
 }
 

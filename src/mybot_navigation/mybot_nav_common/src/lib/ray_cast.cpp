@@ -29,7 +29,7 @@ double traverse(const GridMap& map, double x, double y, double angle, double max
   const double res = map.info.resolution;
   const double dx = std::cos(a), dy = std::sin(a);
   const double px = s.x / res, py = s.y / res;  // position in cell units
-  int cx = static_cast<int>(std::floor(px)), cy = static_cast<int>(std::floor(py));
+  int cx = cellIndex(px), cy = cellIndex(py);
   const int step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? 1 : -1;
   const double inf = std::numeric_limits<double>::infinity();
   const double t_delta_x = dx != 0 ? std::abs(1.0 / dx) : inf;
@@ -37,8 +37,8 @@ double traverse(const GridMap& map, double x, double y, double angle, double max
   // Ray parameter (cells travelled) at the next x / y cell boundary, from the point at t.
   auto boundaries = [&](double t, double qx, double qy)
   {
-    cx = static_cast<int>(std::floor(qx));
-    cy = static_cast<int>(std::floor(qy));
+    cx = cellIndex(qx);
+    cy = cellIndex(qy);
     return std::make_pair(dx != 0 ? t + ((dx > 0 ? (cx + 1 - qx) : (qx - cx)) * t_delta_x) : inf,
                           dy != 0 ? t + ((dy > 0 ? (cy + 1 - qy) : (qy - cy)) * t_delta_y) : inf);
   };

@@ -50,7 +50,7 @@ public:
   int height() const { return height_; }
   bool empty() const { return width_ == 0; }
 
-  int worldToLattice(double w) const { return static_cast<int>(std::floor(w / params_.resolution)); }
+  int worldToLattice(double w) const { return cellIndex(w / params_.resolution); }
   bool contains(int gx, int gy) const
   {
     return gx >= min_x_ && gy >= min_y_ && gx < min_x_ + width_ && gy < min_y_ + height_;

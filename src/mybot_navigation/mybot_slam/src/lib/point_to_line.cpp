@@ -4,6 +4,8 @@
 
 #include <Eigen/Dense>
 
+#include "mybot_nav_common/grid_map.h"
+
 namespace mybot_navigation
 {
 
@@ -24,7 +26,7 @@ void LineReference::forEachNear(const Buckets& buckets, int cx, int cy, int ring
 
 int LineReference::cellOf(double v) const
 {
-  return static_cast<int>(std::floor(v / cell_));
+  return cellIndex(v / cell_);
 }
 
 bool LineReference::fitLine(const std::vector<Point2D>& points, const Buckets& all, const Point2D& p, double radius,

@@ -133,7 +133,7 @@ double MatchField::interpolate(double wx, double wy, double* dfdx, double* dfdy)
 {
   // Cell centres sit at (i + 0.5) * res.
   const double u = wx / resolution_ - 0.5, v = wy / resolution_ - 0.5;
-  const int i = static_cast<int>(std::floor(u)), j = static_cast<int>(std::floor(v));
+  const int i = cellIndex(u), j = cellIndex(v);
   const double fx = u - i, fy = v - j;
   const double v00 = value(0, i, j), v10 = value(0, i + 1, j), v01 = value(0, i, j + 1), v11 = value(0, i + 1, j + 1);
   if (dfdx)
@@ -192,7 +192,7 @@ double scorePose(const MatchField& field, const std::vector<Point2D>& points, co
   for (const Point2D& p : points)
   {
     const Point2D w = transformPoint(pose, p);
-    sum += field.value(0, static_cast<int>(std::floor(w.x / res)), static_cast<int>(std::floor(w.y / res)));
+    sum += field.value(0, cellIndex(w.x / res), cellIndex(w.y / res));
   }
   return sum / static_cast<double>(points.size());
 }
@@ -248,7 +248,7 @@ MatchResult matchScan(const MatchField& field, const std::vector<Point2D>& point
     for (const Point2D& q : points)
     {
       const Point2D w = transformPoint(p, q);
-      const int cx = static_cast<int>(std::floor(w.x / res)), cy = static_cast<int>(std::floor(w.y / res));
+      const int cx = cellIndex(w.x / res), cy = cellIndex(w.y / res);
       r.cells.emplace_back(cx, cy);
       r.index.push_back(static_cast<std::ptrdiff_t>(cy - fy0) * fw + (cx - fx0));
       r.x0 = std::min(r.x0, cx);
