@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "mybot_amcl/amcl.h"
 #include "mybot_nav_common/map_io.h"
@@ -480,6 +481,32 @@ TEST(Amcl, UpdatesOnlyAfterEnoughMotionOrWhenRequested)
   EXPECT_TRUE(amcl.processScan({0.05, 0.05, 0.35}, scan));  // rotation beyond update_min_a
   EXPECT_EQ(amcl.updates(), 3);
   EXPECT_EQ(amcl.resamples(), 1);  // resample_interval 2
+}
+
+// Broken odometry (an overflowed encoder count) jumped 1e308 m, and the motion model turned the
+// cloud to NaN (scripts/fuzz): a pose beyond kMaxCoordinate is no motion. The scan is not used,
+// the estimate stays, and the next sound odometry goes on from where the last sound one was.
+TEST(Amcl, BrokenOdometryIsNotUsedAndTheEstimateKept)
+{
+  const GridMap world = officeWorld(0.05);
+  const LaserSpec laser;
+  Amcl amcl(trackingParams({3.0, 3.0, 0.0}));
+  amcl.setMap(world);
+  const LaserScanData scan = toScan(
+      simulateScan(world, {3, 3, 0}, laser.angle_min, laser.angleIncrement(), laser.beams, laser.range_max), laser);
+  ASSERT_TRUE(amcl.processScan({0, 0, 0}, scan));
+  const Pose2D before = amcl.estimate().mean;
+  EXPECT_EQ(odometryError({0, 1e308, 0}), "y is 1e+308, beyond +-1e+06");
+  EXPECT_FALSE(amcl.processScan({0.3, 1e308, 0.1}, scan));
+  EXPECT_FALSE(amcl.processScan({2e6, 0, 0}, scan));
+  EXPECT_FALSE(amcl.processScan({0.3, 0, std::numeric_limits<double>::quiet_NaN()}, scan));
+  EXPECT_EQ(amcl.updates(), 1);
+  EXPECT_EQ(amcl.estimate().mean.x, before.x);
+  EXPECT_EQ(amcl.estimate().mean.y, before.y);
+  amcl.requestNoMotionUpdate();
+  EXPECT_TRUE(amcl.processScan({0, 0, 0}, scan));
+  EXPECT_NEAR(amcl.estimate().mean.x, 3.0, 0.1);
+  EXPECT_NEAR(amcl.estimate().mean.y, 3.0, 0.1);
 }
 
 TEST(Amcl, TheOfficeLoopKeepsClearOfTheFurniture)

@@ -275,3 +275,26 @@ TEST(LikelihoodField, AbsurdRangesAreEndPointsOffTheMap)
     EXPECT_TRUE(std::isfinite(f.weight(p, absurd)));
   }
 }
+
+// amcl_node's conversion: readings at or below the minimum (the scan's, or laser_min_range if
+// larger) and non-finite ones count as max range; laser_max_range narrows the scan's range_max.
+TEST(LaserScanData, TakesRangesAsAmclNodeDoes)
+{
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const std::vector<float> ranges{0.05f, 0.3f, 2.0f, nan, inf, 25.0f};
+  const LaserScanData own = laserScanData(ranges, -0.5, 0.2, 0.1, 30.0, -1.0, -1.0, {0.1, 0.0, 0.0}, false);
+  ASSERT_EQ(own.readings.size(), 6u);
+  EXPECT_DOUBLE_EQ(own.range_max, 30.0);
+  const std::vector<double> expected{30.0, 0.3, 2.0, 30.0, 30.0, 25.0};
+  for (size_t i = 0; i < 6; ++i)
+  {
+    EXPECT_NEAR(own.readings[i].range, expected[i], 1e-6) << i;
+    EXPECT_NEAR(own.readings[i].bearing, -0.5 + 0.2 * i, 1e-12) << i;
+  }
+  EXPECT_DOUBLE_EQ(own.sensor_in_base.x, 0.1);
+  const LaserScanData narrowed = laserScanData(ranges, -0.5, 0.2, 0.1, 30.0, 0.5, 20.0, {}, true);
+  EXPECT_DOUBLE_EQ(narrowed.range_max, 20.0);
+  EXPECT_DOUBLE_EQ(narrowed.readings[1].range, 20.0);     // 0.3 m is below laser_min_range 0.5
+  EXPECT_NEAR(narrowed.readings[2].bearing, 0.1, 1e-12);  // upside down: mirrored
+  EXPECT_DOUBLE_EQ(narrowed.readings[5].range, 25.0);     // kept: the model skips it as >= range_max
+}

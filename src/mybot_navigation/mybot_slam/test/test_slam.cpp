@@ -1014,6 +1014,32 @@ TEST(Slam, AFailedSearchInEveryHeadingWaitsForAScanThatMatches)
   EXPECT_NEAR(slam.currentPose().theta, parked.theta, 1e-9);
 }
 
+// Broken odometry (an overflowed encoder count, a driver's garbage) put a scan 1e308 m away, and
+// the grid tried to grow to 2^58 bytes (scripts/fuzz). Such a scan is refused and the map kept,
+// also one 2 km away: the map would pass kMaxMapSide cells a side.
+TEST(Slam, OdometryBeyondTheMapsLimitsIsRefusedAndTheMapKept)
+{
+  const LaserSpec laser;
+  const GridMap world = officeWorld(0.01);
+  const auto ranges = simulateScan(world, {2, 2, 0}, laser.angle_min, laser.angleIncrement(), laser.beams, 30.0);
+  const RangeScan scan = convertRanges(ranges, laser.angle_min, laser.angleIncrement(), laser.range_min,
+                                       laser.range_max, 30.0, ScanGeometry{});
+  Slam fresh(testParams());
+  EXPECT_EQ(fresh.addScan(1.0, {2e6, 0, 0}, scan), ScanOutcome::BeyondMap);
+  EXPECT_TRUE(fresh.keyframes().empty());
+  Slam slam(testParams());
+  ASSERT_EQ(slam.addScan(1.0, {}, scan), ScanOutcome::Processed);
+  const GridMap before = slam.map();
+  EXPECT_EQ(slam.addScan(1.1, {1e308, 0, 0}, scan), ScanOutcome::BeyondMap);
+  EXPECT_EQ(slam.addScan(1.2, {0, -2000, 0}, scan), ScanOutcome::BeyondMap);
+  EXPECT_EQ(slam.keyframes().size(), 1u);
+  EXPECT_EQ(slam.map().data, before.data);
+  EXPECT_EQ(slam.currentPose().x, 0.0);
+  // The odometry back where it was: mapping goes on.
+  EXPECT_EQ(slam.addScan(1.3, {0.3, 0, 0}, scan), ScanOutcome::Processed);
+  EXPECT_EQ(slam.keyframes().size(), 2u);
+}
+
 TEST(Slam, BadInputIsReportedNotFatal)
 {
   Slam slam(testParams());

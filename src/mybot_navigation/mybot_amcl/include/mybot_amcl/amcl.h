@@ -28,6 +28,10 @@ struct AmclParams
   unsigned seed = 0;
 };
 
+// "" if an odometry pose can be used, else why not ("x is 1e+308, beyond +-1e+06"): not finite or
+// beyond kMaxCoordinate. processScan does not use a scan with such a pose, and keeps the cloud.
+std::string odometryError(const Pose2D& odom);
+
 // Empty string when valid, else a message naming the first bad amcl parameter.
 std::string validate(const AmclParams& p);
 

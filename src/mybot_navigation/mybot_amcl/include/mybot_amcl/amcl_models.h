@@ -81,6 +81,14 @@ struct LaserScanData
   std::vector<LaserReading> readings;  // all beams, in order; the model subsamples max_beams
 };
 
+// A LaserScan's ranges as amcl_node takes them: range_max and range_min are the scan's, narrowed by
+// laser_max_range / laser_min_range where those are positive (amcl's -1: the scan's own); a reading
+// at or below range_min, or not finite, counts as max range (no information); beam i's bearing is
+// angle_min + i * angle_increment, mirrored for a laser mounted upside down.
+LaserScanData laserScanData(const std::vector<float>& ranges, double angle_min, double angle_increment,
+                            double range_min, double range_max, double laser_min_range, double laser_max_range,
+                            const Pose2D& sensor_in_base, bool upside_down);
+
 // Likelihood field (amcl's LikelihoodFieldModel): p = 1 + sum over beams of
 // (z_hit * exp(-d^2 / 2 sigma_hit^2) + z_rand / range_max)^3, d = distance from the beam end
 // point to the nearest obstacle (capped at likelihood_max_dist; off-map end points use the cap).

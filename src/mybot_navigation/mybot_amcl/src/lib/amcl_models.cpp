@@ -166,6 +166,26 @@ double LikelihoodField::gaussBehindSurface(double x, double y, double angle) con
   return std::exp(-d * d / (2.0 * params_.sigma_hit * params_.sigma_hit));
 }
 
+LaserScanData laserScanData(const std::vector<float>& ranges, double angle_min, double angle_increment,
+                            double range_min, double range_max, double laser_min_range, double laser_max_range,
+                            const Pose2D& sensor_in_base, bool upside_down)
+{
+  LaserScanData data;
+  data.sensor_in_base = sensor_in_base;
+  data.range_max = laser_max_range > 0.0 ? std::min(laser_max_range, range_max) : range_max;
+  const double usable_min = laser_min_range > 0.0 ? std::max(laser_min_range, range_min) : range_min;
+  const double sign = upside_down ? -1.0 : 1.0;
+  data.readings.reserve(ranges.size());
+  for (size_t i = 0; i < ranges.size(); ++i)
+  {
+    double r = ranges[i];
+    if (!(r > usable_min) || !std::isfinite(r))
+      r = data.range_max;
+    data.readings.push_back({r, sign * (angle_min + angle_increment * static_cast<double>(i))});
+  }
+  return data;
+}
+
 double LikelihoodField::distance(double x, double y) const
 {
   const Point2D local = transformPoint(inverse_origin_, {x, y});

@@ -79,9 +79,6 @@ AmclParams readAmclParams(const ros::NodeHandle& pnh)
 
 class AmclNode
 {
-  // An initial pose farther out is a mistake (the 1e30 of a bad script), not a map.
-  static constexpr double kMaxCoordinate = 1e6;
-
 public:
   AmclNode()
       : pnh_("~"), listener_(tf_buffer_, [this] { releaseScans(); }), params_(readAmclParams(pnh_)), amcl_(params_)
@@ -313,23 +310,20 @@ private:
       ROS_WARN_THROTTLE(5.0, "amcl: no odometry pose at the scan time: %s", e.what());
       return;
     }
-    LaserScanData data;
-    bool upside_down = false;
-    if (!laserPose(scan->header.frame_id, scan->header.stamp, data.sensor_in_base, upside_down))
-      return;
-    data.range_max = laser_max_range_ > 0.0 ? std::min<double>(laser_max_range_, scan->range_max) : scan->range_max;
-    const double range_min =
-        laser_min_range_ > 0.0 ? std::max<double>(laser_min_range_, scan->range_min) : scan->range_min;
-    const double sign = upside_down ? -1.0 : 1.0;
-    data.readings.reserve(scan->ranges.size());
-    for (size_t i = 0; i < scan->ranges.size(); ++i)
+    const std::string broken = odometryError(odom_pose);
+    if (!broken.empty())
     {
-      double r = scan->ranges[i];
-      // amcl: readings at or below the minimum range count as max range (no information).
-      if (!(r > range_min) || !std::isfinite(r))
-        r = data.range_max;
-      data.readings.push_back({r, sign * (scan->angle_min + scan->angle_increment * static_cast<double>(i))});
+      ROS_WARN_THROTTLE(5.0, "amcl: scan not used: the odometry (%s -> %s) %s; is it broken?", odom_frame_.c_str(),
+                        base_frame_.c_str(), broken.c_str());
+      return;
     }
+    Pose2D sensor_in_base;
+    bool upside_down = false;
+    if (!laserPose(scan->header.frame_id, scan->header.stamp, sensor_in_base, upside_down))
+      return;
+    const LaserScanData data =
+        laserScanData(scan->ranges, scan->angle_min, scan->angle_increment, scan->range_min, scan->range_max,
+                      laser_min_range_, laser_max_range_, sensor_in_base, upside_down);
     const bool updated = amcl_.processScan(odom_pose, data);
     if (updated && amcl_.filter().releaseVetoed() && !veto_logged_)
     {

@@ -16,4 +16,9 @@ using mybot_common::transformPoint;
 using mybot_common::translationNorm;
 using mybot_common::wrapAngle;
 
+// The farthest a pose may be from its frame's origin, in m. Farther is broken input, not a place:
+// the 1e30 of a bad script in an initial pose, an overflowed encoder count in the odometry (whose
+// jump of 1e308 m turned AMCL's cloud to NaN and made SLAM's grid try to grow to 2^58 bytes).
+constexpr double kMaxCoordinate = 1e6;
+
 }  // namespace mybot_navigation

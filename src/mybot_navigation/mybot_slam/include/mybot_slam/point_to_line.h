@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "mybot_nav_common/grid_map.h"
 #include "mybot_nav_common/pose2d.h"
 
 namespace mybot_navigation
@@ -35,17 +36,14 @@ public:
   bool nearest(const Point2D& w, double max_distance, Point2D& point, Point2D& normal) const;
 
 private:
-  using Buckets = std::unordered_map<int64_t, std::vector<int>>;
+  using Buckets = std::unordered_map<std::uint64_t, std::vector<int>>;
   template <typename F>
   void forEachNear(const Buckets& buckets, int cx, int cy, int ring, F&& f) const;
   // The line through p's neighbours within radius: their mean and unit normal; false if they are
   // fewer than three or not a line.
   bool fitLine(const std::vector<Point2D>& points, const Buckets& all, const Point2D& p, double radius,
                double max_flatness, Point2D& mean, Point2D& normal) const;
-  int64_t key(int cx, int cy) const
-  {
-    return (static_cast<int64_t>(cx) << 32) ^ (static_cast<int64_t>(cy) & 0xffffffffLL);
-  }
+  std::uint64_t key(int cx, int cy) const { return cellKey(cx, cy); }
   int cellOf(double v) const;
 
   double cell_;

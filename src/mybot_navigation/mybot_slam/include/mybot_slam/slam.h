@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "mybot_common/image_header.h"
 #include "mybot_slam/occupancy_grid.h"
 #include "mybot_slam/pose_graph.h"
 #include "mybot_slam/scan_matcher.h"
@@ -309,11 +310,20 @@ struct Keyframe
 
 enum class ScanOutcome
 {
-  Processed,     // became a keyframe
-  Skipped,       // not enough motion since the last keyframe (tracked, if track_every_scan)
-  OutOfOrder,    // stamp not newer than the last scan
-  NoValidPoints  // nothing usable to match or insert
+  Processed,      // became a keyframe
+  Skipped,        // not enough motion since the last keyframe (tracked, if track_every_scan)
+  OutOfOrder,     // stamp not newer than the last scan
+  NoValidPoints,  // nothing usable to match or insert
+  BeyondMap       // its odometry puts it beyond the map's limits (below): refused, the map kept
 };
+
+// The map's limits. A scan whose odometry places it farther than kMaxCoordinate (1e6 m) from the
+// odometry's origin, or whose reach would stretch the map beyond kMaxMapSide cells on a side, is
+// refused (ScanOutcome::BeyondMap) and the map is kept. Broken odometry (an encoder count that
+// overflowed, a driver's garbage) made the mapper grow its grid to 2^58 bytes and die
+// (scripts/fuzz, 2026-12-02). A map of more than kMaxMapSide cells a side (1 km at 5 cm, 3.2 GB
+// of grid) map_server would refuse to load.
+constexpr int kMaxMapSide = mybot_common::kDefaultMaxImageSide;
 
 // The last accepted loop closure, for logging.
 struct LoopClosureRecord
@@ -430,6 +440,10 @@ private:
   // since the last keyframe is tracked (placed, not inserted); one that did becomes a keyframe,
   // matched against the local map and tied to the previous keyframe in the graph.
   ScanOutcome startMap(double stamp, const Pose2D& odom, const RangeScan& scan);
+  // Whether a scan at `pose` stays within the map's limits (kMaxCoordinate, kMaxMapSide), and
+  // the extent the keyframes' scans reach, which those limits bound.
+  bool fitsMap(const Pose2D& pose, const RangeScan& scan) const;
+  void extendReach(const Pose2D& pose, const RangeScan& scan);
   // Predictions other than the odometry's from the last scan, each tried where it exists.
   struct RivalPredictions
   {
@@ -540,6 +554,7 @@ private:
   SlamParams params_;
   std::vector<Keyframe> keyframes_;
   PoseGraph graph_;
+  Point2D reach_lo_, reach_hi_;   // m, map frame: where the keyframes' scans reach (see fitsMap)
   mutable OccupancyGrid global_;  // a cache of the keyframes: see globalMap()
   mutable bool global_stale_ = false;
   LocalMap local_[2];

@@ -160,13 +160,11 @@ MatchField matchFieldAround(const OccupancyGrid& grid, double sigma, double wind
 std::vector<Point2D> voxelFilter(const std::vector<Point2D>& points, double cell)
 {
   std::vector<Point2D> out;
-  std::unordered_set<int64_t> seen;
+  std::unordered_set<std::uint64_t> seen;
   out.reserve(points.size());
   for (const Point2D& p : points)
   {
-    const int64_t key = (static_cast<int64_t>(std::floor(p.x / cell)) << 32) ^
-                        (static_cast<int64_t>(std::floor(p.y / cell)) & 0xffffffffLL);
-    if (seen.insert(key).second)
+    if (seen.insert(cellKey(cellIndex(p.x / cell), cellIndex(p.y / cell))).second)
       out.push_back(p);
   }
   return out;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mybot_common/checks.h"
+
 namespace mybot_navigation
 {
 namespace
@@ -169,13 +171,15 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
     return ScanOutcome::OutOfOrder;
   last_stamp_ = stamp;
   if (keyframes_.empty())
-    return startMap(stamp, odom, scan);
+    return fitsMap(odom, scan) ? startMap(stamp, odom, scan) : ScanOutcome::BeyondMap;
 
   const Keyframe& last = keyframes_.back();
   const Pose2D delta = between(last.odom, odom);
   // Where the scan is, by odometry from the last tracked scan (from the last keyframe without
   // tracking: tracked_ is then the keyframe's pose).
   const Pose2D predicted = compose(tracked_, between(tracked_odom_, odom));
+  if (!fitsMap(predicted, scan))
+    return ScanOutcome::BeyondMap;  // nothing tracked: the odometry's jump is no motion of the map's
   track_window_linear_ = std::min(params_.search_window_motion_max,
                                   params_.search_window_motion_scale * translationNorm(between(tracked_odom_, odom)));
   const bool moved = translationNorm(delta) >= params_.linear_update ||
@@ -213,6 +217,7 @@ ScanOutcome Slam::addScan(double stamp, const Pose2D& odom, const RangeScan& sca
     return moved ? ScanOutcome::NoValidPoints : ScanOutcome::Skipped;
   }
   addKeyframe(stamp, odom, scan, predicted, rivals);
+  extendReach(keyframes_.back().pose, scan);
   const int index = static_cast<int>(keyframes_.size()) - 1;
   const Pose2D step = between(before, keyframes_.back().pose);  // before a closure moves the keyframe
   if (params_.loop_closure && index - last_loop_attempt_ >= params_.loop_check_interval)
@@ -232,6 +237,37 @@ std::vector<Point2D> Slam::matchPoints(const std::vector<Point2D>& hits) const
   return adaptiveVoxelFilter(hits, params_.match_point_spacing, static_cast<size_t>(params_.match_min_points));
 }
 
+namespace
+{
+// How far from the robot a scan reaches: its usable range (0 = unknown: its farthest point) and
+// the margin a grid grows by.
+double scanReach(const RangeScan& scan, double grow_margin)
+{
+  const double reach =
+      scan.usable_range > 0.0 ? scan.usable_range : std::max(maxRange(scan.hits), maxRange(scan.misses));
+  return reach + grow_margin;
+}
+}  // namespace
+
+bool Slam::fitsMap(const Pose2D& pose, const RangeScan& scan) const
+{
+  if (!mybot_common::firstInvalid({{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}}, kMaxCoordinate).empty())
+    return false;
+  if (keyframes_.empty())
+    return true;
+  const double reach = scanReach(scan, params_.grid.grow_margin);
+  const double side = kMaxMapSide * params_.grid.resolution;
+  return std::max(reach_hi_.x, pose.x + reach) - std::min(reach_lo_.x, pose.x - reach) <= side &&
+         std::max(reach_hi_.y, pose.y + reach) - std::min(reach_lo_.y, pose.y - reach) <= side;
+}
+
+void Slam::extendReach(const Pose2D& pose, const RangeScan& scan)
+{
+  const double reach = scanReach(scan, params_.grid.grow_margin);
+  reach_lo_ = {std::min(reach_lo_.x, pose.x - reach), std::min(reach_lo_.y, pose.y - reach)};
+  reach_hi_ = {std::max(reach_hi_.x, pose.x + reach), std::max(reach_hi_.y, pose.y + reach)};
+}
+
 ScanOutcome Slam::startMap(double stamp, const Pose2D& odom, const RangeScan& scan)
 {
   if (scan.hits.size() < 3)
@@ -243,6 +279,8 @@ ScanOutcome Slam::startMap(double stamp, const Pose2D& odom, const RangeScan& sc
   kf.scan = scan;
   kf.match_points = matchPoints(scan.hits);
   keyframes_.push_back(std::move(kf));
+  reach_lo_ = reach_hi_ = {odom.x, odom.y};
+  extendReach(odom, scan);
   graph_.addNode(odom);
   if (!global_stale_)
     global_.insertScan(odom, scan);

@@ -252,6 +252,12 @@ private:
       case ScanOutcome::OutOfOrder:
         ROS_WARN_THROTTLE(5.0, "slam: scan at %.3f is out of order: dropped", stamp);
         return;
+      case ScanOutcome::BeyondMap:
+        ROS_WARN_THROTTLE(5.0,
+                          "slam: scan at %.3f refused: the odometry (%s -> %s: x %g, y %g) puts it beyond the map's "
+                          "limits (%g m from the odometry's origin, %d cells a side); is the odometry broken?",
+                          stamp, odom_frame_.c_str(), base_frame_.c_str(), odom.x, odom.y, kMaxCoordinate, kMaxMapSide);
+        return;
       case ScanOutcome::Skipped:
         return;
       case ScanOutcome::Processed:

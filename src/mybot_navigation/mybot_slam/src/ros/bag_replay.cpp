@@ -263,7 +263,8 @@ BagReplayResult replayOpenBag(rosbag::Bag& bag, const BagReplayOptions& opt, Sla
       points = adaptiveVoxelFilter(converted.hits, run.slam.match_point_spacing,
                                    static_cast<size_t>(run.slam.match_min_points));
       const SlamStats before = slam.stats();
-      tracked = slam.addScan(stamp, odom, converted) != ScanOutcome::OutOfOrder;
+      const ScanOutcome outcome = slam.addScan(stamp, odom, converted);
+      tracked = outcome != ScanOutcome::OutOfOrder && outcome != ScanOutcome::BeyondMap;
       for (const LoopClosureRecord& c : loopClosureEvents(before, slam.stats()))
         result.closures.push_back(c);
     }
