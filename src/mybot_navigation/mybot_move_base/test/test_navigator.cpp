@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "nav_test_util.h"
 
@@ -52,6 +53,12 @@ TEST(Navigator, GoalInObstacleOrOffMapAbortsWithAReason)
   reason = st.nav.setGoal({30.0, 2.0, 0.0}, 0.0, {1.5, 1.5, 0.0});
   EXPECT_EQ(st.nav.state(), NavState::Aborted);
   EXPECT_NE(reason.find("outside the map"), std::string::npos);
+  EXPECT_EQ(st.nav.step(0.1, {1.5, 1.5, 0.0}, {}).cmd.vx, 0.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(st.nav.setGoal({nan, 2.0, 0.0}, 0.0, {1.5, 1.5, 0.0}), "the goal's x is nan");
+  EXPECT_EQ(st.nav.setGoal({2.0, 2.0, nan}, 0.0, {1.5, 1.5, 0.0}), "the goal's yaw is nan");
+  EXPECT_EQ(st.nav.setGoal({2.0, 1e30, 0.0}, 0.0, {1.5, 1.5, 0.0}), "the goal's y is 1e+30, beyond +-1e+06");
+  EXPECT_EQ(st.nav.state(), NavState::Aborted);
   EXPECT_EQ(st.nav.step(0.1, {1.5, 1.5, 0.0}, {}).cmd.vx, 0.0);
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "mybot_common/checks.h"
+
 namespace mybot_navigation
 {
 
@@ -75,6 +77,15 @@ std::string Navigator::setGoal(const Pose2D& goal, double now, const Pose2D& pos
   planning_retries_ = 0;
   last_valid_plan_ = last_valid_control_ = last_oscillation_reset_ = now;
   oscillation_pose_ = pose;
+  // A NaN goal was "outside the map" only by luck of the int conversion, and a NaN heading was
+  // never reached: the goal is refused naming the field.
+  const std::string bad =
+      mybot_common::firstInvalid({{"x", goal.x}, {"y", goal.y}, {"yaw", goal.theta}}, kMaxCoordinate);
+  if (!bad.empty())
+  {
+    abort("the goal's " + bad);
+    return reason_;
+  }
   int gx, gy;
   if (!global_.worldToMap(goal.x, goal.y, gx, gy))
   {
