@@ -62,6 +62,22 @@ TEST(Navigator, GoalInObstacleOrOffMapAbortsWithAReason)
   EXPECT_EQ(st.nav.step(0.1, {1.5, 1.5, 0.0}, {}).cmd.vx, 0.0);
 }
 
+// Broken odometry mid-goal: the robot's pose 1e308 m away. The goal aborts saying why, and the
+// command is zero (no recovery turn either).
+TEST(Navigator, ARobotPoseBeyondAnyMapStopsTheGoal)
+{
+  NavStack st(officeWorld(0.05), diffParams(), false);
+  ASSERT_EQ(st.nav.setGoal({3.0, 1.5, 0.0}, 0.0, {1.5, 1.5, 0.0}), "");
+  const NavOutput moving = st.nav.step(0.1, {1.5, 1.5, 0.0}, {});
+  EXPECT_NE(moving.state, NavState::Aborted);
+  const NavOutput out = st.nav.step(0.2, {1e308, 1.5, 0.0}, {});
+  EXPECT_EQ(out.state, NavState::Aborted);
+  EXPECT_EQ(out.message, "the robot's pose x is 1e+308, beyond +-1e+06: is the odometry broken?");
+  EXPECT_EQ(out.cmd.vx, 0.0);
+  EXPECT_EQ(out.cmd.vy, 0.0);
+  EXPECT_EQ(out.cmd.wz, 0.0);
+}
+
 TEST(Navigator, UnreachableGoalRunsRecoveriesThenAborts)
 {
   // A closed box around the goal: the plan fails, recoveries run, then abort with a reason.

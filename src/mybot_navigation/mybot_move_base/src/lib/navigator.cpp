@@ -242,6 +242,17 @@ NavOutput Navigator::step(double now, const Pose2D& pose, const Velocity2D& vel)
     out.message = reason_;
     return out;
   }
+  // Broken odometry (an overflowed encoder count) puts the robot 1e308 m away: no command can be
+  // worked out from there, not even a recovery's turn. Stop and say why.
+  const std::string bad =
+      mybot_common::firstInvalid({{"x", pose.x}, {"y", pose.y}, {"yaw", pose.theta}}, kMaxCoordinate);
+  if (!bad.empty())
+  {
+    abort("the robot's pose " + bad + ": is the odometry broken?");
+    out.state = state_;
+    out.message = reason_;
+    return out;
+  }
 
   // Oscillation: the robot must keep moving by oscillation_distance within oscillation_timeout.
   if (std::hypot(pose.x - oscillation_pose_.x, pose.y - oscillation_pose_.y) >= params_.oscillation_distance)
