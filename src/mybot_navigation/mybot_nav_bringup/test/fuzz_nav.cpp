@@ -6,15 +6,17 @@
 //   fuzz_nav scan SECONDS SEED OUT_DIR INPUT...     (SECONDS 0: each input once, the replay)
 //
 // An input is a scan as text (test/fuzz_seeds/*.scan: real scans of the Freiburg logs): the
-// LaserScan's fields, `pose`, where the robot stands in factory_truth's map, and `step`, its
-// odometry between scans. Each round mutates one input (mybot_common/fuzz.h) and, unless the nodes'
-// check drops it (mybot_common::scanError, as slam_node, amcl and move_base do), gives it three
-// times, the robot moving by `step` each time, to what each node does with it:
+// LaserScan's fields, `pose`, where the robot stands in factory_truth's map, `goal`, where
+// move_base is sent (optional), and `step`, its odometry between scans. Each round mutates one input
+// (mybot_common/fuzz.h) and, unless the nodes' check drops it (mybot_common::scanError, as slam_node, amcl and
+// move_base do), gives it three times, the robot moving by `step` each time, to what each node does with it:
 //  - amcl: amcl_node's conversion (laserScanData) and the filter's update, from an initial pose;
-//  - move_base: scanEndPoints into a global costmap on the map and a rolling local one;
+//  - move_base: scanEndPoints into a global costmap on the map and a rolling local one, and the
+//    navigator's step towards the goal (planner, controller, recoveries);
 //  - slam_node: convertRanges and Slam::addScan.
 // What it checks: no crash, no sanitizer report, no hang (20 s a round: current.scan stays for
-// scripts/fuzz to keep), and that the estimates stay finite (else OUT_DIR/nonfinite-N.scan).
+// scripts/fuzz to keep), and that the estimates and the velocity command stay finite (else
+// OUT_DIR/nonfinite-N.scan).
 #include <unistd.h>
 
 #include <chrono>
@@ -31,6 +33,7 @@
 #include "mybot_common/checks.h"
 #include "mybot_common/fuzz.h"
 #include "mybot_move_base/costmap.h"
+#include "mybot_move_base/navigator.h"
 #include "mybot_nav_common/map_io.h"
 #include "mybot_nav_common/range_scan.h"
 #include "mybot_nav_common/ros/node_params.h"
@@ -47,6 +50,7 @@ struct ScanInput
 {
   sensor_msgs::LaserScan scan;
   Pose2D pose, step;
+  Pose2D goal{6.0, 3.0, 0.0};
 };
 
 // strtod's numbers, so that nan, inf and 1e400 (inf) read as a message's float would hold them.
@@ -110,6 +114,11 @@ ScanInput parse(const std::string& text)
       in.pose = pose();
     else if (key == "step")
       in.step = pose();
+    else if (key == "goal")
+    {
+      in.goal = pose();
+      --fields;  // optional
+    }
     else
       throw std::invalid_argument("unknown key '" + key + "'");
     ++fields;
@@ -137,6 +146,7 @@ public:
     amcl_params_.filter.max_particles = 500;
     local_params_.rolling_window = true;
     local_params_.use_static_map = false;
+    slam_params_.linear_update = slam_params_.angular_update = 0.25;  // config/slam.yaml's: each step a keyframe
   }
 
   // Whether every estimate stayed finite; a refusal goes to `refusal`.
@@ -156,7 +166,11 @@ public:
     amcl.setInitialPose(in.pose, 0.25, 0.25, 0.07);
     Costmap global(global_params_), local(local_params_);
     global.setStaticMap(map_);
-    Slam slam;
+    GlobalPlanner planner;
+    LocalPlanner controller;
+    Navigator navigator(NavigatorParams{}, global, local, planner, controller);
+    navigator.setGoal(in.goal, 100.0, in.pose);
+    Slam slam(slam_params_);
     const Pose2D odom0{1.0, -2.0, 0.5};  // the odometry frame is not the map's
     Pose2D pose = in.pose, odom = odom0;
     bool ok = true;
@@ -173,6 +187,7 @@ public:
         cm->updateWithScan({pose.x, pose.y}, hits, ends);
         cm->updateCosts();
       }
+      const Velocity2D cmd = navigator.step(100.0 + 0.5 * k, pose, {}).cmd;
       const double stamp = 100.0 + 0.5 * k;
       if (slam.wantsScan(stamp, odom))
         slam.addScan(stamp, odom,
@@ -180,22 +195,31 @@ public:
                                    30.0, ScanGeometry{}));
       else
         slam.updateOdometry(odom);
-      ok = ok && finite(slam.currentPose()) && finite(slam.mapToOdom()) &&
+      ok = ok && std::isfinite(cmd.vx) && std::isfinite(cmd.vy) && std::isfinite(cmd.wz) &&
+           finite(slam.currentPose()) && finite(slam.mapToOdom()) &&
            (!amcl.hasEstimate() || (finite(amcl.estimate().mean) && finite(amcl.mapToOdom())));
       pose = compose(pose, in.step);
       odom = compose(odom, in.step);
     }
+    summary_ = "amcl " + std::to_string(amcl.updates()) + " updates, slam " + std::to_string(slam.keyframes().size()) +
+               " keyframes, move_base " + toString(navigator.state()) +
+               (navigator.abortReason().empty() ? "" : " (" + navigator.abortReason() + ")");
     if (!ok)
-      std::fprintf(stderr, "  an estimate is not finite: slam (%g, %g, %g), amcl (%g, %g, %g)\n", slam.currentPose().x,
-                   slam.currentPose().y, slam.currentPose().theta, amcl.estimate().mean.x, amcl.estimate().mean.y,
-                   amcl.estimate().mean.theta);
+      std::fprintf(stderr, "  an estimate or the command is not finite: slam (%g, %g, %g), amcl (%g, %g, %g)\n",
+                   slam.currentPose().x, slam.currentPose().y, slam.currentPose().theta, amcl.estimate().mean.x,
+                   amcl.estimate().mean.y, amcl.estimate().mean.theta);
     return ok;
   }
 
+  // What the last run did, for the replay's log.
+  const std::string& summary() const { return summary_; }
+
 private:
   const GridMap& map_;
+  std::string summary_;
   AmclParams amcl_params_;
   CostmapParams global_params_, local_params_;
+  SlamParams slam_params_;
 };
 }  // namespace
 
@@ -237,7 +261,10 @@ int main(int argc, char** argv)
       std::string refusal;
       const bool ok = once(inputs[i], &refusal);
       failed += ok ? 0 : 1;
-      std::printf("%s: %s\n", argv[i + 5], !ok ? "not finite" : refusal.empty() ? "taken" : refusal.c_str());
+      std::printf("%s: %s\n", argv[i + 5],
+                  !ok               ? "not finite"
+                  : refusal.empty() ? ("taken: " + nodes.summary()).c_str()
+                                    : refusal.c_str());
     }
     std::remove(current.c_str());
     std::printf("scan: %zu inputs replayed, %d non-finite\n", inputs.size(), failed);
