@@ -496,7 +496,7 @@ TEST(Amcl, BrokenOdometryIsNotUsedAndTheEstimateKept)
       simulateScan(world, {3, 3, 0}, laser.angle_min, laser.angleIncrement(), laser.beams, laser.range_max), laser);
   ASSERT_TRUE(amcl.processScan({0, 0, 0}, scan));
   const Pose2D before = amcl.estimate().mean;
-  EXPECT_EQ(odometryError({0, 1e308, 0}), "y is 1e+308, beyond +-1e+06");
+  EXPECT_EQ(poseError({0, 1e308, 0}), "y is 1e+308, beyond +-1e+06");
   EXPECT_FALSE(amcl.processScan({0.3, 1e308, 0.1}, scan));
   EXPECT_FALSE(amcl.processScan({2e6, 0, 0}, scan));
   EXPECT_FALSE(amcl.processScan({0.3, 0, std::numeric_limits<double>::quiet_NaN()}, scan));

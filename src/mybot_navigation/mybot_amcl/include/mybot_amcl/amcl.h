@@ -28,10 +28,6 @@ struct AmclParams
   unsigned seed = 0;
 };
 
-// "" if an odometry pose can be used, else why not ("x is 1e+308, beyond +-1e+06"): not finite or
-// beyond kMaxCoordinate. processScan does not use a scan with such a pose, and keeps the cloud.
-std::string odometryError(const Pose2D& odom);
-
 // Empty string when valid, else a message naming the first bad amcl parameter.
 std::string validate(const AmclParams& p);
 
@@ -57,7 +53,9 @@ public:
   void requestNoMotionUpdate() { force_update_ = true; }
 
   // Processes one scan taken when the robot's odometry pose was `odom_pose` (base in odom).
-  // Returns true when the filter ran a sensor update (a new estimate is available).
+  // Returns true when the filter ran a sensor update (a new estimate is available). An odometry
+  // pose that is broken (poseError: not finite, or beyond kMaxCoordinate) is no motion: the scan
+  // is not used and the cloud is kept (a jump of 1e308 m turned it to NaN).
   bool processScan(const Pose2D& odom_pose, const LaserScanData& scan);
 
   const PoseEstimate& estimate() const { return estimate_; }

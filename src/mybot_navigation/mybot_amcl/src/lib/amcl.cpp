@@ -4,8 +4,6 @@
 #include <cmath>
 #include <sstream>
 
-#include "mybot_common/checks.h"
-
 namespace mybot_navigation
 {
 
@@ -243,14 +241,9 @@ void Amcl::seedFromScan(const LaserScanData& scan)
       });
 }
 
-std::string odometryError(const Pose2D& odom)
-{
-  return mybot_common::firstInvalid({{"x", odom.x}, {"y", odom.y}, {"theta", odom.theta}}, kMaxCoordinate);
-}
-
 bool Amcl::processScan(const Pose2D& odom_pose, const LaserScanData& scan)
 {
-  if (!field_.hasMap() || scan.readings.empty() || !odometryError(odom_pose).empty())
+  if (!field_.hasMap() || scan.readings.empty() || !poseError(odom_pose).empty())
     return false;
   bool update = false;
   if (seed_from_next_scan_)

@@ -310,7 +310,7 @@ private:
       ROS_WARN_THROTTLE(5.0, "amcl: no odometry pose at the scan time: %s", e.what());
       return;
     }
-    const std::string broken = odometryError(odom_pose);
+    const std::string broken = poseError(odom_pose);
     if (!broken.empty())
     {
       ROS_WARN_THROTTLE(5.0, "amcl: scan not used: the odometry (%s -> %s) %s; is it broken?", odom_frame_.c_str(),

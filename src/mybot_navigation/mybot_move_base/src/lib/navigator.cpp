@@ -4,8 +4,6 @@
 #include <cmath>
 #include <sstream>
 
-#include "mybot_common/checks.h"
-
 namespace mybot_navigation
 {
 
@@ -79,8 +77,7 @@ std::string Navigator::setGoal(const Pose2D& goal, double now, const Pose2D& pos
   oscillation_pose_ = pose;
   // A NaN goal was "outside the map" only by luck of the int conversion, and a NaN heading was
   // never reached: the goal is refused naming the field.
-  const std::string bad =
-      mybot_common::firstInvalid({{"x", goal.x}, {"y", goal.y}, {"yaw", goal.theta}}, kMaxCoordinate);
+  const std::string bad = poseError(goal);
   if (!bad.empty())
   {
     abort("the goal's " + bad);
@@ -244,8 +241,7 @@ NavOutput Navigator::step(double now, const Pose2D& pose, const Velocity2D& vel)
   }
   // Broken odometry (an overflowed encoder count) puts the robot 1e308 m away: no command can be
   // worked out from there, not even a recovery's turn. Stop and say why.
-  const std::string bad =
-      mybot_common::firstInvalid({{"x", pose.x}, {"y", pose.y}, {"yaw", pose.theta}}, kMaxCoordinate);
+  const std::string bad = poseError(pose);
   if (!bad.empty())
   {
     abort("the robot's pose " + bad + ": is the odometry broken?");

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mybot_common/checks.h"
-
 namespace mybot_navigation
 {
 namespace
@@ -251,7 +249,7 @@ double scanReach(const RangeScan& scan, double grow_margin)
 
 bool Slam::fitsMap(const Pose2D& pose, const RangeScan& scan) const
 {
-  if (!mybot_common::firstInvalid({{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}}, kMaxCoordinate).empty())
+  if (!poseError(pose).empty())
     return false;
   if (keyframes_.empty())
     return true;
