@@ -5,6 +5,7 @@ include_directories(include ${catkin_INCLUDE_DIRS} ${EIGEN3_INCLUDE_DIRS})
 add_library(mybot_control_lib
   src/lib/kinematics.cpp
   src/lib/odometry.cpp
+  src/lib/four_wheel_steering.cpp
   src/lib/speed_limiter.cpp
   src/lib/pid.cpp
   src/lib/twist_mux.cpp
@@ -48,6 +49,7 @@ if(CATKIN_ENABLE_TESTING)
     test/gtest/test_kinematics.cpp
     test/gtest/test_odometry.cpp
     test/gtest/test_ackermann_odometry.cpp
+    test/gtest/test_four_wheel_steering.cpp
     test/gtest/test_speed_limiter.cpp
     test/gtest/test_pid.cpp
     test/gtest/test_twist_mux.cpp
