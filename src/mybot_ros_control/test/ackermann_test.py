@@ -11,11 +11,10 @@ import rostest
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 
-from gazebo_msgs.srv import GetModelState
 from mybot_common.geometry import wrap, yaw_of
 from mybot_lockstep import wait_connected
 
-from controller_test import ControllerTest, refusal
+from controller_test import DriveTest, refusal
 
 WHEELBASE, RADIUS = 0.5, 0.1  # the fixture's, which the controller reads from the URDF
 
@@ -26,32 +25,14 @@ def twist(v, steer):
     return t
 
 
-class Ackermann(ControllerTest):
+class Ackermann(DriveTest):
     @classmethod
     def setUpClass(cls):
         cls.join("ackermann_test")
-        cls.odom = None
-        cls.ls.Subscriber("/ackermann_steering_controller/odom", Odometry, cls._on_odom)
+        cls.watch("car", "/ackermann_steering_controller/odom")
         cls.cmd = cls.ls.Publisher("/ackermann_steering_controller/cmd_vel", Twist, queue_size=1)
-        rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
-        cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
         cls.unpause_when_running(2, [])
         cls.ls.sleep(0.5)  # settle on its wheels
-
-    @classmethod
-    def _on_odom(cls, m):
-        with cls.lock:
-            cls.odom = m
-
-    def truth(self):
-        """(x, y, yaw) of the robot's base_link, from the simulator."""
-        p = self.model(model_name="car", relative_entity_name="world").pose
-        return p.position.x, p.position.y, yaw_of(p.orientation)
-
-    def odometry(self):
-        with self.lock:
-            p = self.odom.pose.pose
-        return p.position.x, p.position.y, yaw_of(p.orientation)
 
     def drive(self, v, steer, seconds):
         """Sends the command at 50 Hz for `seconds` of sim time."""

@@ -5,9 +5,12 @@ import threading
 import unittest
 
 import rospy
+from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 
 from controller_manager_msgs.srv import ListControllers, LoadController, SwitchController
+from gazebo_msgs.srv import GetModelState
+from mybot_common.geometry import yaw_of
 from mybot_gazebo_lite.controller_manager import ControllerManager, ControllerManagerError
 from mybot_lockstep import participant
 from mybot_lockstep.start_paused import unpause_when
@@ -82,3 +85,32 @@ class ControllerTest(unittest.TestCase):
         client.send_goal(goal, feedback_cb=feedback)
         self.assertTrue(client.wait_for_result(rospy.Duration(timeout)), "no result")
         return client.get_state(), client.get_result()
+
+
+class DriveTest(ControllerTest):
+    """A mobile base's test: the model's ground truth from the simulator and the drive
+    controller's odometry, each as (x, y, yaw)."""
+
+    @classmethod
+    def watch(cls, model, odom_topic):
+        """Reads `odom_topic` and asks the simulator for `model`'s pose (after join)."""
+        cls.model_name = model
+        cls.odom = None
+        cls.ls.Subscriber(odom_topic, Odometry, cls._on_odom)
+        rospy.wait_for_service("/gazebo/get_model_state", timeout=60)
+        cls.model = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
+
+    @classmethod
+    def _on_odom(cls, m):
+        with cls.lock:
+            cls.odom = m
+
+    def truth(self):
+        """(x, y, yaw) of the robot's base_link, from the simulator."""
+        p = self.model(model_name=self.model_name, relative_entity_name="world").pose
+        return p.position.x, p.position.y, yaw_of(p.orientation)
+
+    def odometry(self):
+        with self.lock:
+            p = self.odom.pose.pose
+        return p.position.x, p.position.y, yaw_of(p.orientation)

@@ -138,6 +138,7 @@ const std::map<std::string, ControllerFactory>& controllerTypes()
       {"joint_state_controller/JointStateController", makeJointStateController},
       {"diff_drive_controller/DiffDriveController", makeDiffDriveController},
       {"ackermann_steering_controller/AckermannSteeringController", makeAckermannSteeringController},
+      {"four_wheel_steering_controller/FourWheelSteeringController", makeFourWheelSteeringController},
       {"position_controllers/JointPositionController", [](auto& c) { return makeForwardController(c, I::POSITION); }},
       {"velocity_controllers/JointVelocityController", [](auto& c) { return makeForwardController(c, I::VELOCITY); }},
       {"effort_controllers/JointEffortController", [](auto& c) { return makeForwardController(c, I::EFFORT); }},

@@ -9,6 +9,7 @@ namespace mybot_ros_control
 std::unique_ptr<Controller> makeJointStateController(const ControllerContext& c);
 std::unique_ptr<Controller> makeDiffDriveController(const ControllerContext& c);
 std::unique_ptr<Controller> makeAckermannSteeringController(const ControllerContext& c);
+std::unique_ptr<Controller> makeFourWheelSteeringController(const ControllerContext& c);
 // position_controllers / velocity_controllers / effort_controllers JointXController that
 // forward the command to the interface.
 std::unique_ptr<Controller> makeForwardController(const ControllerContext& c, Interface i);

@@ -29,8 +29,9 @@ TwistDrive::TwistDrive(const ControllerContext& c) : c_(c), hw_(c.hw)
   twist_cov_ = covariance("twist_covariance_diagonal");
 
   ros::NodeHandle nh = c.nh;
-  sub_ = mybot_gazebo_lite::subscribeCommand<geometry_msgs::Twist>(
-      *c.plugin, nh, "cmd_vel", [this](const geometry_msgs::Twist::ConstPtr& m) { onCmd(m->linear.x, m->angular.z); });
+  sub_ = mybot_gazebo_lite::subscribeCommand<geometry_msgs::Twist>(*c.plugin, nh, "cmd_vel",
+                                                                   [this](const geometry_msgs::Twist::ConstPtr& m)
+                                                                   { onCmd(m->linear.x, m->linear.y, m->angular.z); });
   odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 100);
 }
 
@@ -44,17 +45,23 @@ void TwistDrive::restart(double t)
 
 mybot_control::Twist2D TwistDrive::command(double t, double dt)
 {
-  mybot_control::Twist2D cmd{cmd_.lin, 0.0, cmd_.ang};
+  mybot_control::Twist2D cmd{cmd_.lin, holonomic_ ? cmd_.lat : 0.0, cmd_.ang};
   if (t - cmd_.stamp > timeout_)
     cmd = mybot_control::Twist2D{};
+  return limited(cmd, dt);
+}
+
+mybot_control::Twist2D TwistDrive::limited(mybot_control::Twist2D cmd, double dt, bool angular)
+{
   linear_.limit(cmd.vx, last0_.vx, last1_.vx, dt);
-  angular_.limit(cmd.wz, last0_.wz, last1_.wz, dt);
+  if (angular)
+    angular_.limit(cmd.wz, last0_.wz, last1_.wz, dt);
   last1_ = last0_;
   last0_ = cmd;
   return cmd;
 }
 
-void TwistDrive::onCmd(double lin, double ang)
+void TwistDrive::onCmd(double lin, double lat, double ang)
 {
   // As upstream: with several publishers on cmd_vel and allow_multiple_cmd_vel_publishers
   // false, every command is refused rather than obeying whoever spoke last.
@@ -64,12 +71,13 @@ void TwistDrive::onCmd(double lin, double ang)
                        c_.name.c_str(), sub_.getNumPublishers());
     return;
   }
-  if (!std::isfinite(lin) || !std::isfinite(ang))
+  if (!std::isfinite(lin) || !std::isfinite(ang) || (holonomic_ && !std::isfinite(lat)))
   {
     ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite cmd_vel", c_.name.c_str());
     return;
   }
   cmd_.lin = lin;
+  cmd_.lat = lat;
   cmd_.ang = ang;
   cmd_.stamp = c_.plugin->world->time();
 }
@@ -107,10 +115,31 @@ double TwistDrive::radiusFromUrdf(const std::string& param, const std::string& j
   c_.fail(param, "not set, and link '" + link + "' has no collision cylinder or sphere to take it from");
 }
 
-void TwistDrive::publish(double t, const mybot_control::Pose2D& p, const mybot_control::Twist2D& twist)
+double TwistDrive::jointDistance(const std::string& a, const std::string& b) const
+{
+  const mybot_gazebo_lite::RobotSpec& spec = c_.plugin->robot->spec();
+  auto inRoot = [&spec](const std::string& name)
+  {
+    btTransform t = btTransform::getIdentity();
+    for (const mybot_gazebo_lite::JointSpec* j = spec.joint(name); j;)
+    {
+      t = j->origin * t;
+      const std::string parent = j->parent;
+      j = nullptr;
+      for (const auto& up : spec.joints)
+        if (up.child == parent)
+          j = &up;
+    }
+    return t.getOrigin();
+  };
+  const btVector3 d = inRoot(a) - inRoot(b);
+  return std::hypot(d.x(), d.y());
+}
+
+bool TwistDrive::publish(double t, const mybot_control::Pose2D& p, const mybot_control::Twist2D& twist)
 {
   if (t + 1e-9 < next_publish_)
-    return;
+    return false;
   next_publish_ = (next_publish_ + publish_period_ < t) ? t + publish_period_ : next_publish_ + publish_period_;
   nav_msgs::Odometry o;
   o.header.stamp = ros::Time(t);
@@ -122,11 +151,12 @@ void TwistDrive::publish(double t, const mybot_control::Pose2D& p, const mybot_c
   o.pose.pose.orientation.w = std::cos(p.theta / 2);
   o.pose.covariance = pose_cov_;
   o.twist.twist.linear.x = twist.vx;
+  o.twist.twist.linear.y = twist.vy;
   o.twist.twist.angular.z = twist.wz;
   o.twist.covariance = twist_cov_;
   odom_pub_.publish(o);
   if (!enable_tf_)
-    return;
+    return true;
   geometry_msgs::TransformStamped tf;
   tf.header = o.header;
   tf.child_frame_id = base_frame_;
@@ -134,6 +164,7 @@ void TwistDrive::publish(double t, const mybot_control::Pose2D& p, const mybot_c
   tf.transform.translation.y = p.y;
   tf.transform.rotation = o.pose.pose.orientation;
   c_.plugin->tf->sendTransform(tf);
+  return true;
 }
 
 }  // namespace mybot_ros_control

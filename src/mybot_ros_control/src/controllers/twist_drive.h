@@ -1,7 +1,7 @@
-// What ros_controllers' diff_drive_controller and ackermann_steering_controller share, with the
-// same parameter names: cmd_vel in (its timeout, the linear/x and angular/z limits, the check for
-// several publishers), odom and its tf out at publish_rate with the covariance diagonals, and the
-// wheel radius from the URDF. Each drive adds its kinematics and odometry.
+// What ros_controllers' diff_drive_controller, ackermann_steering_controller and
+// four_wheel_steering_controller share, with the same parameter names: cmd_vel in (its timeout, the linear/x and
+// angular/z limits, the check for several publishers), odom and its tf out at publish_rate with the covariance
+// diagonals, and the wheel radius from the URDF. Each drive adds its kinematics and odometry.
 #pragma once
 
 #include "controllers.h"
@@ -23,8 +23,14 @@ protected:
   // The command for the step from t: the last cmd_vel (zero once older than cmd_vel_timeout)
   // through the speed limits. It is also the open-loop odometry's twist.
   mybot_control::Twist2D command(double t, double dt);
-  // The odometry at t, on odom (and tf) when publish_rate says so.
-  void publish(double t, const mybot_control::Pose2D& pose, const mybot_control::Twist2D& twist);
+  // A command through the speed limits (linear/x, and angular/z unless `angular` is false); what
+  // command() does after the timeout, for a drive with a second command topic.
+  mybot_control::Twist2D limited(mybot_control::Twist2D cmd, double dt, bool angular = true);
+  // When the last cmd_vel arrived (sim time, s), and cmd_vel_timeout.
+  double commandStamp() const { return cmd_.stamp; }
+  double commandTimeout() const { return timeout_; }
+  // The odometry at t, on odom (and tf) when publish_rate says so (then true).
+  bool publish(double t, const mybot_control::Pose2D& pose, const mybot_control::Twist2D& twist);
   // At starting: the last command forgotten, the next publication due now.
   void restart(double t);
   // The last command: what the open-loop odometry (open_loop) integrates.
@@ -32,18 +38,23 @@ protected:
   // As upstream: the radius of `joint`'s child link's collision cylinder or sphere, when the
   // parameter `param` is not set; fails naming the parameter otherwise.
   double radiusFromUrdf(const std::string& param, const std::string& joint) const;
+  // As upstream's urdf_geometry_parser: how far apart two joints' origins are in the plane of the
+  // robot's root link, their joints at zero.
+  double jointDistance(const std::string& a, const std::string& b) const;
   // The rolling window of the odometry's twist (velocity_rolling_window_size).
   std::size_t velocity_window_ = 10;
   bool open_loop_ = false;
+  // cmd_vel's linear.y is taken (four_wheel_steering_controller); the others ignore it, as upstream.
+  bool holonomic_ = false;
   ControllerContext c_;
   RobotHWSim* hw_;
 
 private:
   struct Cmd
   {
-    double lin = 0, ang = 0, stamp = 0;
+    double lin = 0, lat = 0, ang = 0, stamp = 0;
   };
-  void onCmd(double lin, double ang);
+  void onCmd(double lin, double lat, double ang);
   mybot_control::SpeedLimiter readLimits(const std::string& ns) const;
   boost::array<double, 36> covariance(const std::string& param) const;
 

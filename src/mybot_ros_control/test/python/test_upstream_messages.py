@@ -1,5 +1,5 @@
 """The message packages that stand in for upstream's (control_msgs, controller_manager_msgs,
-gazebo_msgs: Debian 12 packages none of them) define every type with upstream's name and MD5 sum,
+gazebo_msgs, four_wheel_steering_msgs: Debian 12 packages none of them) define every type with upstream's name and MD5 sum,
 so MoveIt's trajectory and gripper clients, ros_control tools and scripts written for Gazebo
 connect to gazebo_lite as to Gazebo. The sums are the published ones of the Noetic packages, as
 their generated code in other languages records them (checked one by one), not computed here."""
@@ -38,6 +38,10 @@ PUBLISHED = {
         "ReloadControllerLibraries": "40e8c411fd1797d2e2c486018f846040",
         "SwitchController": "b29a7abc673b2c54c14b54e50f8d06a5",
         "UnloadController": "647e5c54b8d6468952d8d31f1efe96c0",
+    },
+    "four_wheel_steering_msgs": {
+        "FourWheelSteering": "04dd0f55e1f168668af1e2587a7cdd2a",
+        "FourWheelSteeringStamped": "9226582df815bc6df9e3206bc05923af",
     },
     "gazebo_msgs": {
         "ApplyBodyWrench": "585b9f9618aa0581b207e2f2d90866bc",
