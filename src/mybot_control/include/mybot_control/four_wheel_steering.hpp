@@ -67,7 +67,7 @@ double equivalentSteering(double left, double right);
 // Dead reckoning from the four wheel joints' positions and the four steering angles, as wpimath's
 // odometries under their kinematics: each step's least-squares displacement, integrated by
 // PoseIntegrator.
-class FourWheelSteeringOdometry
+class FourWheelSteeringOdometry : public IntegratedOdometry
 {
 public:
   struct Params
@@ -86,21 +86,15 @@ public:
   bool update(const std::array<double, 4>& wheel_positions, const std::array<double, 4>& steering, double t);
 
   void resetEncoders();
-  void setPose(const Pose2D& pose) { integrator_.setPose(pose); }
   void reset()
   {
     setPose(Pose2D{});
     resetEncoders();
   }
 
-  const Pose2D& pose() const { return integrator_.pose(); }
-  Twist2D twist() const { return integrator_.twist(); }
-  double distance() const { return integrator_.distance(); }
-
 private:
   Params params_;
   EncoderReadings<8> readings_;  // the four wheels, then the four steering angles
-  PoseIntegrator integrator_;
 };
 
 }  // namespace mybot_control

@@ -140,7 +140,23 @@ private:
   double distance_ = 0.0;
 };
 
-class DiffDriveOdometry
+// What every odometry shows of its PoseIntegrator, the one home of these accessors: the pose (it
+// can be set: set_pose, open-loop odometry), the rolling mean of the body twist over the last
+// velocity_window updates, and the path length.
+class IntegratedOdometry
+{
+public:
+  void setPose(const Pose2D& pose) { integrator_.setPose(pose); }
+  const Pose2D& pose() const { return integrator_.pose(); }
+  Twist2D twist() const { return integrator_.twist(); }
+  double distance() const { return integrator_.distance(); }  // total |path| length, m
+
+protected:
+  explicit IntegratedOdometry(std::size_t velocity_window) : integrator_(velocity_window) {}
+  PoseIntegrator integrator_;
+};
+
+class DiffDriveOdometry : public IntegratedOdometry
 {
 public:
   struct Params
@@ -161,26 +177,20 @@ public:
 
   // Forget the encoder reference (the next reading is a first reading again).
   void resetEncoders();
-  void setPose(const Pose2D& pose);
   void reset()
   {
     setPose(Pose2D{});
     resetEncoders();
   }
 
-  const Pose2D& pose() const { return integrator_.pose(); }
-  // Rolling mean of the body twist over the last `velocity_window` updates.
-  Twist2D twist() const { return integrator_.twist(); }
   // Most recent per-update wheel rim speeds (m/s) and the angular ones (rad/s).
   const WheelVelocities& wheelTangent() const { return wheel_tangent_; }
-  double distance() const { return integrator_.distance(); }  // total |path| length, m
   const DiffDriveKinematics& kinematics() const { return kin_; }
 
 private:
   Params params_;
   DiffDriveKinematics kin_;
   EncoderReadings<2> readings_;  // left, right
-  PoseIntegrator integrator_;
   WheelVelocities wheel_tangent_;
 };
 
@@ -191,7 +201,7 @@ private:
 // circle of radius L / tan(delta) (L the wheelbase), so dtheta = s tan(delta) / L. The step's
 // delta is the mean of its two readings (the steering moves while the wheel rolls; upstream takes
 // the last one). The pose is the rear axle's centre.
-class AckermannOdometry
+class AckermannOdometry : public IntegratedOdometry
 {
 public:
   struct Params
@@ -211,21 +221,15 @@ public:
   bool update(double wheel_position, double steering_angle, double t);
 
   void resetEncoders();
-  void setPose(const Pose2D& pose) { integrator_.setPose(pose); }
   void reset()
   {
     setPose(Pose2D{});
     resetEncoders();
   }
 
-  const Pose2D& pose() const { return integrator_.pose(); }
-  Twist2D twist() const { return integrator_.twist(); }
-  double distance() const { return integrator_.distance(); }
-
 private:
   Params params_;
   EncoderReadings<2> readings_;  // the wheel, the steering
-  PoseIntegrator integrator_;
 };
 
 }  // namespace mybot_control

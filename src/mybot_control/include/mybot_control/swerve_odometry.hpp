@@ -12,7 +12,7 @@
 namespace mybot_control
 {
 
-class SwerveOdometry
+class SwerveOdometry : public IntegratedOdometry
 {
 public:
   struct Params
@@ -36,14 +36,9 @@ public:
               std::optional<double> imu_yaw = std::nullopt);
 
   void resetEncoders();
-  void setPose(const Pose2D& pose);
   // Back to the origin with a fresh encoder reference and zero distance.
   void reset();
 
-  const Pose2D& pose() const { return integrator_.pose(); }
-  // Rolling mean of the body twist over the last velocity_window updates.
-  Twist2D twist() const { return integrator_.twist(); }
-  double distance() const { return integrator_.distance(); }  // total path length, m
   const SwerveKinematics& kinematics() const { return kin_; }
 
 private:
@@ -53,7 +48,6 @@ private:
   std::vector<double> wheel_prev_, pivot_prev_;
   std::optional<double> imu_prev_;
   double t_prev_ = 0.0;
-  PoseIntegrator integrator_;
   std::vector<SwerveModulePosition> deltas_;  // scratch, avoids allocating per update
 };
 

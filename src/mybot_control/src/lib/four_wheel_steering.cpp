@@ -86,7 +86,7 @@ double equivalentSteering(double left, double right)
 }
 
 FourWheelSteeringOdometry::FourWheelSteeringOdometry(const Params& params)
-    : params_(params), integrator_(params.velocity_window)
+    : IntegratedOdometry(params.velocity_window), params_(params)
 {
 }
 

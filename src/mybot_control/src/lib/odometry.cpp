@@ -69,9 +69,9 @@ void WheelEncoder::reset()
 }
 
 DiffDriveOdometry::DiffDriveOdometry(const Params& params)
-    : params_(params),
-      kin_(params.wheel_separation, params.left_radius, params.right_radius),
-      integrator_(params.velocity_window)
+    : IntegratedOdometry(params.velocity_window),
+      params_(params),
+      kin_(params.wheel_separation, params.left_radius, params.right_radius)
 {
 }
 
@@ -97,12 +97,9 @@ void DiffDriveOdometry::resetEncoders()
   wheel_tangent_ = {};
 }
 
-void DiffDriveOdometry::setPose(const Pose2D& pose)
+AckermannOdometry::AckermannOdometry(const Params& params) : IntegratedOdometry(params.velocity_window), params_(params)
 {
-  integrator_.setPose(pose);
 }
-
-AckermannOdometry::AckermannOdometry(const Params& params) : params_(params), integrator_(params.velocity_window) {}
 
 bool AckermannOdometry::update(double wheel_position, double steering_angle, double t)
 {

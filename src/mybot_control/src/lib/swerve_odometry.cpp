@@ -21,9 +21,9 @@ const SwerveOdometry::Params& checked(const SwerveOdometry::Params& p)
 }  // namespace
 
 SwerveOdometry::SwerveOdometry(const Params& params)
-    : params_(checked(params)),
+    : IntegratedOdometry(params.velocity_window),
+      params_(checked(params)),
       kin_(params.offsets),
-      integrator_(params.velocity_window),
       deltas_(params.offsets.size())
 {
 }
@@ -87,11 +87,6 @@ void SwerveOdometry::reset()
   setPose(Pose2D{});
   resetEncoders();
   integrator_.resetDistance();
-}
-
-void SwerveOdometry::setPose(const Pose2D& pose)
-{
-  integrator_.setPose(pose);
 }
 
 }  // namespace mybot_control
