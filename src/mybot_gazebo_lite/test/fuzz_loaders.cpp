@@ -21,23 +21,13 @@
 #include "mybot_gazebo_lite/physics.h"
 #include "mybot_common/fuzz.h"
 
-#include <unistd.h>
-
-#include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
-#include <fstream>
-#include <random>
-#include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
 using namespace mybot_gazebo_lite;
 
-using mybot_common::fuzz::Mutator;
-using mybot_common::fuzz::slurp;
 using mybot_common::fuzz::spit;
 
 namespace
@@ -123,11 +113,6 @@ bool run(const std::string& kind, const std::string& text, const std::string& ba
   }
 }
 
-std::string dirOfPath(const std::string& p)
-{
-  const auto slash = p.rfind('/');
-  return slash == std::string::npos ? "." : p.substr(0, slash);
-}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -143,49 +128,16 @@ int main(int argc, char** argv)
     std::fprintf(stderr, "fuzz_loaders: KIND is urdf, world, sdf_model, image_world or pgm, not '%s'\n", kind.c_str());
     return 2;
   }
-  const double seconds = std::atof(argv[2]);
-  const std::string current = out + "/current." + kind;
-  Mutator mutator(static_cast<unsigned>(std::atol(argv[3])));
-  std::vector<std::pair<std::string, std::string>> inputs;    // (text, folder for relative URIs)
   const bool image = kind == "image_world" || kind == "pgm";  // loaded from files written to OUT_DIR
-  for (int i = 5; i < argc; ++i)
-    inputs.emplace_back(slurp(argv[i]), image ? out : dirOfPath(argv[i]));
-
-  if (seconds <= 0)  // replay: each input once, as it is
-  {
-    int failed = 0;
-    for (int i = 5; i < argc; ++i)
-    {
-      alarm(20);
-      spit(current, inputs[i - 5].first);
-      std::string refusal;
-      if (!run(kind, inputs[i - 5].first, inputs[i - 5].second, &refusal))
-      {
-        std::printf("%s: not finite in the simulation\n", argv[i]);
-        ++failed;
-      }
-      else
-        std::printf("%s: %s\n", argv[i], refusal.empty() ? "simulated" : refusal.c_str());
-    }
-    std::remove(current.c_str());
-    std::printf("%s: %d inputs replayed, %d non-finite\n", kind.c_str(), argc - 5, failed);
-    return failed ? 1 : 0;
-  }
-  const auto start = std::chrono::steady_clock::now();
-  std::mt19937 pick(static_cast<unsigned>(std::atol(argv[3])) + 1);
-  long rounds = 0, nonfinite = 0;
-  while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < seconds)
-  {
-    const auto& [text, dir] = inputs[std::uniform_int_distribution<size_t>(0, inputs.size() - 1)(pick)];
-    const std::string mutated = mutator.mutate(text);
-    spit(current, mutated);
-    alarm(20);  // a hang dies of SIGALRM with current.KIND kept
-    if (!run(kind, mutated, dir) && nonfinite < 50)
-      spit(out + "/nonfinite-" + std::to_string(nonfinite++) + "." + kind, mutated);
-    ++rounds;
-  }
-  alarm(0);
-  std::remove(current.c_str());
-  std::printf("%s: %ld rounds, %ld non-finite simulations\n", kind.c_str(), rounds, nonfinite);
-  return 0;
+  return mybot_common::fuzz::drive(kind, std::atof(argv[2]), static_cast<unsigned>(std::atol(argv[3])), out,
+                                   mybot_common::fuzz::readInputs(argc, argv, 5, image ? out : ""),
+                                   [&](const std::string& text, const std::string& dir)
+                                   {
+                                     mybot_common::fuzz::Outcome o;
+                                     o.finite = run(kind, text, dir, &o.what);
+                                     o.taken = o.what.empty();
+                                     if (o.taken)
+                                       o.what = "simulated";
+                                     return o;
+                                   });
 }

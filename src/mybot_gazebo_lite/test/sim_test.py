@@ -992,6 +992,37 @@ class MalformedInputTests(unittest.TestCase):
                                   ('<jointName>', "joint 'j' is fixed", '<preserveFixedJoint>',
                                    'libgazebo_ros_ft_sensor.so'), 'fixed')
 
+    def test_a_laser_with_absurd_samples_or_angles_is_named(self):
+        """An absurd ray count (it was turned into an int: undefined, then a terabyte of beams) and an
+        angle span that is not finite are refused, naming the tag (found by scripts/fuzz --only plugin)."""
+        laser = ('<gazebo reference="a"><sensor type="ray" name="l"><ray><scan><horizontal><samples>%s</samples>'
+                 '<min_angle>-%s</min_angle><max_angle>%s</max_angle></horizontal></scan><range><min>0.1</min>'
+                 '<max>5</max></range></ray><plugin name="l" filename="libgazebo_ros_laser.so"><topicName>scan'
+                 '</topicName></plugin></sensor></gazebo>')
+        for model, samples, angle, says in (('samples_1e308', '1e308', '1', 'whole numbers of samples'),
+                                            ('samples_half', '2.5', '1', 'whole numbers of samples'),
+                                            ('span_inf', '10', '1e308', 'max_angle - min_angle must be finite')):
+            path = self.write(model + '.urdf', '<robot name="r">%s%s</robot>' % (self.LINK % 'a',
+                                                                               laser % (samples, angle, angle)))
+            rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', model, '-timeout', '30'])
+            self.assertNotEqual(rc, 0, model)
+            for phrase in (path, "plugin 'l'", '<ray/scan', says):
+                self.assertIn(phrase, out, model)
+
+    def test_two_message_types_on_one_topic_or_a_bad_topic_name_are_named(self):
+        """roscpp refuses a second message type on a topic (an Odometry and an Imu both on 'gt'), and
+        the plugin would publish nothing: the spawn is refused naming the plugin and the tag. A name
+        roscpp cannot take is named the same way."""
+        p3d = '<plugin name="gt" filename="libgazebo_ros_p3d.so"><topicName>gt</topicName><bodyName>a</bodyName></plugin>'
+        imu = '<plugin name="imu" filename="libgazebo_ros_imu.so"><topicName>%s</topicName><bodyName>a</bodyName></plugin>'
+        self.assert_spawn_refused('two_types', p3d + imu % 'gt',
+                                  ("plugin 'imu'", '<topicName>', "topic '/gt' is already published with another "
+                                   'message type than sensor_msgs/Imu'))
+        self.assert_spawn_refused('bad_name', imu % 'a b', ("plugin 'imu'", '<topicName>', "'a b' is not a ROS name"))
+        self.assert_spawn_refused('bad_ns', '<plugin name="gt" filename="libgazebo_ros_p3d.so"><topicName>gt'
+                                  '</topicName><bodyName>a</bodyName><robotNamespace>a b</robotNamespace></plugin>',
+                                  ("plugin 'gt'", 'a b'))
+
     def test_a_joint_mimicking_itself_is_named(self):
         self.assert_spawn_refused('mimic_self', '<plugin name="m" filename="libroboticsgroup_gazebo_mimic_joint_plugin.so">'
                                   '<joint>j</joint><mimicJoint>j</mimicJoint></plugin>',

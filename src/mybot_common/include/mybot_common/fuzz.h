@@ -3,9 +3,13 @@
 // nan, -1, 0, 1e308 or another special value; an attribute value or element text takes another
 // one's; a line is lost, doubled or moved; the text is cut short; a byte flips. Structured
 // mutations find more than byte flips: the parsers reject most noise at once. Header-only, no ROS;
-// for the fuzzers, not for the products.
+// for the fuzzers, not for the products. `drive` is their common main loop.
 #pragma once
 
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <random>
@@ -136,6 +140,94 @@ private:
 
   std::mt19937 rng_;
 };
+
+// One input of a fuzzer: where it came from, its text, and the folder its relative URIs are read from.
+struct Input
+{
+  std::string path, text, dir;
+};
+
+// What became of one input: whether everything fed with it stayed finite, whether it was taken (not
+// refused), and the refusal's message or what it became (printed when replaying).
+struct Outcome
+{
+  bool finite = true, taken = true;
+  std::string what;
+};
+
+// The fuzzers' driver (scripts/fuzz calls each as `FUZZER KIND SECONDS SEED OUT_DIR INPUT...`).
+// SECONDS <= 0 replays each input once, unmutated, printing what became of it, and returns 1 when
+// one went non-finite. Otherwise it mutates inputs (`mutate`, the Mutator's whole-text mutations
+// by default) for SECONDS: each mutant stays in OUT_DIR/current.KIND while `run` has it, so that a
+// crash, a sanitizer's report or a hang (20 s, SIGALRM) leaves it for scripts/fuzz to keep, and a
+// non-finite one is kept as OUT_DIR/nonfinite-N.KIND (the first 50).
+template <class Run, class Mutate>
+int drive(const std::string& kind, double seconds, unsigned seed, const std::string& out,
+          const std::vector<Input>& inputs, Run run, Mutate mutate)
+{
+  const std::string current = out + "/current." + kind;
+  if (seconds <= 0)
+  {
+    int failed = 0;
+    for (const Input& in : inputs)
+    {
+      alarm(20);
+      spit(current, in.text);
+      const Outcome o = run(in.text, in.dir);
+      failed += o.finite ? 0 : 1;
+      std::printf("%s: %s\n", in.path.c_str(), !o.finite ? "not finite" : o.what.c_str());
+    }
+    std::remove(current.c_str());
+    std::printf("%s: %zu inputs replayed, %d non-finite\n", kind.c_str(), inputs.size(), failed);
+    return failed ? 1 : 0;
+  }
+  Mutator mutator(seed);
+  std::mt19937 pick(seed + 1);
+  const auto start = std::chrono::steady_clock::now();
+  long rounds = 0, taken = 0, nonfinite = 0;
+  while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < seconds)
+  {
+    const Input& in = inputs[std::uniform_int_distribution<size_t>(0, inputs.size() - 1)(pick)];
+    const std::string mutated = mutate(in.text, mutator, pick);
+    spit(current, mutated);
+    alarm(20);
+    const Outcome o = run(mutated, in.dir);
+    if (!o.finite && nonfinite < 50)
+      spit(out + "/nonfinite-" + std::to_string(nonfinite++) + "." + kind, mutated);
+    taken += o.taken ? 1 : 0;
+    ++rounds;
+  }
+  alarm(0);
+  std::remove(current.c_str());
+  std::printf("%s: %ld rounds (%ld taken), %ld non-finite\n", kind.c_str(), rounds, taken, nonfinite);
+  return 0;
+}
+
+// The inputs named on a fuzzer's command line from argv[first] on; each one's folder is its own
+// unless `dir` is given (the floor plans' fuzzing writes the image beside the YAML in OUT_DIR).
+inline std::vector<Input> readInputs(int argc, char** argv, int first, const std::string& dir = "")
+{
+  std::vector<Input> inputs;
+  for (int i = first; i < argc; ++i)
+  {
+    const std::string path = argv[i];
+    const auto slash = path.rfind('/');
+    inputs.push_back({path, slurp(path),
+                      !dir.empty()                 ? dir
+                      : slash == std::string::npos ? "."
+                                                   : path.substr(0, slash)});
+  }
+  return inputs;
+}
+
+// The same, each mutant the Mutator's whole-text mutation of an input.
+template <class Run>
+int drive(const std::string& kind, double seconds, unsigned seed, const std::string& out,
+          const std::vector<Input>& inputs, Run run)
+{
+  return drive(kind, seconds, seed, out, inputs, run,
+               [](const std::string& text, Mutator& m, std::mt19937&) { return m.mutate(text); });
+}
 
 }  // namespace fuzz
 }  // namespace mybot_common

@@ -31,6 +31,7 @@
 #include "mybot_common/ros/node_main.h"
 #include "mybot_common/ros/params.h"
 
+#include <ros/names.h>
 #include <ros/ros.h>
 #include <ros/callback_queue.h>
 #include <rosgraph_msgs/Clock.h>
@@ -596,8 +597,13 @@ private:
         ctx.robot = &robot;
         ctx.spec = &ps;
         ctx.ns = ns;
-        if (const XmlNode* rn = ps.xml.child("robotNamespace"))
+        const XmlNode* rn = ps.xml.child("robotNamespace");
+        if (rn)
           ctx.ns = rn->text;
+        if (std::string why; !ros::names::validate(ctx.ns, why))  // roscpp's exception would name no plugin
+          throw LoadError(spec->source + ": plugin '" + ps.name + "' (" + ps.filename +
+                          "): " + (rn ? "<robotNamespace>" : "the spawn's robot_namespace") + " '" + ctx.ns +
+                          "' is not a ROS name: " + why);
         ros::NodeHandle nsh(ctx.ns);
         std::string key;
         if (nsh.searchParam("tf_prefix", key))

@@ -17,9 +17,7 @@
 // What it checks: no crash, no sanitizer report, no hang (20 s a round: current.scan stays for
 // scripts/fuzz to keep), and that the estimates and the velocity command stay finite (else
 // OUT_DIR/nonfinite-N.scan).
-#include <unistd.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -40,9 +38,6 @@
 #include "mybot_slam/slam.h"
 
 using namespace mybot_navigation;
-using mybot_common::fuzz::Mutator;
-using mybot_common::fuzz::slurp;
-using mybot_common::fuzz::spit;
 
 namespace
 {
@@ -230,64 +225,24 @@ int main(int argc, char** argv)
     std::fprintf(stderr, "usage: fuzz_nav scan SECONDS SEED OUT_DIR INPUT...\n");
     return 2;
   }
-  const double seconds = std::atof(argv[2]);
-  const std::string out = argv[4], current = out + "/current.scan";
   const GridMap map = loadMap(FACTORY_MAP);
   Nodes nodes(map);
-  std::vector<std::string> inputs;
-  for (int i = 5; i < argc; ++i)
-    inputs.push_back(slurp(argv[i]));
-  auto once = [&](const std::string& text, std::string* refusal)
-  {
-    try
-    {
-      return nodes.run(parse(text), refusal);
-    }
-    catch (const std::invalid_argument& e)  // not a scan a node could receive
-    {
-      if (refusal)
-        *refusal = std::string("not a scan: ") + e.what();
-      return true;
-    }
-  };
-
-  if (seconds <= 0)  // replay: each input once, as it is
-  {
-    int failed = 0;
-    for (size_t i = 0; i < inputs.size(); ++i)
-    {
-      alarm(20);
-      spit(current, inputs[i]);
-      std::string refusal;
-      const bool ok = once(inputs[i], &refusal);
-      failed += ok ? 0 : 1;
-      std::printf("%s: %s\n", argv[i + 5],
-                  !ok               ? "not finite"
-                  : refusal.empty() ? ("taken: " + nodes.summary()).c_str()
-                                    : refusal.c_str());
-    }
-    std::remove(current.c_str());
-    std::printf("scan: %zu inputs replayed, %d non-finite\n", inputs.size(), failed);
-    return failed ? 1 : 0;
-  }
-  Mutator mutator(static_cast<unsigned>(std::atol(argv[3])));
-  std::mt19937 pick(static_cast<unsigned>(std::atol(argv[3])) + 1);
-  const auto start = std::chrono::steady_clock::now();
-  long rounds = 0, taken = 0, nonfinite = 0;
-  while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < seconds)
-  {
-    const std::string mutated =
-        mutator.mutate(inputs[std::uniform_int_distribution<size_t>(0, inputs.size() - 1)(pick)]);
-    spit(current, mutated);
-    alarm(20);  // a hang dies of SIGALRM with current.scan kept
-    std::string refusal;
-    if (!once(mutated, &refusal) && nonfinite < 50)
-      spit(out + "/nonfinite-" + std::to_string(nonfinite++) + ".scan", mutated);
-    taken += refusal.empty() ? 1 : 0;
-    ++rounds;
-  }
-  alarm(0);
-  std::remove(current.c_str());
-  std::printf("scan: %ld rounds (%ld taken by the nodes), %ld non-finite estimates\n", rounds, taken, nonfinite);
-  return 0;
+  return mybot_common::fuzz::drive("scan", std::atof(argv[2]), static_cast<unsigned>(std::atol(argv[3])), argv[4],
+                                   mybot_common::fuzz::readInputs(argc, argv, 5),
+                                   [&](const std::string& text, const std::string&)
+                                   {
+                                     mybot_common::fuzz::Outcome o;
+                                     try
+                                     {
+                                       o.finite = nodes.run(parse(text), &o.what);
+                                     }
+                                     catch (const std::invalid_argument& e)  // not a scan a node could receive
+                                     {
+                                       o.what = std::string("not a scan: ") + e.what();
+                                     }
+                                     o.taken = o.what.empty();
+                                     if (o.taken)
+                                       o.what = "taken: " + nodes.summary();
+                                     return o;
+                                   });
 }

@@ -96,8 +96,8 @@ class PluginParams
 {
 public:
   PluginParams(const PluginContext& c, const XmlNode& x) : c_(c), x_(x) {}
-  [[noreturn]] void fail(const std::string& tag, const std::string& msg) const;
-  const XmlNode* node(const std::string& path) const;  // "a/b/c"
+  [[noreturn]] void fail(const std::string& tag, const std::string& msg) const;  // tag "": the plugin's own
+  const XmlNode* node(const std::string& path) const;                            // "a/b/c"
   bool has(const std::string& tag) const { return node(tag) != nullptr; }
   std::vector<const XmlNode*> all(const std::string& tag) const;  // every child named `tag`
   std::string str(const std::string& tag, const std::string& def) const;
@@ -113,6 +113,22 @@ public:
   // A link of the robot, as the plugin's own model scopes it; required when `def` is empty.
   std::string link(const std::string& tag, const std::string& def = "") const;
   btTransform pose(const std::string& tag) const;  // "x y z r p y"
+  // The topic (or service) named by parameter `tag`, `def` when absent: a ROS graph name, else fails
+  // naming the tag (roscpp's own refusal names neither the tag nor the file).
+  std::string topic(const std::string& tag, const std::string& def) const;
+  // M advertised on `topic`, which parameter `tag` named ("" for a fixed name). roscpp refuses a
+  // second message type on a topic this process already publishes (another plugin's), with an
+  // error naming neither plugin, and the publisher then sends nothing: fails naming the tag.
+  template <class M>
+  ros::Publisher advertise(ros::NodeHandle& nh, const std::string& tag, const std::string& topic, uint32_t queue) const
+  {
+    checkTopic(tag, topic);
+    ros::Publisher pub = nh.advertise<M>(topic, queue);
+    if (!pub)
+      fail(tag, "topic '" + nh.resolveName(topic) + "' is already published with another message type than " +
+                    ros::message_traits::datatype<M>() + " (by another plugin, or the simulator itself)");
+    return pub;
+  }
   // Whether any plugin looked this child of a <plugin> block up (warnUnknownTags uses it).
   static bool wasRead(const XmlNode& child);
   // Clears the record for `parent`'s children (before and after a plugin is made: a later spec
@@ -121,6 +137,7 @@ public:
 
 private:
   double parse(const std::string& tag, const std::string& t) const;
+  void checkTopic(const std::string& tag, const std::string& topic) const;
   std::string movableJoint(const std::string& tag, const std::string& name) const;  // scoped, checked
   const PluginContext& c_;
   const XmlNode& x_;

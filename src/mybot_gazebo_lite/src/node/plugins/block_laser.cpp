@@ -30,7 +30,8 @@ public:
     if (gn_ < 0)
       p.fail("gaussianNoise", "must be >= 0");
     frame_ = resolveFrame(c, p.str("frameName", "/world"));
-    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::PointCloud>(p.str("topicName", "/world"), 1);
+    ros::NodeHandle nh(c.ns);
+    pub_ = p.advertise<sensor_msgs::PointCloud>(nh, "topicName", p.str("topicName", "/world"), 1);
   }
   void update(double t) override
   {

@@ -63,6 +63,18 @@ private:
   ros::Publisher odom_pub_, js_pub_;
 };
 
+// A <sensor type="ray">'s <ray>: ray/scan/{horizontal,vertical}/{samples,min_angle,max_angle} and
+// ray/range/{min,max}, each checked naming its tag (samples are whole numbers, 1 to 100000 rays in
+// all, as an unsigned count would not take 1e308; the angles' span is finite; 0 <= min < max).
+struct RayScan
+{
+  int horizontal = 1, vertical = 1;  // samples
+  double hmin = 0, hmax = 0, vmin = 0, vmax = 0;
+  double range_min = 0, range_max = 0;
+  // `horizontal_samples`: the default (SDF's is 640; the emulations of one-ray sensors take 1).
+  static RayScan read(const PluginParams& s, int horizontal_samples);
+};
+
 // The rays of a <sensor type="ray"> (horizontal x vertical samples, Gazebo's convention: positive
 // vertical angles look up) cast through Bullet, for the range and block-laser plugins.
 struct SensorRays

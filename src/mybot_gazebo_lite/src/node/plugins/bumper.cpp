@@ -30,7 +30,8 @@ public:
     frame_ = p.str("frameName", "world");
     frame_link_ = scopedLink(c, frame_);
     in_link_frame_ = c.robot->hasLink(frame_link_);
-    pub_ = ros::NodeHandle(c.ns).advertise<ContactsState>(p.str("bumperTopicName", "bumper_states"), 1);
+    ros::NodeHandle nh(c.ns);
+    pub_ = p.advertise<ContactsState>(nh, "bumperTopicName", p.str("bumperTopicName", "bumper_states"), 1);
     c.robot->recordContactPoints(true);
   }
   void update(double t) override

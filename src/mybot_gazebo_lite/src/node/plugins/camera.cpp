@@ -110,21 +110,24 @@ public:
     const bool ir = kind == Kind::DepthCamera;
     if (trigger_)
       trigger_->subs.push_back(subscribeCommand<std_msgs::Empty>(
-          c, nh, p.str("triggerTopicName", "image_trigger"),
+          c, nh, p.topic("triggerTopicName", "image_trigger"),
           [t = trigger_](const std_msgs::Empty::ConstPtr&) { t->pending = true; }, 10));
-    image_pub_ = nh.advertise<sensor_msgs::Image>(p.str("imageTopicName", ir ? "ir/image_raw" : "image_raw"), 2);
-    info_pub_ =
-        nh.advertise<sensor_msgs::CameraInfo>(p.str("cameraInfoTopicName", ir ? "ir/camera_info" : "camera_info"), 2);
+    image_pub_ = p.advertise<sensor_msgs::Image>(nh, "imageTopicName",
+                                                 p.str("imageTopicName", ir ? "ir/image_raw" : "image_raw"), 2);
+    info_pub_ = p.advertise<sensor_msgs::CameraInfo>(
+        nh, "cameraInfoTopicName", p.str("cameraInfoTopicName", ir ? "ir/camera_info" : "camera_info"), 2);
     if (depth_sensor_)
     {
       cutoff_ = p.num("pointCloudCutoff", 0.4);
       cutoff_max_ = ir ? std::numeric_limits<double>::infinity() : p.num("pointCloudCutoffMax", 5.0);
       if (cutoff_ < 0 || cutoff_max_ <= cutoff_)
         p.fail("pointCloudCutoffMax", "need 0 <= pointCloudCutoff < pointCloudCutoffMax");
-      depth_pub_ = nh.advertise<sensor_msgs::Image>(p.str("depthImageTopicName", "depth/image_raw"), 2);
-      depth_info_pub_ =
-          nh.advertise<sensor_msgs::CameraInfo>(p.str("depthImageCameraInfoTopicName", "depth/camera_info"), 2);
-      points_pub_ = nh.advertise<sensor_msgs::PointCloud2>(p.str("pointCloudTopicName", "points"), 2);
+      depth_pub_ = p.advertise<sensor_msgs::Image>(nh, "depthImageTopicName",
+                                                   p.str("depthImageTopicName", "depth/image_raw"), 2);
+      depth_info_pub_ = p.advertise<sensor_msgs::CameraInfo>(
+          nh, "depthImageCameraInfoTopicName", p.str("depthImageCameraInfoTopicName", "depth/camera_info"), 2);
+      points_pub_ =
+          p.advertise<sensor_msgs::PointCloud2>(nh, "pointCloudTopicName", p.str("pointCloudTopicName", "points"), 2);
     }
   }
   void update(double t) override

@@ -46,7 +46,7 @@ public:
       p.fail("odometrySource", "expected 'encoder' or 'world', got '" + src + "'");
     out_ = WheelDriveOutputs(c_, p, nh, "base_footprint", {left_, right_});
     out_.odom_tf = p.boolean("publishOdomTF", p.boolean("publishTf", true));  // publishTf: its older name
-    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), timeout_);
+    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.topic("commandTopic", "cmd_vel"), timeout_);
     hold();
   }
   void reset() override

@@ -20,7 +20,8 @@ public:
     PluginParams p(c, c.spec->xml);
     body_ = p.link("bodyName");
     msg_.header.frame_id = resolveFrame(c, p.str("frameName", "world"));
-    pub_ = ros::NodeHandle(c.ns).advertise<geometry_msgs::WrenchStamped>(p.requiredStr("topicName"), kEveryStepQueue);
+    ros::NodeHandle nh(c.ns);
+    pub_ = p.advertise<geometry_msgs::WrenchStamped>(nh, "topicName", p.requiredStr("topicName"), kEveryStepQueue);
   }
   void update(double t) override
   {

@@ -28,7 +28,8 @@ public:
     rate_ = Rate(p.num("updateRate", 0.0));
     msg_.header.frame_id = resolveFrame(c, c.robot->spec().joint(joint_)->child);
     c.robot->watchJointWrench(joint_);
-    pub_ = ros::NodeHandle(c.ns).advertise<geometry_msgs::WrenchStamped>(topic, kEveryStepQueue);
+    ros::NodeHandle nh(c.ns);
+    pub_ = p.advertise<geometry_msgs::WrenchStamped>(nh, "topicName", topic, kEveryStepQueue);
   }
   void update(double t) override
   {

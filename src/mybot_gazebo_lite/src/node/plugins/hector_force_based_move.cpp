@@ -38,8 +38,8 @@ public:
     publish_tf_ = p.boolean("publishOdometryTf", true);
     odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
     base_frame_ = resolveFrame(c, base);
-    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), 0.0);  // upstream: no timeout
-    odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), kEveryStepQueue);
+    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.topic("commandTopic", "cmd_vel"), 0.0);  // upstream: no timeout
+    odom_pub_ = p.advertise<nav_msgs::Odometry>(nh, "odometryTopic", p.str("odometryTopic", "odom"), kEveryStepQueue);
   }
   void reset() override { cmd_->reset(); }
   void preStep(double t) override

@@ -48,9 +48,9 @@ public:
     }
     timer_ = HectorTimer(p, 4.0);
     ros::NodeHandle nh(c.ns);
-    fix_pub_ = nh.advertise<sensor_msgs::NavSatFix>(p.str("topicName", "fix"), kEveryStepQueue);
-    velocity_pub_ =
-        nh.advertise<geometry_msgs::Vector3Stamped>(p.str("velocityTopicName", "fix_velocity"), kEveryStepQueue);
+    fix_pub_ = p.advertise<sensor_msgs::NavSatFix>(nh, "topicName", p.str("topicName", "fix"), kEveryStepQueue);
+    velocity_pub_ = p.advertise<geometry_msgs::Vector3Stamped>(
+        nh, "velocityTopicName", p.str("velocityTopicName", "fix_velocity"), kEveryStepQueue);
     reset();
   }
   void reset() override

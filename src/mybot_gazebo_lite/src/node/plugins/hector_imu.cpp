@@ -67,13 +67,17 @@ public:
     ros::NodeHandle nh(c.ns);
     // An empty <topicName> publishes nothing (upstream's); an empty <biasTopicName> no biases.
     if (!topic.empty())
-      pub_ = nh.advertise<sensor_msgs::Imu>(topic, kEveryStepQueue);
+      pub_ = p.advertise<sensor_msgs::Imu>(nh, "topicName", topic, kEveryStepQueue);
     const std::string bias_topic = p.str("biasTopicName", topic.empty() ? "" : topic + "/bias");
     if (!bias_topic.empty())
-      bias_pub_ = nh.advertise<sensor_msgs::Imu>(bias_topic, kEveryStepQueue);
+      bias_pub_ = p.advertise<sensor_msgs::Imu>(nh, "biasTopicName", bias_topic, kEveryStepQueue);
     const std::string service = p.str("serviceName", topic + "/calibrate");
     if (!service.empty())
+    {
       calibrate_ = nh.advertiseService(service, &HectorImu::calibrate, this);
+      if (!calibrate_)  // roscpp said only "already advertised", naming no plugin
+        p.fail("serviceName", "service '" + nh.resolveName(service) + "' is already offered by another plugin");
+    }
     reset();
   }
   void reset() override

@@ -37,8 +37,8 @@ public:
     field_msgs_ = p.boolean("useMagneticFieldMsgs", false);
     const std::string topic = p.str("topicName", "magnetic");
     ros::NodeHandle nh(c.ns);
-    pub_ = field_msgs_ ? nh.advertise<sensor_msgs::MagneticField>(topic, kEveryStepQueue)
-                       : nh.advertise<geometry_msgs::Vector3Stamped>(topic, kEveryStepQueue);
+    pub_ = field_msgs_ ? p.advertise<sensor_msgs::MagneticField>(nh, "topicName", topic, kEveryStepQueue)
+                       : p.advertise<geometry_msgs::Vector3Stamped>(nh, "topicName", topic, kEveryStepQueue);
     reset();
   }
   void reset() override

@@ -33,7 +33,8 @@ public:
     msg_.header.frame_id = hectorFrame(p, "sonar_link");
     error_ = SensorError(hectorError(p, ""));
     timer_ = HectorTimer(p, 10.0);
-    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Range>(p.str("topicName", "sonar"), kEveryStepQueue);
+    ros::NodeHandle nh(c.ns);
+    pub_ = p.advertise<sensor_msgs::Range>(nh, "topicName", p.str("topicName", "sonar"), kEveryStepQueue);
     reset();
   }
   void reset() override

@@ -53,7 +53,8 @@ public:
           ROS_WARN("%s: plugin '%s' on link '%s': <%s> %s is not simulated by gazebo_lite; ignored",
                    c.robot->spec().source.c_str(), c.spec->name.c_str(), body_.c_str(), tag, p.str(tag, "").c_str());
       }
-    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Imu>(p.str("topicName", "imu"), kEveryStepQueue);
+    ros::NodeHandle nh(c.ns);
+    pub_ = p.advertise<sensor_msgs::Imu>(nh, "topicName", p.str("topicName", "imu"), kEveryStepQueue);
     model_ = ImuModel(sensor_pose_);
   }
   void reset() override { model_.reset(); }

@@ -27,7 +27,8 @@ public:
       joints_ = names_ = c.robot->movableJoints();
     }
     rate_ = Rate(p.num("updateRate", 100.0));
-    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::JointState>("joint_states", 10);
+    ros::NodeHandle nh(c.ns);
+    pub_ = p.advertise<sensor_msgs::JointState>(nh, "", "joint_states", 10);
   }
   void update(double t) override
   {

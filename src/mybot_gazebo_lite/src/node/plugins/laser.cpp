@@ -24,25 +24,20 @@ public:
     link_ = c.spec->reference;
     sensor_pose_ = s.pose("pose");
     rate_ = Rate(s.num("update_rate", 0.0));
-    samples_ = static_cast<int>(s.num("ray/scan/horizontal/samples", 640));
-    if (samples_ < 1)
-      s.fail("ray/scan/horizontal/samples", "must be >= 1");
-    amin_ = s.num("ray/scan/horizontal/min_angle", 0.0);
-    amax_ = s.num("ray/scan/horizontal/max_angle", 0.0);
-    if (amax_ < amin_)
-      s.fail("ray/scan/horizontal/max_angle", "smaller than min_angle");
-    rmin_ = s.requiredNum("ray/range/min");
-    rmax_ = s.requiredNum("ray/range/max");
-    if (rmin_ < 0 || rmax_ <= rmin_)
-      s.fail("ray/range/max", "need 0 <= min < max");
+    const RayScan scan = RayScan::read(s, 640);  // a 2D laser: its vertical samples are not cast
+    samples_ = scan.horizontal;
+    amin_ = scan.hmin;
+    amax_ = scan.hmax;
+    rmin_ = scan.range_min;
+    rmax_ = scan.range_max;
     mean_ = s.num("ray/noise/mean", 0.0);
     stddev_ = s.num("ray/noise/stddev", 0.0);
     if (stddev_ < 0)
       s.fail("ray/noise/stddev", "must be >= 0");
     // gazebo_ros_laser's defaults for both.
     frame_ = resolveFrame(c, p.str("frameName", "/world"));
-    std::string topic = p.str("topicName", "/world");
-    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::LaserScan>(topic, 1);
+    ros::NodeHandle nh(c.ns);
+    pub_ = p.advertise<sensor_msgs::LaserScan>(nh, "topicName", p.str("topicName", "/world"), 1);
     inc_ = samples_ > 1 ? (amax_ - amin_) / (samples_ - 1) : 0.0;
     for (int i = 0; i < samples_; ++i)
     {

@@ -40,7 +40,8 @@ public:
       p.fail("xyzOffsets/rpyOffsets", e.what());
     }
     offset_ = makeTransform(xyz, rpy);
-    pub_ = ros::NodeHandle(c.ns).advertise<nav_msgs::Odometry>(topic, kEveryStepQueue);
+    ros::NodeHandle nh(c.ns);
+    pub_ = p.advertise<nav_msgs::Odometry>(nh, "topicName", topic, kEveryStepQueue);
   }
   void update(double t) override
   {

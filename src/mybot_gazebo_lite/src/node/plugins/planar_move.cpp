@@ -30,8 +30,8 @@ public:
     cov_[2] = p.num("covariance_yaw", 0.01);
     odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
     base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
-    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), timeout_);
-    odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
+    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.topic("commandTopic", "cmd_vel"), timeout_);
+    odom_pub_ = p.advertise<nav_msgs::Odometry>(nh, "odometryTopic", p.str("odometryTopic", "odom"), 1);
     c.robot->setContactFriction(0.0);
   }
   void reset() override { cmd_->reset(); }

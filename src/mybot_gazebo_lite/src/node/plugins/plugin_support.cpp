@@ -2,6 +2,7 @@
 #include "mybot_gazebo_lite/parsing.h"
 #include "builtin.h"
 
+#include <ros/names.h>
 #include <sensor_msgs/JointState.h>
 
 #include <cmath>
@@ -33,7 +34,9 @@ void PluginParams::fail(const std::string& tag, const std::string& msg) const
   os << c_.robot->spec().source << ": plugin '" << c_.spec->name << "' (" << c_.spec->filename << ")";
   if (!c_.spec->reference.empty())
     os << " on link '" << c_.spec->reference << "'";
-  os << ": <" << tag << ">: " << msg;
+  if (!tag.empty())
+    os << ": <" << tag << ">";
+  os << ": " << msg;
   throw LoadError(os.str());
 }
 
@@ -216,6 +219,22 @@ btTransform PluginParams::pose(const std::string& tag) const
   }
 }
 
+std::string PluginParams::topic(const std::string& tag, const std::string& def) const
+{
+  const std::string t = str(tag, def);
+  checkTopic(tag, t);
+  return t;
+}
+
+void PluginParams::checkTopic(const std::string& tag, const std::string& topic) const
+{
+  std::string why;
+  if (topic.find_first_not_of("/~") == std::string::npos)  // "", "/": no topic the master takes
+    fail(tag, "'" + topic + "' names no topic");
+  if (!ros::names::validate(topic, why))
+    fail(tag, "'" + topic + "' is not a ROS name: " + why);
+}
+
 double PluginParams::parse(const std::string& tag, const std::string& t) const
 {
   char* end = nullptr;
@@ -286,28 +305,47 @@ geometry_msgs::TransformStamped toTf(const btTransform& tf, double t, const std:
   return m;
 }
 
+RayScan RayScan::read(const PluginParams& s, int horizontal_samples)
+{
+  RayScan r;
+  const double hs = s.num("ray/scan/horizontal/samples", horizontal_samples);
+  const double vs = s.num("ray/scan/vertical/samples", 1);
+  if (!(hs >= 1 && vs >= 1 && hs == std::floor(hs) && vs == std::floor(vs) && hs * vs <= 100000))
+    s.fail("ray/scan", "need whole numbers of samples, 1 to 100000 rays (horizontal x vertical)");
+  r.horizontal = static_cast<int>(hs);
+  r.vertical = static_cast<int>(vs);
+  r.hmin = s.num("ray/scan/horizontal/min_angle", 0.0);
+  r.hmax = s.num("ray/scan/horizontal/max_angle", 0.0);
+  r.vmin = s.num("ray/scan/vertical/min_angle", 0.0);
+  r.vmax = s.num("ray/scan/vertical/max_angle", 0.0);
+  for (const char* axis : {"horizontal", "vertical"})
+  {
+    const bool h = axis[0] == 'h';
+    const double lo = h ? r.hmin : r.vmin, hi = h ? r.hmax : r.vmax;
+    if (hi < lo)
+      s.fail(std::string("ray/scan/") + axis + "/max_angle", "smaller than min_angle");
+    if (!std::isfinite(hi - lo))  // 1e308 and -1e308: every ray's angle would be inf
+      s.fail(std::string("ray/scan/") + axis + "/max_angle", "max_angle - min_angle must be finite");
+  }
+  r.range_min = s.requiredNum("ray/range/min");
+  r.range_max = s.requiredNum("ray/range/max");
+  if (r.range_min < 0 || r.range_max <= r.range_min)
+    s.fail("ray/range/max", "need 0 <= min < max");
+  return r;
+}
+
 SensorRays SensorRays::fromSensor(const PluginParams& s)
 {
+  const RayScan scan = RayScan::read(s, 1);
   SensorRays r;
-  const double hs = s.num("ray/scan/horizontal/samples", 1), vs = s.num("ray/scan/vertical/samples", 1);
-  if (hs < 1 || vs < 1 || hs != std::floor(hs) || vs != std::floor(vs) || hs * vs > 100000)
-    s.fail("ray/scan", "need whole numbers of samples, 1 to 100000 rays (horizontal x vertical)");
-  const double hmin = s.num("ray/scan/horizontal/min_angle", 0.0), hmax = s.num("ray/scan/horizontal/max_angle", 0.0);
-  const double vmin = s.num("ray/scan/vertical/min_angle", 0.0), vmax = s.num("ray/scan/vertical/max_angle", 0.0);
-  if (hmax < hmin)
-    s.fail("ray/scan/horizontal/max_angle", "smaller than min_angle");
-  if (vmax < vmin)
-    s.fail("ray/scan/vertical/max_angle", "smaller than min_angle");
-  r.min = s.requiredNum("ray/range/min");
-  r.max = s.requiredNum("ray/range/max");
-  if (r.min < 0 || r.max <= r.min)
-    s.fail("ray/range/max", "need 0 <= min < max");
-  const int nh = static_cast<int>(hs), nv = static_cast<int>(vs);
+  r.min = scan.range_min;
+  r.max = scan.range_max;
+  const int nh = scan.horizontal, nv = scan.vertical;
   for (int v = 0; v < nv; ++v)
     for (int h = 0; h < nh; ++h)
     {
-      const double a = nh > 1 ? hmin + h * (hmax - hmin) / (nh - 1) : hmin;
-      const double e = nv > 1 ? vmin + v * (vmax - vmin) / (nv - 1) : vmin;
+      const double a = nh > 1 ? scan.hmin + h * (scan.hmax - scan.hmin) / (nh - 1) : scan.hmin;
+      const double e = nv > 1 ? scan.vmin + v * (scan.vmax - scan.vmin) / (nv - 1) : scan.vmin;
       r.dirs.emplace_back(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
     }
   return r;
@@ -396,9 +434,9 @@ WheelDriveOutputs::WheelDriveOutputs(const PluginContext& c, const PluginParams&
   base_frame_ = resolveFrame(c, p.str("robotBaseFrame", base_default));
   wheel_tf_ = p.boolean("publishWheelTF", false);
   wheel_js_ = p.boolean("publishWheelJointState", false);
-  odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
+  odom_pub_ = p.advertise<nav_msgs::Odometry>(nh, "odometryTopic", p.str("odometryTopic", "odom"), 1);
   if (wheel_js_)
-    js_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 1);
+    js_pub_ = p.advertise<sensor_msgs::JointState>(nh, "publishWheelJointState", "joint_states", 1);
 }
 
 void WheelDriveOutputs::publish(double t, const EncoderOdometry* encoder) const

@@ -41,7 +41,8 @@ public:
     msg_.field_of_view =
         p.num("fov", s.num("ray/scan/horizontal/max_angle", 0.0) - s.num("ray/scan/horizontal/min_angle", 0.0));
     msg_.header.frame_id = resolveFrame(c, p.str("frameName", c.spec->reference));
-    pub_ = ros::NodeHandle(c.ns).advertise<sensor_msgs::Range>(p.str("topicName", "sonar"), 1);
+    ros::NodeHandle nh(c.ns);
+    pub_ = p.advertise<sensor_msgs::Range>(nh, "topicName", p.str("topicName", "sonar"), 1);
   }
   void update(double t) override
   {

@@ -238,15 +238,25 @@ void warnUnknownTags(const PluginContext& c, const std::set<std::string>& known)
 std::unique_ptr<SimPlugin> createPlugin(const PluginContext& c)
 {
   PluginParams::forgetReads(c.spec->xml);
-  for (const Builtin& b : builtins())
-    if (b.filename == c.spec->filename)
-    {
-      auto plugin = b.make(c);
-      warnUnknownTags(c, b.tags);
-      PluginParams::forgetReads(c.spec->xml);
-      return plugin;
-    }
-  auto plugin = loadLibraryPlugin(c);  // it warns about its own tags
+  std::unique_ptr<SimPlugin> plugin;
+  try
+  {
+    for (const Builtin& b : builtins())
+      if (b.filename == c.spec->filename)
+      {
+        plugin = b.make(c);
+        warnUnknownTags(c, b.tags);
+        PluginParams::forgetReads(c.spec->xml);
+        return plugin;
+      }
+    plugin = loadLibraryPlugin(c);  // it warns about its own tags
+  }
+  catch (const ros::InvalidNameException& e)
+  {
+    // A namespace, camera name or topic roscpp refuses (<robotNamespace>a b</robotNamespace>):
+    // its message names neither the plugin nor the file.
+    PluginParams(c, c.spec->xml).fail("", e.what());
+  }
   PluginParams::forgetReads(c.spec->xml);
   if (plugin)
     return plugin;

@@ -58,8 +58,8 @@ public:
     cov_[2] = p.num("covariance_yaw", 0.01);
     odom_frame_ = resolveFrame(c, p.str("odometryFrame", "odom"));
     base_frame_ = resolveFrame(c, p.str("robotBaseFrame", "base_footprint"));
-    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), timeout_);
-    odom_pub_ = nh.advertise<nav_msgs::Odometry>(p.str("odometryTopic", "odom"), 1);
+    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.topic("commandTopic", "cmd_vel"), timeout_);
+    odom_pub_ = p.advertise<nav_msgs::Odometry>(nh, "odometryTopic", p.str("odometryTopic", "odom"), 1);
     drive(0, 0);
   }
   void reset() override
@@ -125,8 +125,8 @@ public:
     out_ = WheelDriveOutputs(c_, p, nh, "base_footprint", {});
     out_.odom_tf = p.boolean("publishOdometryTf", true);
     out_.odom_msg = p.boolean("publishOdometryMsg", true);
-    cmd_ =
-        std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), p.nonNegative("commandTimeout", 0.5));
+    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.topic("commandTopic", "cmd_vel"),
+                                          p.nonNegative("commandTimeout", 0.5));
     driveSides(c_, left_, right_, 0, 0, geo_, torque_);
   }
   void reset() override

@@ -55,8 +55,8 @@ public:
       p.fail("odometrySource", "expected 'encoder' or 'world', got '" + src + "'");
     encoder_ = src == "encoder";
     out_ = WheelDriveOutputs(c_, p, nh, "base_link", {steering_, wheel_, left_, right_});
-    cmd_ =
-        std::make_unique<TwistCommand>(c_, nh, p.str("commandTopic", "cmd_vel"), p.nonNegative("commandTimeout", 0.5));
+    cmd_ = std::make_unique<TwistCommand>(c_, nh, p.topic("commandTopic", "cmd_vel"),
+                                          p.nonNegative("commandTimeout", 0.5));
     hold();
   }
   void reset() override

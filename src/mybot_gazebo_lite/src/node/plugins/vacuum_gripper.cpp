@@ -30,9 +30,12 @@ public:
     PluginParams p(c, c.spec->xml);
     body_ = p.link("bodyName");
     ros::NodeHandle nh(c.ns);
-    pub_ = nh.advertise<std_msgs::Bool>(p.requiredStr("topicName"), kEveryStepQueue);
+    pub_ = p.advertise<std_msgs::Bool>(nh, "topicName", p.requiredStr("topicName"), kEveryStepQueue);
     on_srv_ = nh.advertiseService("on", &VacuumGripper::switchOn, this);
     off_srv_ = nh.advertiseService("off", &VacuumGripper::switchOff, this);
+    if (!on_srv_ || !off_srv_)  // roscpp said only "already advertised", naming no plugin
+      p.fail("", "services '" + nh.resolveName("on") + "' and '" + nh.resolveName("off") +
+                     "' are already offered by another vacuum gripper (give each its own <robotNamespace>)");
   }
   void reset() override { on_ = grasping_ = false; }
   void preStep(double t) override
