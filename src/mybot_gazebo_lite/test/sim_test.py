@@ -992,6 +992,17 @@ class MalformedInputTests(unittest.TestCase):
                                   ('<jointName>', "joint 'j' is fixed", '<preserveFixedJoint>',
                                    'libgazebo_ros_ft_sensor.so'), 'fixed')
 
+    def assert_service_refuses(self, model, body, says):
+        """/gazebo/spawn_urdf_model refuses a robot of link 'a' and `body`, naming each of `says` (the
+        service, not spawn_model: a tool's start costs 2-5 s a case in the gate)."""
+        rospy.wait_for_service('/gazebo/spawn_urdf_model', timeout=WALL_TIMEOUT)
+        res = rospy.ServiceProxy('/gazebo/spawn_urdf_model', SpawnModel)(
+            model_name=model, model_xml='<robot name="r">%s%s</robot>' % (self.LINK % 'a', body),
+            reference_frame='world')
+        self.assertFalse(res.success, model)
+        for phrase in says:
+            self.assertIn(phrase, res.status_message, model)
+
     def test_a_laser_with_absurd_samples_or_angles_is_named(self):
         """An absurd ray count (it was turned into an int: undefined, then a terabyte of beams) and an
         angle span that is not finite are refused, naming the tag (found by scripts/fuzz --only plugin)."""
@@ -1002,26 +1013,22 @@ class MalformedInputTests(unittest.TestCase):
         for model, samples, angle, says in (('samples_1e308', '1e308', '1', 'whole numbers of samples'),
                                             ('samples_half', '2.5', '1', 'whole numbers of samples'),
                                             ('span_inf', '10', '1e308', 'max_angle - min_angle must be finite')):
-            path = self.write(model + '.urdf', '<robot name="r">%s%s</robot>' % (self.LINK % 'a',
-                                                                               laser % (samples, angle, angle)))
-            rc, out = self.run_tool(['spawn_model', '-urdf', '-file', path, '-model', model, '-timeout', '30'])
-            self.assertNotEqual(rc, 0, model)
-            for phrase in (path, "plugin 'l'", '<ray/scan', says):
-                self.assertIn(phrase, out, model)
+            self.assert_service_refuses(model, laser % (samples, angle, angle), ("plugin 'l'", '<ray/scan', says))
 
     def test_two_message_types_on_one_topic_or_a_bad_topic_name_are_named(self):
         """roscpp refuses a second message type on a topic (an Odometry and an Imu both on 'gt'), and
         the plugin would publish nothing: the spawn is refused naming the plugin and the tag. A name
         roscpp cannot take is named the same way."""
-        p3d = '<plugin name="gt" filename="libgazebo_ros_p3d.so"><topicName>gt</topicName><bodyName>a</bodyName></plugin>'
-        imu = '<plugin name="imu" filename="libgazebo_ros_imu.so"><topicName>%s</topicName><bodyName>a</bodyName></plugin>'
-        self.assert_spawn_refused('two_types', p3d + imu % 'gt',
-                                  ("plugin 'imu'", '<topicName>', "topic '/gt' is already published with another "
-                                   'message type than sensor_msgs/Imu'))
-        self.assert_spawn_refused('bad_name', imu % 'a b', ("plugin 'imu'", '<topicName>', "'a b' is not a ROS name"))
-        self.assert_spawn_refused('bad_ns', '<plugin name="gt" filename="libgazebo_ros_p3d.so"><topicName>gt'
-                                  '</topicName><bodyName>a</bodyName><robotNamespace>a b</robotNamespace></plugin>',
-                                  ("plugin 'gt'", 'a b'))
+        p3d = ('<gazebo><plugin name="gt" filename="libgazebo_ros_p3d.so"><topicName>gt</topicName><bodyName>a'
+               '</bodyName>%s</plugin></gazebo>')
+        imu = ('<gazebo><plugin name="imu" filename="libgazebo_ros_imu.so"><topicName>%s</topicName><bodyName>a'
+               '</bodyName></plugin></gazebo>')
+        self.assert_service_refuses('two_types', p3d % '' + imu % 'gt',
+                                    ("plugin 'imu'", '<topicName>', "topic '/gt' is already published with another "
+                                     'message type than sensor_msgs/Imu'))
+        self.assert_service_refuses('bad_name', imu % 'a b', ("plugin 'imu'", '<topicName>', "'a b' is not a ROS name"))
+        self.assert_service_refuses('bad_ns', p3d % '<robotNamespace>a b</robotNamespace>',
+                                    ("plugin 'gt'", "<robotNamespace> 'a b' is not a ROS name"))
 
     def test_a_joint_mimicking_itself_is_named(self):
         self.assert_spawn_refused('mimic_self', '<plugin name="m" filename="libroboticsgroup_gazebo_mimic_joint_plugin.so">'
